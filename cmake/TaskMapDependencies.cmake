@@ -1,0 +1,42 @@
+# Every third-party dependency, from Debian's packages (tools/dev.sh installs them).
+# Each heavy dependency stays PRIVATE to the one stage that uses it.
+
+# Debian's own interpreter (it has numpy, h5py, scipy from apt), not a pyenv shim first on PATH.
+if(NOT DEFINED Python3_EXECUTABLE AND EXISTS /usr/bin/python3)
+  set(Python3_EXECUTABLE /usr/bin/python3 CACHE FILEPATH "Debian's python3")
+endif()
+set(PYBIND11_FINDPYTHON ON)
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(OpenSSL REQUIRED COMPONENTS Crypto)
+
+# meshes: assimp, CGAL, urdfdom
+find_package(assimp REQUIRED)
+find_package(CGAL REQUIRED)
+find_package(urdfdom REQUIRED)
+# grasp_sim: Debian's float64 Bullet. The pkg-config file carries -DBT_USE_DOUBLE_PRECISION,
+# which the imported target passes to every file that includes Bullet.
+pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet-float64)
+# quality: reentrant qhull
+pkg_check_modules(QHULL_R REQUIRED IMPORTED_TARGET qhull_r)
+# mapstore: HDF5 C API
+find_package(HDF5 REQUIRED COMPONENTS C)
+# clustering / integration: FLANN (needs liblz4)
+pkg_check_modules(LZ4 REQUIRED IMPORTED_TARGET liblz4)
+find_package(flann REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(CLI11 REQUIRED)
+pkg_check_modules(CAIRO IMPORTED_TARGET cairo)
+
+find_package(Python3 COMPONENTS Interpreter Development.Module)
+if(TASKMAP_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(TASKMAP_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
+if(TASKMAP_BUILD_PYTHON)
+  find_package(pybind11 CONFIG REQUIRED)
+endif()

@@ -1,0 +1,99 @@
+#pragma once
+/// @file object_model.hpp
+/// An object as a closed solid: loaded, validated, with mass properties, inside test and
+/// deterministic volume and surface sampling. Implementation (assimp, CGAL) stays private.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "taskmap/meshes/random.hpp"
+#include "taskmap/meshes/triangle_mesh.hpp"
+
+namespace taskmap {
+
+/// Options for loading an object mesh.
+struct MeshLoadOptions {
+  double scale = 1.0;         ///< multiplies every coordinate (file units -> metres); > 0
+  bool repair = true;         ///< merge duplicates, stitch borders, orient outward, drop degenerate
+  double max_extent = 100.0;  ///< metres; larger bounding boxes are refused as absurd
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// What loading found and did.
+struct MeshLoadReport {
+  std::string path;                  ///< the file read ("" for an in-memory mesh)
+  std::string format;                ///< assimp's format id or file extension, e.g. "obj"
+  std::size_t input_vertices = 0;    ///< vertex count as read, all meshes of the scene merged
+  std::size_t input_faces = 0;       ///< triangle count as read
+  std::vector<std::string> repairs;  ///< human-readable repairs done, empty if none
+  bool closed = false;               ///< closed, manifold, outward solid after repair
+};
+
+/// Mass properties at uniform density 1 kg/m^3 (scale inertia by the real density).
+struct MassProperties {
+  double volume = 0.0;                                    ///< m^3, > 0 for a valid solid
+  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  ///< metres, object frame
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();      ///< about the centre of mass, kg m^2
+  Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();   ///< axis-aligned bounds, metres
+  Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();   ///< axis-aligned bounds, metres
+  double torque_scale = 0.0;  ///< largest distance from the centre of mass to a vertex, metres
+};
+
+/// A surface sample: point and outward unit normal, object frame.
+struct SurfaceSample {
+  Eigen::Vector3d point;   ///< metres
+  Eigen::Vector3d normal;  ///< unit, out of the object
+  int face = -1;           ///< index of the triangle sampled
+};
+
+/// A closed, outward-oriented triangle mesh treated as a solid. Immutable after construction;
+/// copies share state; every const method is thread-safe.
+class ObjectModel {
+ public:
+  /// Loads any format assimp reads, merges all meshes of the scene, scales, validates and
+  /// (optionally) repairs. Throws Error naming the file and the defect when the result is
+  /// not a closed solid of positive volume.
+  static ObjectModel load(const std::string& path, const MeshLoadOptions& options = {});
+  /// Wraps a mesh already in memory (validated and repaired like a file). @param name object name.
+  static ObjectModel fromMesh(const TriangleMesh& mesh, const std::string& name,
+                              const MeshLoadOptions& options = {});
+
+  /// Object name (file stem for loaded files).
+  const std::string& name() const;
+  /// SHA-256 of the source file bytes in hex ("" for in-memory meshes).
+  const std::string& sourceSha256() const;
+  /// Scale applied on load.
+  double scale() const;
+  /// The validated mesh, metres, outward faces.
+  const TriangleMesh& mesh() const;
+  /// Volume, centre of mass, inertia, bounds, torque scale.
+  const MassProperties& massProperties() const;
+  /// What loading found and repaired.
+  const MeshLoadReport& report() const;
+
+  /// True when p (metres, object frame) is strictly inside the solid.
+  bool contains(const Eigen::Vector3d& p) const;
+  /// Unsigned distance from p to the surface, metres.
+  double distanceToSurface(const Eigen::Vector3d& p) const;
+  /// Uniform point inside the volume (rejection sampling in the bounds).
+  Eigen::Vector3d sampleInside(Rng& rng) const;
+  /// Area-weighted uniform point on the surface with its outward normal.
+  SurfaceSample sampleSurface(Rng& rng) const;
+
+  struct Impl;  ///< private implementation (CGAL, acceleration structures)
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+/// SHA-256 of a file's bytes as 64 lowercase hex digits. Throws Error if unreadable.
+std::string sha256File(const std::string& path);
+
+/// SHA-256 of a byte string as 64 lowercase hex digits.
+std::string sha256Hex(const std::string& bytes);
+
+}  // namespace taskmap

@@ -1,0 +1,81 @@
+#pragma once
+/// @file grasp_quality.hpp
+/// Force closure and Ferrari-Canny epsilon quality of a set of contacts
+/// (shared/TASKMAPS.md §2 step 5 and §4). Thread-safe: no global state, no lock.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "taskmap/meshes/contact.hpp"
+
+namespace taskmap {
+
+/// Contact model of each finger contact.
+enum class ContactModel {
+  kPointWithFriction,  ///< point contact with Coulomb friction (default)
+  kSoftFinger,         ///< point contact with friction plus torsional friction about the normal
+};
+
+/// Norm of the grasp wrench space construction.
+enum class WrenchNorm {
+  kL1,    ///< convex hull of the union of all cone-edge wrenches (default)
+  kLInf,  ///< convex hull of the Minkowski sum of the contacts' cone-edge sets (small sets only)
+};
+
+/// Options of the quality evaluation. Defaults follow GraspIt!.
+struct QualityOptions {
+  double friction = 0.5;            ///< Coulomb friction coefficient mu, >= 0
+  int cone_edges = 8;               ///< friction-cone edges m, >= 3
+  ContactModel contact_model = ContactModel::kPointWithFriction;
+  double torsional_friction = 0.0;  ///< soft finger: torsional coefficient in metres, >= 0
+  WrenchNorm norm = WrenchNorm::kL1;
+  int max_linf_contacts = 6;        ///< kLInf refuses larger contact sets (m^n wrenches)
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Outcome of a quality evaluation.
+enum class QualityStatus {
+  kOk,               ///< hull built; force_closure and epsilon are meaningful
+  kNoContacts,       ///< no contact carries pressure (depth <= 0 or empty input)
+  kDegenerate,       ///< wrenches span fewer than 6 dimensions: not force closure, epsilon 0
+  kInvalidInput,     ///< NaN or infinite values, or a zero normal: nothing evaluated
+  kHullFailed,       ///< qhull failed for another reason: not force closure, epsilon 0
+};
+
+/// Name of a status, e.g. "ok", "no_contacts".
+const char* toString(QualityStatus status);
+/// Name of a contact model: "point_with_friction" or "soft_finger".
+const char* toString(ContactModel model);
+/// Parses a contact model name; throws Error on an unknown name.
+ContactModel contactModelFromString(const std::string& name);
+
+/// Quality of one grasp.
+struct QualityResult {
+  QualityStatus status = QualityStatus::kNoContacts;
+  std::string message;         ///< human-readable detail when status != kOk
+  bool force_closure = false;  ///< origin strictly inside the grasp wrench space
+  double epsilon = 0.0;        ///< distance from the origin to the nearest hull facet; 0 if not FC
+  double volume = 0.0;         ///< 6-D volume of the grasp wrench space (0 if degenerate)
+  int contacts_used = 0;       ///< contacts with pressure (depth > 0) that entered the hull
+};
+
+/// Scores a grasp from its contacts in the object frame.
+/// Wrench of a unit force f at point p: (f, (p - c) x f / r).
+/// @param contacts points (metres), outward unit normals, depths (metres, > 0 with pressure)
+/// @param center_of_mass c, object frame, metres
+/// @param torque_scale r, metres (> 0), usually MassProperties::torque_scale
+QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
+                            const Eigen::Vector3d& center_of_mass, double torque_scale,
+                            const QualityOptions& options = {});
+
+/// The cone-edge wrenches (6 x (n*m) for point contacts) that evaluateGrasp builds the hull
+/// from, for tests and tools. Contacts without pressure are skipped.
+Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const std::vector<Contact>& contacts,
+                                                          const Eigen::Vector3d& center_of_mass,
+                                                          double torque_scale,
+                                                          const QualityOptions& options = {});
+
+}  // namespace taskmap
