@@ -47,7 +47,25 @@ std::vector<int> cutToCount(const LinkageMatrix& linkage, int k);
 
 /// Default threshold: at the largest relative gap between consecutive merge distances
 /// among the top merges of the dendrogram (documented in the implementation).
+/// Same as defaultThreshold(linkage, max(2, ceil(0.02 n))).
 double defaultThreshold(const LinkageMatrix& linkage);
+
+/// Smallest relative gap that defaultThreshold accepts as a split; below it the data is one
+/// cluster.
+constexpr double kMinGapRatio = 2.0;
+
+/// Default threshold for clusters of at least min_size points (metres, in the embedding).
+/// A merge is significant when both merged clusters have >= min_size points. Its gap ratio
+/// is its distance over the core distance of its two children, where the core distance of a
+/// cluster skips outlier attachments (merges with a child below min_size) down to the first
+/// merge of two significant clusters or of two small ones. The significant merge with the
+/// largest ratio (ties: the higher merge) is cut: the threshold is the geometric mean of its
+/// distance and its children's larger core distance (half its distance when that is 0). No
+/// significant merge with ratio >= kMinGapRatio: one cluster; if the top merge is at least
+/// kMinGapRatio times the core distance of the whole dendrogram, the cut is at their
+/// geometric mean (stragglers above it become outliers), else at the top merge distance.
+/// 0 for fewer than 2 points.
+double defaultThreshold(const LinkageMatrix& linkage, int min_size);
 
 /// Options for clustering grasps.
 struct ClusteringOptions {
@@ -60,6 +78,10 @@ struct ClusteringOptions {
   /// Throws Error naming the option when a value is out of range or both cuts are set.
   void validate() const;
 };
+
+/// Absolute minimum cluster size the options give for n grasps: options.min_size if > 0,
+/// else max(1, ceil(min_size_fraction * n)).
+int resolveMinSize(const ClusteringOptions& options, int n);
 
 /// Summary of one cluster.
 struct ClusterSummary {

@@ -19,6 +19,7 @@ struct MeshLoadOptions {
   double scale = 1.0;         ///< multiplies every coordinate (file units -> metres); > 0
   bool repair = true;         ///< merge duplicates, stitch borders, orient outward, drop degenerate
   double max_extent = 100.0;  ///< metres; larger bounding boxes are refused as absurd
+  std::size_t max_faces = 10'000'000;  ///< larger meshes are refused (memory, time)
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -31,6 +32,7 @@ struct MeshLoadReport {
   std::size_t input_faces = 0;       ///< triangle count as read
   std::vector<std::string> repairs;  ///< human-readable repairs done, empty if none
   bool closed = false;               ///< closed, manifold, outward solid after repair
+  std::vector<std::string> warnings;  ///< accepted defects, e.g. self-intersections
 };
 
 /// Mass properties at uniform density 1 kg/m^3 (scale inertia by the real density).

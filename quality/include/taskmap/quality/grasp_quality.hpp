@@ -26,23 +26,23 @@ enum class WrenchNorm {
 
 /// Options of the quality evaluation. Defaults follow GraspIt!.
 struct QualityOptions {
-  double friction = 0.5;            ///< Coulomb friction coefficient mu, >= 0
-  int cone_edges = 8;               ///< friction-cone edges m, >= 3
+  double friction = 0.5;  ///< Coulomb friction coefficient mu, >= 0
+  int cone_edges = 8;     ///< friction-cone edges m, >= 3
   ContactModel contact_model = ContactModel::kPointWithFriction;
   double torsional_friction = 0.0;  ///< soft finger: torsional coefficient in metres, >= 0
   WrenchNorm norm = WrenchNorm::kL1;
-  int max_linf_contacts = 6;        ///< kLInf refuses larger contact sets (m^n wrenches)
+  int max_linf_contacts = 6;  ///< kLInf refuses larger contact sets (m^n wrenches)
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
 
 /// Outcome of a quality evaluation.
 enum class QualityStatus {
-  kOk,               ///< hull built; force_closure and epsilon are meaningful
-  kNoContacts,       ///< no contact carries pressure (depth <= 0 or empty input)
-  kDegenerate,       ///< wrenches span fewer than 6 dimensions: not force closure, epsilon 0
-  kInvalidInput,     ///< NaN or infinite values, or a zero normal: nothing evaluated
-  kHullFailed,       ///< qhull failed for another reason: not force closure, epsilon 0
+  kOk,            ///< hull built; force_closure and epsilon are meaningful
+  kNoContacts,    ///< no contact carries pressure (depth <= 0 or empty input)
+  kDegenerate,    ///< wrenches span fewer than 6 dimensions: not force closure, epsilon 0
+  kInvalidInput,  ///< NaN or infinite values, or a zero normal: nothing evaluated
+  kHullFailed,    ///< qhull failed for another reason: not force closure, epsilon 0
 };
 
 /// Name of a status, e.g. "ok", "no_contacts".
@@ -74,8 +74,8 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
 /// The cone-edge wrenches (6 x (n*m) for point contacts) that evaluateGrasp builds the hull
 /// from, for tests and tools. Contacts without pressure are skipped.
 Eigen::Matrix<double, 6, Eigen::Dynamic> contactWrenches(const std::vector<Contact>& contacts,
-                                                          const Eigen::Vector3d& center_of_mass,
-                                                          double torque_scale,
-                                                          const QualityOptions& options = {});
+                                                         const Eigen::Vector3d& center_of_mass,
+                                                         double torque_scale,
+                                                         const QualityOptions& options = {});
 
 }  // namespace taskmap

@@ -1,0 +1,128 @@
+#pragma once
+/// @file grasp_simulator.hpp
+/// One grasp trial (shared/TASKMAPS.md §2 steps 1-4): put the hand's palm frame at a pose in
+/// the object frame with the open preshape, retract it along the approach axis out of the
+/// object, close the fingers (autoGrasp), squeeze, and report the contacts. Collision
+/// detection is Bullet (float64), kept private.
+///
+/// Retraction semantics: with a = the approach axis in the object frame, the hand is moved to
+/// p(s) = p0 - s a for the smallest s >= 0 at which no link penetrates the object (first exit
+/// along the retraction; coarse steps bounded by half the thinnest link or by the current
+/// penetration depth, whichever is larger, then bisection until the closest link is within
+/// contact_tolerance of the surface). If the hand still penetrates at s = max_retraction the
+/// trial is kNotRetractable. If the hand does not penetrate at s = 0 it is advanced along +a
+/// (conservative advancement) until it touches; if it touches nothing within max_retraction the
+/// trial is kNoPalmContact. When the touching links at the exit do not include the palm (or a
+/// link fixed to it) the trial is kNoPalmContact (unless require_palm_contact is false). The
+/// palm is then pressed into the surface by the squeeze distance along +a.
+///
+/// Closing (GraspIt!'s autoGrasp): every closing joint moves toward its closed limit at its
+/// relative speed; coarse steps move no point of the hand by more than half the thinnest moving
+/// link, a step that ends in penetration is bisected until the touching link is within
+/// contact_tolerance; a touching link stops every joint that moves it, distal joints keep
+/// closing; joints stop at their limits. Each joint stopped by a contact is then advanced so
+/// that its contact point presses the squeeze distance into the object.
+///
+/// Contacts: every triangle a link penetrates after the squeeze (depth > 0), merged per link
+/// within 1 mm; point on the object surface, the triangle's outward normal.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "taskmap/meshes/contact.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/meshes/object_model.hpp"
+#include "taskmap/meshes/pose.hpp"
+#include "taskmap/meshes/triangle_mesh.hpp"
+
+namespace taskmap {
+
+/// Outcome of one trial.
+enum class GraspStatus {
+  kOk,               ///< hand closed on the object, at least one finger in pressed contact
+  kNotRetractable,   ///< the hand still penetrates after retracting max_retraction
+  kNoPalmContact,    ///< the palm does not touch the surface when the hand leaves the object
+  kNoFingerContact,  ///< every closing joint reached its limit without a finger contact
+  kSelfCollision,    ///< two hand links penetrate each other in the final state
+  kStepLimit,        ///< closing did not settle within max_closing_steps (degenerate geometry)
+};
+
+/// Stable lowercase name: "ok", "not_retractable", "no_palm_contact", "no_finger_contact",
+/// "self_collision", "step_limit".
+const char* toString(GraspStatus s);
+/// Every value, in enum order.
+const std::vector<GraspStatus>& allGraspStatuses();
+
+/// Knobs of the simulation.
+struct GraspSimOptions {
+  double contact_tolerance = 5e-4;  ///< metres; a link within this distance of the surface touches
+  /// Longest retraction along -approach, metres; 0 = automatic (enough to clear the object's
+  /// bounding sphere from the initial pose: |p0 - c| + r_object + reach + 1 cm).
+  double max_retraction = 0.0;
+  /// Squeeze distance, metres; negative = the hand sidecar's value.
+  double squeeze = -1.0;
+  /// When false, a hand whose fingers touch first still closes (finger-first contact).
+  bool require_palm_contact = true;
+  /// Check hand self-collision in the final state.
+  bool check_self_collision = true;
+  /// Upper bound on closing steps (coarse steps plus bisections) per trial.
+  int max_closing_steps = 4000;
+  /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
+  bool profile = false;
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Counters of one trial (deterministic except the seconds, which need options.profile).
+struct GraspStats {
+  int queries = 0;                ///< link-versus-object collision queries
+  int closing_steps = 0;          ///< coarse closing steps and bisection evaluations
+  double retraction = 0.0;        ///< distance moved along -approach, metres (negative: advanced)
+  double retract_seconds = 0.0;   ///< wall time of the retraction (profile only)
+  double close_seconds = 0.0;     ///< wall time of closing and squeeze (profile only)
+  double contacts_seconds = 0.0;  ///< wall time of contact extraction (profile only)
+};
+
+/// Result of one trial.
+struct GraspResult {
+  GraspStatus status = GraspStatus::kNoFingerContact;  ///< outcome
+  std::string message;                                 ///< human-readable detail
+  Pose pose;                                           ///< final palm pose in the object frame
+  Eigen::VectorXd joints;         ///< final values, HandModel::jointNames() order
+  std::vector<Contact> contacts;  ///< pressed contacts; link indexes HandModel::links()
+  std::vector<std::string> fingers_in_contact;  ///< HandModel::fingerNames() with a contact
+  bool palm_contact = false;                    ///< a palm (or palm-fixed) link has a contact
+  GraspStats stats;                             ///< counters and timing
+};
+
+/// Simulates grasp trials of one hand on one object. Construction builds the object's
+/// bounding-volume hierarchy once; simulate() is const, thread-safe and lock-free (each thread
+/// lazily gets its own Bullet dispatcher), and deterministic.
+class GraspSimulator {
+ public:
+  /// @param object the object (its mesh is copied). @param hand the hand (copied).
+  GraspSimulator(const ObjectModel& object, const HandModel& hand,
+                 const GraspSimOptions& options = {});
+  /// Same for a raw closed, outward-oriented mesh in metres (object frame = mesh coordinates).
+  GraspSimulator(const TriangleMesh& mesh, const HandModel& hand,
+                 const GraspSimOptions& options = {});
+  ~GraspSimulator();
+  GraspSimulator(const GraspSimulator&) = delete;
+  GraspSimulator& operator=(const GraspSimulator&) = delete;
+
+  /// Runs one trial from the initial palm pose (object frame). Thread-safe, deterministic.
+  GraspResult simulate(const Pose& initial_palm_pose) const;
+  /// The hand simulated.
+  const HandModel& hand() const;
+  /// The options in force.
+  const GraspSimOptions& options() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;  // Bullet stays hidden
+};
+
+}  // namespace taskmap

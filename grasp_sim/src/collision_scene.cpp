@@ -1,0 +1,417 @@
+// The only translation unit that includes Bullet (double precision).
+#include "collision_scene.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btCylinderShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleIndexVertexArray.h>
+#include <BulletCollision/CollisionShapes/btTriangleShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
+#include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
+
+#include "taskmap/meshes/error.hpp"
+
+static_assert(sizeof(btScalar) == sizeof(double),
+              "taskmap needs Bullet built with double precision");
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Collision margin of the box, cylinder and hull link shapes: none, so that GJK works on the
+/// exact shapes (spheres keep their radius as margin; distances subtract it).
+constexpr double kConvexMargin = 0.0;
+
+btVector3 bt(const Eigen::Vector3d& v) {
+  return btVector3(v.x(), v.y(), v.z());
+}
+Eigen::Vector3d eig(const btVector3& v) {
+  return Eigen::Vector3d(v.x(), v.y(), v.z());
+}
+
+btTransform bt(const Eigen::Isometry3d& t) {
+  const Eigen::Matrix3d& r = t.linear();
+  btMatrix3x3 m(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2));
+  return btTransform(m, bt(Eigen::Vector3d(t.translation())));
+}
+
+/// Signed distance between two convex shapes with GJK (separated) or EPA (overlapping).
+/// Returns false when the depth of an overlap is not wanted (`need_depth` false) or EPA failed;
+/// `r` then holds what is known. Distances are between the full shapes (margins included).
+bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConvexShape* b,
+                    const btTransform& tb, bool need_depth, double* distance,
+                    btGjkEpaSolver2::sResults* r, bool* overlap) {
+  const btVector3 guess = tb.getOrigin() - ta.getOrigin();
+  *overlap = false;
+  if (btGjkEpaSolver2::Distance(a, ta, b, tb, guess, *r)) {
+    // Distance() measures the cores: subtract the margins (sphere radius). The solver returns
+    // the normal in the frame of shape a; witnesses are in world coordinates.
+    *distance = r->distance - a->getMargin() - b->getMargin();
+    r->normal = ta.getBasis() * r->normal;
+    return true;
+  }
+  *overlap = true;
+  if (!need_depth) return false;
+  if (btGjkEpaSolver2::Penetration(a, ta, b, tb, guess, *r)) {
+    *distance = r->distance;
+    r->normal = ta.getBasis() * r->normal;
+    return true;
+  }
+  return false;
+}
+
+/// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r,
+/// half extents e) and a triangle: the largest separation over the 13 axes of the box-triangle
+/// SAT. A value > 0 is a lower bound on their distance; a value <= 0 means they intersect
+/// (the 13 axes are complete for a box and a triangle).
+double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
+                             const Eigen::Vector3d& e, const btVector3* tri) {
+  Eigen::Vector3d v[3];
+  for (int i = 0; i < 3; ++i)
+    v[i] = r.transpose() * (Eigen::Vector3d(tri[i].x(), tri[i].y(), tri[i].z()) - c);
+  double best = -std::numeric_limits<double>::infinity();
+  auto axis = [&](const Eigen::Vector3d& l) {
+    const double len = l.norm();
+    if (len < 1e-12) return;
+    const double p0 = l.dot(v[0]), p1 = l.dot(v[1]), p2 = l.dot(v[2]);
+    const double rad = e.x() * std::abs(l.x()) + e.y() * std::abs(l.y()) + e.z() * std::abs(l.z());
+    const double lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});
+    best = std::max(best, std::max(lo - rad, -rad - hi) / len);
+  };
+  axis(Eigen::Vector3d::UnitX());
+  axis(Eigen::Vector3d::UnitY());
+  axis(Eigen::Vector3d::UnitZ());
+  const Eigen::Vector3d f[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
+  axis(f[0].cross(f[1]));
+  for (const auto& edge : f) {
+    axis(Eigen::Vector3d(0, -edge.z(), edge.y()));
+    axis(Eigen::Vector3d(edge.z(), 0, -edge.x()));
+    axis(Eigen::Vector3d(-edge.y(), edge.x(), 0));
+  }
+  return best;
+}
+
+/// Separating-axis bound between two oriented boxes (15 axes): > 0 is a lower bound on their
+/// distance, <= 0 means they intersect.
+double boxBoxSeparation(const Eigen::Vector3d& ca, const Eigen::Matrix3d& ra,
+                        const Eigen::Vector3d& ea, const Eigen::Vector3d& cb,
+                        const Eigen::Matrix3d& rb, const Eigen::Vector3d& eb) {
+  const Eigen::Vector3d d = cb - ca;
+  double best = -std::numeric_limits<double>::infinity();
+  auto axis = [&](const Eigen::Vector3d& l) {
+    const double len = l.norm();
+    if (len < 1e-12) return;
+    double rad = 0.0;
+    for (int k = 0; k < 3; ++k)
+      rad += ea[k] * std::abs(l.dot(ra.col(k))) + eb[k] * std::abs(l.dot(rb.col(k)));
+    best = std::max(best, (std::abs(l.dot(d)) - rad) / len);
+  };
+  for (int k = 0; k < 3; ++k) {
+    axis(ra.col(k));
+    axis(rb.col(k));
+  }
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) axis(ra.col(i).cross(rb.col(j)));
+  return best;
+}
+
+/// Runs GJK/EPA of one convex shape against every triangle the BVH reports near it.
+struct TriangleQuery : btTriangleCallback {
+  const btConvexShape* shape = nullptr;
+  btTransform xf;
+  double threshold = 0.0;
+  bool exact = false;  // EPA depth and witnesses for overlapping triangles
+  std::vector<TriangleHit>* hits = nullptr;
+  double min_distance = kInf;
+  bool overlap_found = false;
+
+  // Boxes: the separating-axis test decides far and overlapping triangles without GJK.
+  bool is_box = false;
+  Eigen::Vector3d box_centre, box_half;
+  Eigen::Matrix3d box_axes;
+
+  void processTriangle(btVector3* tri, int, int index) override {
+    if (overlap_found && !exact) return;
+    if (is_box) {
+      const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri);
+      if (sep > threshold) return;
+      if (sep <= 0.0 && !exact) {
+        // The 13 axes give the exact minimum translation distance of the pair: a lower bound
+        // of the link's penetration of the whole mesh.
+        overlap_found = true;
+        min_distance = std::min(min_distance, std::min(sep, kOverlapping));
+        return;
+      }
+    }
+    btTriangleShape ts(tri[0], tri[1], tri[2]);
+    ts.setMargin(0.0);
+    btGjkEpaSolver2::sResults r;
+    double d = 0.0;
+    bool overlap = false;
+    const bool known =
+        signedDistance(shape, xf, &ts, btTransform::getIdentity(), exact, &d, &r, &overlap);
+    if (!known) {
+      if (!exact) {
+        overlap_found = true;
+        min_distance = std::min(min_distance, kOverlapping);
+        return;
+      }
+      // EPA failed on an overlapping pair: treat as touching at the triangle centroid.
+      d = 0.0;
+      r.witnesses[1] = (tri[0] + tri[1] + tri[2]) / 3.0;
+      r.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
+    }
+    if (d > threshold) return;
+    min_distance = std::min(min_distance, d);
+    if (d < 0.0 && !exact) {
+      overlap_found = true;
+      return;
+    }
+    if (hits) {
+      TriangleHit h;
+      h.distance = d;
+      h.point = eig(r.witnesses[1]);
+      h.normal = eig(r.normal);
+      h.triangle = index;
+      hits->push_back(h);
+    }
+  }
+};
+
+/// Counts ray crossings with the mesh (parity test).
+struct CrossingCounter : btTriangleRaycastCallback {
+  CrossingCounter(const btVector3& from, const btVector3& to)
+      : btTriangleRaycastCallback(from, to, kF_KeepUnflippedNormal) {}
+  int crossings = 0;
+  btScalar reportHit(const btVector3&, btScalar, int, int) override {
+    ++crossings;
+    return m_hitFraction;  // keep collecting every crossing
+  }
+};
+
+}  // namespace
+
+struct ShapeEntry {
+  std::unique_ptr<btConvexShape> shape;
+  Eigen::Isometry3d origin;  // shape frame in the link frame
+  double bounding_radius = 0.0;
+  bool is_box = false;
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+};
+
+struct CollisionScene::Data {
+  std::vector<double> vertices;
+  std::vector<int> indices;
+  std::unique_ptr<btTriangleIndexVertexArray> arrays;
+  std::unique_ptr<btBvhTriangleMeshShape> mesh_shape;
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::Vector3d lo, hi, centre;
+  double radius = 0.0;
+  std::vector<std::vector<ShapeEntry>> links;
+  std::vector<Eigen::Vector3d> link_centre;  // bounding sphere of each link, link frame
+  std::vector<double> link_radius;
+};
+
+CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand)
+    : d_(std::make_unique<Data>()) {
+  if (mesh.faces.empty() || mesh.vertices.size() < 3)
+    throw Error("grasp simulation needs a non-empty triangle mesh");
+  Data& d = *d_;
+  d.lo = d.hi = mesh.vertices.front();
+  for (const auto& v : mesh.vertices) {
+    d.vertices.insert(d.vertices.end(), {v.x(), v.y(), v.z()});
+    d.lo = d.lo.cwiseMin(v);
+    d.hi = d.hi.cwiseMax(v);
+  }
+  d.centre = 0.5 * (d.lo + d.hi);
+  d.radius = 0.5 * (d.hi - d.lo).norm();
+  const int nv = static_cast<int>(mesh.vertices.size());
+  for (const auto& f : mesh.faces) {
+    for (int k = 0; k < 3; ++k)
+      if (f[k] < 0 || f[k] >= nv)
+        throw Error("grasp simulation: mesh face indexes a missing vertex");
+    d.indices.insert(d.indices.end(), {f[0], f[1], f[2]});
+    const Eigen::Vector3d n = (mesh.vertices[static_cast<std::size_t>(f[1])] -
+                               mesh.vertices[static_cast<std::size_t>(f[0])])
+                                  .cross(mesh.vertices[static_cast<std::size_t>(f[2])] -
+                                         mesh.vertices[static_cast<std::size_t>(f[0])]);
+    const double len = n.norm();
+    d.normals.push_back(len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ());
+  }
+  btIndexedMesh im;
+  im.m_numTriangles = static_cast<int>(mesh.faces.size());
+  im.m_triangleIndexBase = reinterpret_cast<const unsigned char*>(d.indices.data());
+  im.m_triangleIndexStride = 3 * sizeof(int);
+  im.m_numVertices = nv;
+  im.m_vertexBase = reinterpret_cast<const unsigned char*>(d.vertices.data());
+  im.m_vertexStride = 3 * sizeof(double);
+  im.m_indexType = PHY_INTEGER;
+  im.m_vertexType = PHY_DOUBLE;
+  d.arrays = std::make_unique<btTriangleIndexVertexArray>();
+  d.arrays->addIndexedMesh(im, PHY_INTEGER);
+  d.mesh_shape = std::make_unique<btBvhTriangleMeshShape>(d.arrays.get(), true, true);
+  d.mesh_shape->setMargin(0.0);
+
+  for (const HandLink& link : hand.links()) {
+    std::vector<ShapeEntry> entries;
+    for (const CollisionShape& s : link.shapes) {
+      ShapeEntry e;
+      e.origin = s.origin;
+      e.bounding_radius = s.boundingRadius() + kConvexMargin;
+      switch (s.type) {
+        case ShapeType::kBox:
+          e.is_box = true;
+          e.half_extents = 0.5 * s.box_size;
+          e.shape = std::make_unique<btBoxShape>(bt(Eigen::Vector3d(0.5 * s.box_size)));
+          e.shape->setMargin(kConvexMargin);
+          break;
+        case ShapeType::kCylinder:
+          e.shape =
+              std::make_unique<btCylinderShapeZ>(btVector3(s.radius, s.radius, 0.5 * s.length));
+          e.shape->setMargin(kConvexMargin);
+          break;
+        case ShapeType::kSphere:
+          e.shape = std::make_unique<btSphereShape>(s.radius);
+          break;
+        case ShapeType::kConvex: {
+          auto hull = std::make_unique<btConvexHullShape>(
+              s.points.front().data(), static_cast<int>(s.points.size()), sizeof(Eigen::Vector3d));
+          hull->optimizeConvexHull();
+          hull->setMargin(kConvexMargin);
+          e.shape = std::move(hull);
+          break;
+        }
+      }
+      entries.push_back(std::move(e));
+    }
+    // Bounding sphere of the link: centred at the mean of its shape centres.
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (const auto& e : entries) centre += e.origin.translation();
+    if (!entries.empty()) centre /= static_cast<double>(entries.size());
+    double radius = 0.0;
+    for (const auto& e : entries)
+      radius = std::max(radius, (e.origin.translation() - centre).norm() + e.bounding_radius);
+    d.link_centre.push_back(centre);
+    d.link_radius.push_back(radius);
+    d.links.push_back(std::move(entries));
+  }
+}
+
+CollisionScene::~CollisionScene() = default;
+
+const Eigen::Vector3d& CollisionScene::faceNormal(int tri) const {
+  return d_->normals[static_cast<std::size_t>(tri)];
+}
+const Eigen::Vector3d& CollisionScene::objectCentre() const {
+  return d_->centre;
+}
+double CollisionScene::objectRadius() const {
+  return d_->radius;
+}
+
+namespace {
+
+double queryLink(const std::vector<ShapeEntry>& entries, const btBvhTriangleMeshShape& mesh,
+                 const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Isometry3d& t,
+                 double threshold, bool exact, std::vector<TriangleHit>* hits) {
+  double best = kInf;
+  for (const ShapeEntry& e : entries) {
+    const Eigen::Isometry3d ts = t * e.origin;
+    // Cull by the shape's bounding sphere against the object's bounding box.
+    const Eigen::Vector3d c = ts.translation();
+    const Eigen::Vector3d out = (lo - c).cwiseMax(c - hi).cwiseMax(0.0);
+    if (out.norm() > e.bounding_radius + threshold) continue;
+    TriangleQuery q;
+    q.shape = e.shape.get();
+    q.xf = bt(ts);
+    q.threshold = threshold;
+    q.exact = exact;
+    q.hits = hits;
+    if (e.is_box) {
+      q.is_box = true;
+      q.box_centre = c;
+      q.box_axes = ts.linear();
+      q.box_half = e.half_extents;
+    }
+    btVector3 amin, amax;
+    e.shape->getAabb(q.xf, amin, amax);
+    const btVector3 pad(threshold, threshold, threshold);
+    mesh.processAllTriangles(&q, amin - pad, amax + pad);
+    best = std::min(best, q.min_distance);
+    if (!exact && best < 0.0) break;
+  }
+  return best;
+}
+
+}  // namespace
+
+double CollisionScene::linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const {
+  const Data& d = *d_;
+  return queryLink(d.links[static_cast<std::size_t>(link)], *d.mesh_shape, d.lo, d.hi, t, threshold,
+                   false, nullptr);
+}
+
+double CollisionScene::linkHits(int link, const Eigen::Isometry3d& t, double threshold,
+                                std::vector<TriangleHit>* hits) const {
+  const Data& d = *d_;
+  return queryLink(d.links[static_cast<std::size_t>(link)], *d.mesh_shape, d.lo, d.hi, t, threshold,
+                   true, hits);
+}
+
+bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {
+  const Data& d = *d_;
+  static const Eigen::Vector3d kDirs[3] = {Eigen::Vector3d(0.5772, 0.5811, 0.5737).normalized(),
+                                           Eigen::Vector3d(-0.3131, 0.8927, -0.3241).normalized(),
+                                           Eigen::Vector3d(0.7071, -0.2903, -0.6449).normalized()};
+  for (const ShapeEntry& e : d.links[static_cast<std::size_t>(link)]) {
+    const Eigen::Vector3d c = (t * e.origin).translation();
+    if ((c.array() <= d.lo.array()).any() || (c.array() >= d.hi.array()).any()) continue;
+    int votes = 0;
+    const double len = 4.0 * d.radius + 1.0;
+    for (const auto& dir : kDirs) {
+      CrossingCounter counter(bt(c), bt(Eigen::Vector3d(c + len * dir)));
+      d.mesh_shape->performRaycast(&counter, bt(c), bt(Eigen::Vector3d(c + len * dir)));
+      votes += counter.crossings % 2;
+    }
+    if (votes >= 2) return true;
+  }
+  return false;
+}
+
+double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b,
+                                        const Eigen::Isometry3d& tb, double threshold) const {
+  const Data& d = *d_;
+  const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+  if ((ta * d.link_centre[ua] - tb * d.link_centre[ub]).norm() >
+      d.link_radius[ua] + d.link_radius[ub] + threshold)
+    return kInf;
+  double best = kInf;
+  for (const ShapeEntry& ea : d.links[static_cast<std::size_t>(a)])
+    for (const ShapeEntry& eb : d.links[static_cast<std::size_t>(b)]) {
+      const Eigen::Isometry3d sa = ta * ea.origin, sb = tb * eb.origin;
+      if ((sa.translation() - sb.translation()).norm() >
+          ea.bounding_radius + eb.bounding_radius + threshold)
+        continue;
+      if (ea.is_box && eb.is_box &&
+          boxBoxSeparation(sa.translation(), sa.linear(), ea.half_extents, sb.translation(),
+                           sb.linear(), eb.half_extents) > threshold)
+        continue;
+      btGjkEpaSolver2::sResults r;
+      double dist = 0.0;
+      bool overlap = false;
+      if (!signedDistance(ea.shape.get(), bt(sa), eb.shape.get(), bt(sb), true, &dist, &r,
+                          &overlap))
+        dist = 0.0;  // EPA failure on overlapping shapes: treat as touching
+      if (dist <= threshold) best = std::min(best, dist);
+    }
+  return best;
+}
+
+}  // namespace taskmap

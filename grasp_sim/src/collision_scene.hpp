@@ -1,0 +1,66 @@
+#pragma once
+// Private to grasp_sim: the object as a static Bullet triangle mesh (BVH) and the hand links as
+// convex Bullet shapes. Bullet types stay in collision_scene.cpp. Const methods are thread-safe:
+// queries run Bullet's stateless GJK/EPA (btGjkEpaSolver2) on the triangles the BVH reports,
+// all state on the stack; the shapes and the BVH are shared read-only.
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/meshes/triangle_mesh.hpp"
+
+namespace taskmap {
+
+/// Closest-feature result of a link against one object triangle.
+struct TriangleHit {
+  double distance = 0.0;                              ///< signed, metres; < 0 is penetration depth
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< witness point on the object triangle
+  int triangle = -1;                                  ///< triangle index in the mesh
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< separation direction, object -> link
+};
+
+/// Returned by CollisionScene::linkDistance for an overlapping link (depth not computed).
+constexpr double kOverlapping = -1e-300;
+
+class CollisionScene {
+ public:
+  /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
+  CollisionScene(const TriangleMesh& mesh, const HandModel& hand);
+  ~CollisionScene();
+  CollisionScene(const CollisionScene&) = delete;
+  CollisionScene& operator=(const CollisionScene&) = delete;
+
+  /// Minimum signed distance between link `link` at pose `t` (object frame) and the object,
+  /// considering triangles within `threshold` metres; +infinity when none is that close. When
+  /// the link overlaps a triangle the search stops and a negative value is returned: minus a
+  /// lower bound of the link's penetration depth (the box-triangle SAT depth of the first
+  /// overlapping triangle, or kOverlapping when unknown). Use linkHits for exact depths.
+  double linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const;
+  /// Like linkDistance but exact: every triangle within `threshold` is appended to `hits`
+  /// with its signed distance (EPA depth when penetrating) and witness point; returns the
+  /// minimum signed distance.
+  double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
+                  std::vector<TriangleHit>* hits) const;
+  /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
+  /// the shape's centre); call only for links that touch no triangle.
+  bool linkInside(int link, const Eigen::Isometry3d& t) const;
+  /// Minimum signed distance between two links at their poses, within `threshold`
+  /// (+infinity beyond).
+  double linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b, const Eigen::Isometry3d& tb,
+                          double threshold) const;
+  /// Outward unit normal of triangle `tri`.
+  const Eigen::Vector3d& faceNormal(int tri) const;
+  /// Centre and radius of a sphere enclosing the object, metres.
+  const Eigen::Vector3d& objectCentre() const;
+  double objectRadius() const;
+
+ private:
+  struct Data;
+  std::unique_ptr<Data> d_;
+};
+
+}  // namespace taskmap

@@ -1,0 +1,328 @@
+// Python bindings of the run-time query library: `import taskmap`.
+// Poses are numpy arrays (x y z qw qx qy qz), gradients 6-vectors (linear, angular) in the
+// object frame; taskmap::Error becomes taskmap.Error, a subclass of ValueError.
+#include <pybind11/eigen.h>
+#include <pybind11/functional.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+
+#include "taskmap/clustering/clustering.hpp"
+#include "taskmap/integration/criteria.hpp"
+#include "taskmap/integration/frames.hpp"
+#include "taskmap/integration/initialisation.hpp"
+#include "taskmap/integration/task_map.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/meshes/error.hpp"
+
+namespace py = pybind11;
+using namespace taskmap;
+
+namespace {
+
+using Vec7 = Eigen::Matrix<double, 7, 1>;
+
+Pose toPose(const Vec7& v) { return Pose::fromVector7(v); }
+Vec7 fromPose(const Pose& p) { return p.toVector7(); }
+
+TaskMapOptions makeOptions(const py::kwargs& kw) {
+  TaskMapOptions o;
+  for (const auto& item : kw) {
+    const std::string k = py::str(item.first);
+    const py::handle v = item.second;
+    if (k == "index") {
+      const std::string s = py::str(v);
+      if (s == "exact") o.index = IndexKind::kExactKdTree;
+      else if (s == "randomized") o.index = IndexKind::kRandomizedForest;
+      else throw Error("option index = '" + s + "'; use 'exact' or 'randomized'");
+    } else if (k == "trees") {
+      o.trees = v.cast<int>();
+    } else if (k == "checks") {
+      o.checks = v.cast<int>();
+    } else if (k == "linear_weight") {
+      o.linear_weight = v.cast<double>();
+    } else if (k == "angular_weight") {
+      o.angular_weight = v.cast<double>();
+    } else if (k == "position_sigma") {
+      o.position_sigma = v.cast<double>();
+    } else if (k == "rotation_sigma") {
+      o.rotation_sigma = v.cast<double>();
+    } else if (k == "bandwidth_factor") {
+      o.bandwidth_factor = v.cast<double>();
+    } else if (k == "quality_mode") {
+      const std::string s = py::str(v);
+      if (s == "exact") o.quality_mode = QualityMode::kExact;
+      else if (s == "truncated") o.quality_mode = QualityMode::kTruncated;
+      else throw Error("option quality_mode = '" + s + "'; use 'exact' or 'truncated'");
+    } else if (k == "quality_tolerance") {
+      o.quality_tolerance = v.cast<double>();
+    } else if (k == "threads") {
+      o.threads = v.cast<int>();
+    } else {
+      throw Error("unknown option '" + k +
+                  "'; known: index, trees, checks, linear_weight, angular_weight, "
+                  "position_sigma, rotation_sigma, bandwidth_factor, quality_mode, "
+                  "quality_tolerance, threads");
+    }
+  }
+  return o;
+}
+
+std::optional<QualityMode> modeOf(const std::optional<std::string>& s) {
+  if (!s) return std::nullopt;
+  if (*s == "exact") return QualityMode::kExact;
+  if (*s == "truncated") return QualityMode::kTruncated;
+  throw Error("quality mode '" + *s + "'; use 'exact' or 'truncated'");
+}
+
+py::tuple neighbours(const std::vector<Neighbor>& v) {
+  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> idx(static_cast<Eigen::Index>(v.size()));
+  Eigen::VectorXd d(static_cast<Eigen::Index>(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    idx[static_cast<Eigen::Index>(i)] = static_cast<std::int64_t>(v[i].index);
+    d[static_cast<Eigen::Index>(i)] = v[i].distance;
+  }
+  return py::make_tuple(idx, d);
+}
+
+py::dict qualityDict(const QualityResult& q) {
+  py::dict d;
+  d["value"] = q.value;
+  d["gradient"] = Eigen::VectorXd(q.gradient);
+  d["value_bound"] = q.value_bound;
+  d["gradient_bound"] = q.gradient_bound;
+  d["terms"] = q.terms;
+  return d;
+}
+
+py::dict proximityDict(const ProximityResult& p) {
+  py::dict d;
+  d["value"] = p.value;
+  d["gradient"] = Eigen::VectorXd(p.gradient);
+  d["nearest"] = p.nearest.index;
+  d["distance"] = p.nearest.distance;
+  d["difference"] = Eigen::VectorXd(p.difference);
+  return d;
+}
+
+TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
+                   const std::optional<std::vector<int>>& labels, double rotation_scale,
+                   const py::kwargs& kw) {
+  TaskMapData d;
+  const std::size_t n = static_cast<std::size_t>(poses.rows());
+  d.generator = "taskmap python from_arrays";
+  d.grasps.pose = poses;
+  for (std::size_t i = 0; i < n; ++i) {  // canonical, normalised quaternions
+    const Pose p = Pose::fromVector7(poses.row(static_cast<Eigen::Index>(i)).transpose());
+    d.grasps.pose.row(static_cast<Eigen::Index>(i)) = p.toVector7().transpose();
+  }
+  d.grasps.epsilon = epsilon;
+  d.grasps.rotation_scale = rotation_scale;
+  d.grasps.joints.resize(static_cast<Eigen::Index>(n), 0);
+  d.grasps.volume.assign(n, 0.0);
+  d.grasps.contact_offsets.assign(n + 1, 0);
+  d.grasps.contacts_available = false;
+  d.grasps.contact_points.resize(0, 3);
+  d.grasps.contact_normals.resize(0, 3);
+  d.object.name = "from_arrays";
+  d.object.vertices.resize(0, 3);
+  d.grasps.force_closure.resize(n);
+  for (std::size_t i = 0; i < std::min(n, epsilon.size()); ++i)
+    d.grasps.force_closure[i] = epsilon[i] > 0 ? 1 : 0;
+  if (labels) {
+    if (labels->size() != n)
+      throw Error("labels has " + std::to_string(labels->size()) + " entries; expected " +
+                  std::to_string(n) + " (one per pose)");
+    ClusteringResult c;
+    c.labels = *labels;
+    c.rotation_scale = rotation_scale;
+    const int k = labels->empty() ? 0 : *std::max_element(labels->begin(), labels->end()) + 1;
+    c.clusters.resize(static_cast<std::size_t>(std::max(0, k)));
+    std::vector<std::vector<Eigen::Quaterniond>> qs(c.clusters.size());
+    for (std::size_t i = 0; i < n; ++i) {
+      const int l = (*labels)[i];
+      if (l < -1) throw Error("labels[" + std::to_string(i) + "] = " + std::to_string(l) + "; use -1 (outlier) or 0..K-1");
+      if (l < 0) continue;
+      ClusterSummary& s = c.clusters[static_cast<std::size_t>(l)];
+      const Pose p = d.grasps.poseAt(i);
+      const double e = i < epsilon.size() ? epsilon[i] : 0.0;
+      if (s.size == 0) {
+        s.bounds_min = s.bounds_max = p.position;
+        s.representative = static_cast<int>(i);
+        s.best_epsilon = e;
+      }
+      s.bounds_min = s.bounds_min.cwiseMin(p.position);
+      s.bounds_max = s.bounds_max.cwiseMax(p.position);
+      if (e > s.best_epsilon) {
+        s.best_epsilon = e;
+        s.representative = static_cast<int>(i);
+      }
+      s.mean_pose.position += p.position;
+      s.mean_epsilon += e;
+      qs[static_cast<std::size_t>(l)].push_back(p.orientation);
+      ++s.size;
+    }
+    for (std::size_t j = 0; j < c.clusters.size(); ++j) {
+      ClusterSummary& s = c.clusters[j];
+      if (s.size == 0) throw Error("labels: cluster " + std::to_string(j) + " has no grasps; labels must be 0..K-1 without gaps");
+      s.mean_pose.position /= s.size;
+      s.mean_epsilon /= s.size;
+      s.mean_pose.orientation = meanOrientation(qs[j]);
+    }
+    if (n >= 2) {
+      PointMatrix pts(static_cast<Eigen::Index>(n), kEmbeddingDim);
+      for (std::size_t i = 0; i < n; ++i)
+        pts.row(static_cast<Eigen::Index>(i)) = embedPose(d.grasps.poseAt(i), rotation_scale).transpose();
+      c.linkage = computeLinkage(pts, Linkage::kSingle);
+    }
+    d.clustering = c;
+  }
+  return TaskMap::fromData(std::move(d), makeOptions(kw));
+}
+
+}  // namespace
+
+PYBIND11_MODULE(taskmap, m) {
+  m.doc() = "Grasp task maps: load a map, query nearest grasps, proximity and quality criteria.";
+  static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+
+  py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
+      .def_static(
+          "load", [](const std::string& path, const py::kwargs& kw) { return TaskMap::load(path, makeOptions(kw)); },
+          py::arg("path"), "Reads a map file; keyword options as TaskMapOptions.")
+      .def_static("from_arrays", &fromArrays, py::arg("poses"), py::arg("epsilon"),
+                  py::arg("labels") = py::none(), py::arg("rotation_scale") = kDefaultRotationScale,
+                  "Map from N x 7 poses, N epsilons and optional cluster labels (-1 outlier).")
+      .def("save", [](const TaskMap& t, const std::string& path) { writeMap(path, t.data()); },
+           py::arg("path"), "Writes the map file (HDF5, atomically).")
+      .def("__len__", &TaskMap::size)
+      .def_property_readonly("size", &TaskMap::size)
+      .def_property_readonly("num_clusters", &TaskMap::numClusters)
+      .def_property_readonly("rotation_scale", &TaskMap::rotationScale)
+      .def_property_readonly("position_sigma", [](const TaskMap& t) { return *t.options().position_sigma; })
+      .def_property_readonly("rotation_sigma", [](const TaskMap& t) { return *t.options().rotation_sigma; })
+      .def_property_readonly("linear_weight", [](const TaskMap& t) { return t.options().linear_weight; })
+      .def_property_readonly("angular_weight", [](const TaskMap& t) { return *t.options().angular_weight; })
+      .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius)
+      .def_property_readonly("poses", [](const TaskMap& t) { return t.data().grasps.pose; })
+      .def_property_readonly("epsilon", [](const TaskMap& t) { return t.data().grasps.epsilon; })
+      .def_property_readonly("labels", [](const TaskMap& t) -> py::object {
+        if (!t.data().clustering) return py::none();
+        return py::cast(t.data().clustering->labels);
+      })
+      .def("pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"))
+      .def("nearest", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+             const Neighbor n = t.nearest(toPose(x), c);
+             return py::make_tuple(n.index, n.distance);
+           }, py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)")
+      .def("knn", [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
+             return neighbours(t.knn(toPose(x), k, c));
+           }, py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def("radius", [](const TaskMap& t, const Vec7& x, double r, std::optional<int> c) {
+             return neighbours(t.radius(toPose(x), r, c));
+           }, py::arg("pose"), py::arg("r"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def("proximity", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+             return proximityDict(t.proximity(toPose(x), c));
+           }, py::arg("pose"), py::arg("cluster") = py::none())
+      .def("quality", [](const TaskMap& t, const Vec7& x, std::optional<int> c, std::optional<std::string> mode) {
+             return qualityDict(t.quality(toPose(x), c, modeOf(mode)));
+           }, py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none())
+      .def("evaluate", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+             const Evaluation e = t.evaluate(toPose(x), c);
+             py::dict d;
+             d["cost"] = e.cost();
+             d["gradient"] = Eigen::VectorXd(e.gradient());
+             d["proximity"] = e.proximity.value;
+             d["proximity_gradient"] = Eigen::VectorXd(e.proximity.gradient);
+             d["quality"] = e.quality.value;
+             d["quality_gradient"] = Eigen::VectorXd(e.quality.gradient);
+             d["quality_bound"] = e.quality.value_bound;
+             d["nearest"] = e.proximity.nearest.index;
+             d["nearest_distance"] = e.proximity.nearest.distance;
+             return d;
+           }, py::arg("pose"), py::arg("cluster") = py::none(),
+           "Proximity and quality with gradients (object frame) and the nearest grasp.")
+      .def("evaluate_batch", [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
+             BatchEvaluation b;
+             {
+               py::gil_scoped_release release;
+               b = t.evaluateBatch(xs, c);
+             }
+             py::dict d;
+             d["proximity"] = b.proximity;
+             d["proximity_gradient"] = b.proximity_gradient;
+             d["quality"] = b.quality;
+             d["quality_gradient"] = b.quality_gradient;
+             d["quality_bound"] = b.quality_bound;
+             d["nearest"] = b.nearest;
+             d["nearest_distance"] = b.nearest_distance;
+             return d;
+           }, py::arg("poses"), py::arg("cluster") = py::none())
+      .def("nearest_batch", [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
+             Eigen::VectorXd dist;
+             Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> idx;
+             {
+               py::gil_scoped_release release;
+               idx = t.nearestBatch(xs, &dist, c);
+             }
+             return py::make_tuple(idx, dist);
+           }, py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def("rank_clusters", [](const TaskMap& t, const Vec7& object, py::function ik, py::function comfort) {
+             IkFunction f = [&](const Pose& target) {
+               py::object r = ik(fromPose(target));
+               IkSolution s;
+               if (r.is_none()) {
+                 s.message = "inverse kinematics returned None";
+               } else {
+                 s.success = true;
+                 s.q = r.cast<Eigen::VectorXd>();
+               }
+               return s;
+             };
+             ComfortFunction g = [&](const Eigen::VectorXd& q) { return comfort(q).cast<double>(); };
+             py::list out;
+             for (const ClusterRank& r : rankClusters(t, toPose(object), f, g)) {
+               py::dict d;
+               d["cluster"] = r.cluster;
+               d["representative"] = r.representative;
+               d["target_object"] = fromPose(r.target_object);
+               d["target_world"] = fromPose(r.target_world);
+               d["reachable"] = r.reachable;
+               d["q"] = r.q;
+               d["comfort"] = r.comfort;
+               d["message"] = r.message;
+               out.append(d);
+             }
+             return out;
+           }, py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
+           "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
+
+  m.def("load", [](const std::string& path, const py::kwargs& kw) { return TaskMap::load(path, makeOptions(kw)); },
+        py::arg("path"), "Reads a map file: taskmap.load('basket.h5').evaluate(pose).");
+  m.def("hand_in_object", [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },
+        py::arg("hand_world"), py::arg("object_world"));
+  m.def("hand_gradient_to_world", [](const Twist& g, const Vec7& o) { return Eigen::VectorXd(handGradientToWorld(g, toPose(o))); },
+        py::arg("gradient"), py::arg("object_world"));
+  m.def("object_gradient_to_world", [](const Twist& g, const Vec7& h, const Vec7& o) {
+          return Eigen::VectorXd(objectGradientToWorld(g, toPose(h), toPose(o)));
+        }, py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"));
+  m.def("joint_gradient", [](const Twist& g, const Vec7& h, const Vec7& o, const Eigen::MatrixXd& jh,
+                             std::optional<Eigen::MatrixXd> jo) {
+          return jointGradient(g, toPose(h), toPose(o), jh, jo.value_or(Eigen::MatrixXd()));
+        }, py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"),
+        py::arg("hand_jacobian"), py::arg("object_jacobian") = py::none());
+  m.def("joint_limit_cost", [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+          return jointLimitCost(q, lo, hi);
+        }, py::arg("q"), py::arg("lower"), py::arg("upper"));
+  m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"), py::arg("scale") = 1.0);
+  m.def("pose_distance", [](const Vec7& a, const Vec7& b, double rho) { return poseDistance(toPose(a), toPose(b), rho); },
+        py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale);
+}

@@ -1,0 +1,96 @@
+#pragma once
+/// @file acronym.hpp
+/// Export to and import from the per-object HDF5 layout of ACRONYM (Eppner, Mousavian, Fox,
+/// "ACRONYM: A Large-Scale Grasp Dataset Based on Simulation", NVlabs/acronym), so that tools
+/// written for that dataset read our maps and its grasps become task maps.
+///
+/// Layout (datasets; h5py reads them as `f["object/scale"][()]`, as acronym_tools does):
+///   grasps/transforms                         f64 N x 4 x 4, gripper (our palm) frame -> object
+///                                             frame (mesh coordinates times object/scale), m
+///   grasps/qualities/flex/object_in_gripper   i64 (N), 1 = success; we write force closure
+///   grasps/qualities/taskmap/epsilon          f64 (N), Ferrari-Canny epsilon (our addition;
+///                                             ACRONYM readers ignore it)
+///   object/file      string   mesh file the grasps refer to
+///   object/scale     f64      scale applied to the mesh file
+///   object/mass      f64      kg (volume * density)
+///   object/density   f64      kg/m^3
+///   object/friction  f64      Coulomb friction coefficient
+///   object/com       f64 (3)  centre of mass, metres, object frame
+///   object/volume    f64      m^3
+///   object/inertia   f64 3x3  inertia about the centre of mass, kg m^2 (uniform density)
+///   gripper/type           string  gripper (our hand) name
+///   gripper/configuration  f64 (J) joint values of the hand's open configuration when known;
+///                                  empty for our maps (they store closed values per grasp)
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "taskmap/clustering/clustering.hpp"
+#include "taskmap/mapstore/task_map_data.hpp"
+
+namespace taskmap {
+
+/// Options of writeAcronym.
+struct AcronymExportOptions {
+  std::string object_file;  ///< object/file; "" writes "<object name>.obj"
+  double density = 1000.0;  ///< kg/m^3 for object/density and object/mass; > 0
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// The content of an ACRONYM grasp file.
+struct AcronymGrasps {
+  std::string path;                          ///< the file read ("" when built in memory)
+  std::vector<Eigen::Matrix4d> transforms;   ///< N homogeneous transforms, metres
+  std::vector<std::uint8_t> success;         ///< N, object_in_gripper as 0 / 1
+  std::optional<std::vector<double>> epsilon;  ///< N, only in files written by taskmap
+  std::string object_file;
+  double object_scale = 1.0;
+  std::optional<double> object_mass;
+  std::optional<double> object_density;
+  std::optional<double> object_friction;
+  std::optional<double> object_volume;
+  std::optional<Eigen::Vector3d> object_com;
+  std::string gripper_type;
+  std::vector<double> gripper_configuration;
+};
+
+/// Writes the map's grasps in ACRONYM's layout, atomically (temporary file beside path, then
+/// rename). Inertia is computed from the map's mesh at the given density.
+/// Throws Error naming the file when it cannot be written.
+void writeAcronym(const std::string& path, const TaskMapData& map,
+                  const AcronymExportOptions& options = {});
+
+/// Reads an ACRONYM grasp file (the dataset's own or one written by writeAcronym). Accepts
+/// any numeric type for numbers, fixed or variable-length strings. Throws Error naming the
+/// file and the missing or malformed dataset.
+AcronymGrasps readAcronym(const std::string& path);
+
+/// Options of acronymToMap.
+struct AcronymImportOptions {
+  bool successful_only = false;   ///< keep only grasps with object_in_gripper = 1
+  bool cluster = true;            ///< run clusterGrasps on the imported poses (needs >= 2)
+  ClusteringOptions clustering;   ///< options of that clustering
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Turns ACRONYM grasps into a task map for object (mesh already scaled by
+/// grasps.object_scale, in metres). Poses are the transforms (rotation re-orthonormalised;
+/// a transform whose rotation is not a rotation within 1e-6 is refused). force_closure is
+/// object_in_gripper; epsilon is the file's taskmap epsilon when present, else
+/// object_in_gripper as 0 / 1 (ACRONYM has no epsilon). Contacts are absent
+/// (contacts_available = false), joints empty, volumes 0. Throws Error on an empty result.
+TaskMapData acronymToMap(const AcronymGrasps& grasps, const MapObject& object,
+                         const AcronymImportOptions& options = {});
+
+/// Inertia about the centre of mass of a closed mesh (vertices V x 3 in metres, outward
+/// faces) at uniform density (kg/m^3), kg m^2.
+Eigen::Matrix3d meshInertia(const RowMatrixXd& vertices,
+                            const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
+                            const Eigen::Vector3d& center_of_mass, double density);
+
+}  // namespace taskmap

@@ -1,0 +1,98 @@
+#pragma once
+/// @file map_builder.hpp
+/// The map-building pipeline (paper 1.6.1): sample -> simulate -> score -> cluster, on all
+/// cores, deterministic for a seed whatever the thread count.
+///
+/// Determinism: trial i draws from Rng(seed, i) alone. Trials are processed in fixed blocks of
+/// block_size indices claimed by worker threads; results are stored by index. The map holds
+/// the first valid_target force-closure grasps in trial-index order, `trials` counts the
+/// trials up to and including the one that gave the last of them, and work past it is
+/// discarded. So 1, 2 or 8 threads give identical datasets.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "taskmap/clustering/clustering.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/meshes/object_model.hpp"
+#include "taskmap/quality/grasp_quality.hpp"
+#include "taskmap/sampler/sampler.hpp"
+
+namespace taskmap {
+
+/// Options of a build. The sampler's approach axis is taken from the hand.
+struct BuildOptions {
+  SamplerOptions sampler;            ///< sampler kind and standoff (approach_axis is overridden)
+  GraspSimOptions simulation;        ///< simulator knobs
+  QualityOptions quality;            ///< friction, cone edges, contact model
+  ClusteringOptions clustering;      ///< rotation_scale is overridden by the hand's
+  std::uint64_t seed = 1;            ///< run seed
+  std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
+  std::uint64_t max_trials = 200000;  ///< trial budget (>= 1)
+  int threads = 0;                   ///< worker threads; 0 = all cores
+  bool keep_invalid = false;         ///< store every completed (status ok) trial, not only FC
+  bool cluster = true;               ///< cluster the stored grasps (needs >= 2 of them)
+  std::uint64_t block_size = 16;     ///< trials per work block (>= 1); does not change results
+  /// Extra entries for /sampling params_json (a JSON object, e.g. file paths), merged in.
+  std::string extra_params_json = "{}";
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// How a build ended.
+enum class BuildStatus {
+  kComplete,               ///< valid_target force-closure grasps found
+  kTrialBudgetExhausted,   ///< max_trials spent with fewer found; the map holds what was found
+  kInterrupted,            ///< the stop flag was raised; the map holds a partial prefix
+};
+
+/// "complete", "trial_budget_exhausted", "interrupted".
+const char* toString(BuildStatus status);
+
+/// Where the time went. Stage times are summed over worker threads (thread-seconds), so their
+/// shares of their sum are the shares of the work.
+struct BuildTiming {
+  double wall_seconds = 0.0;        ///< whole buildMap call
+  double sampling_seconds = 0.0;    ///< Sampler::sample, summed over threads
+  double simulation_seconds = 0.0;  ///< GraspSimulator::simulate, summed over threads
+  double quality_seconds = 0.0;     ///< evaluateGrasp, summed over threads
+  double clustering_seconds = 0.0;  ///< clusterGrasps (one thread)
+  double setup_seconds = 0.0;       ///< building the simulator (BVH) before the trials
+  std::uint64_t trials_simulated = 0;  ///< trials actually run, including discarded ones
+};
+
+/// Progress report, delivered on the calling thread about every progress_interval.
+struct BuildProgress {
+  std::uint64_t trials_done = 0;   ///< trials finished so far (any order)
+  std::uint64_t valid_found = 0;   ///< force-closure grasps among them
+  std::uint64_t valid_target = 0;  ///< BuildOptions::valid_target
+  std::uint64_t max_trials = 0;    ///< BuildOptions::max_trials
+  double elapsed_seconds = 0.0;    ///< since the trials started
+};
+
+/// Receives progress reports (on the thread that called buildMap).
+using ProgressCallback = std::function<void(const BuildProgress&)>;
+
+/// Result of a build.
+struct BuildResult {
+  BuildStatus status = BuildStatus::kComplete;
+  std::string message;  ///< one line for the user
+  TaskMapData map;      ///< ready for writeMap (generator, created_utc filled in)
+  BuildTiming timing;
+};
+
+/// Runs the pipeline. Throws Error on invalid options. Returns kInterrupted soon after *stop
+/// becomes true (workers finish their current trial). progress_interval_seconds > 0.
+BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
+                     const ProgressCallback& progress = {},
+                     const std::atomic<bool>* stop = nullptr,
+                     double progress_interval_seconds = 0.25);
+
+/// Current UTC time as ISO 8601 ("2026-11-21T12:00:00Z").
+std::string utcNow();
+
+}  // namespace taskmap

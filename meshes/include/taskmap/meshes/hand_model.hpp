@@ -1,0 +1,144 @@
+#pragma once
+/// @file hand_model.hpp
+/// A robot hand: URDF kinematics and convex collision shapes (urdfdom, assimp, kept private)
+/// plus the grasping sidecar <stem>.hand.json (palm frame, approach axis, preshape, closing
+/// motion, squeeze; format in meshes/hands/README.md). Units: metres, radians.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace taskmap {
+
+/// Kind of a convex collision shape.
+enum class ShapeType { kBox, kCylinder, kSphere, kConvex };
+
+/// One convex collision shape of a link, described by Eigen values only.
+struct CollisionShape {
+  ShapeType type = ShapeType::kBox;                          ///< primitive kind
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< shape frame in the link frame
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  ///< kBox: full extents along x, y, z, metres
+  double radius = 0.0;                                 ///< kCylinder, kSphere: radius, metres
+  double length = 0.0;                  ///< kCylinder: length along the shape's z axis, metres
+  std::vector<Eigen::Vector3d> points;  ///< kConvex: hull vertices in the shape frame, metres
+
+  /// Smallest extent of the shape (box side, diameter, hull width along its axes), metres.
+  double thickness() const;
+  /// Radius of a sphere about the shape frame origin that contains the shape, metres.
+  double boundingRadius() const;
+};
+
+/// Kind of a URDF joint as used here (continuous joints are revolute with +-pi limits).
+enum class JointType { kRevolute, kPrismatic, kFixed };
+
+/// A link of the hand tree.
+struct HandLink {
+  std::string name;                    ///< URDF link name
+  int parent_joint = -1;               ///< index into HandModel::joints(), -1 for the root
+  std::vector<CollisionShape> shapes;  ///< convex collision shapes (may be empty)
+  bool palm = false;                   ///< rigidly attached to the palm link (palm included)
+  int finger = -1;                     ///< index into HandModel::fingerNames(), -1 if none
+};
+
+/// A URDF joint. Joint value q: radians (revolute) or metres (prismatic).
+struct HandJoint {
+  std::string name;                                          ///< URDF joint name
+  JointType type = JointType::kFixed;                        ///< kind
+  int parent_link = -1;                                      ///< index into HandModel::links()
+  int child_link = -1;                                       ///< index into HandModel::links()
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< joint frame in the parent link
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();           ///< unit, joint frame
+  double lower = 0.0;  ///< lower limit (after mimic mapping: of this joint's own value)
+  double upper = 0.0;  ///< upper limit
+  /// Index into HandModel::jointNames() of the actuated joint driving this one, -1 if fixed.
+  int driver = -1;
+  double multiplier = 1.0;  ///< q = multiplier * q_driver + offset (1, 0 for actuated joints)
+  double offset = 0.0;      ///< see multiplier
+  bool mimic = false;       ///< true when the URDF declares <mimic>
+};
+
+/// How one actuated joint closes.
+struct ClosingJoint {
+  int joint = -1;       ///< index into HandModel::jointNames()
+  double target = 0.0;  ///< closed limit the joint moves toward (its lower or upper limit)
+  double speed = 1.0;   ///< relative speed (> 0); only ratios between joints matter
+};
+
+/// A hand model: immutable after load, cheap to copy, every const method thread-safe.
+class HandModel {
+ public:
+  /// Loads <urdf_path> and its sidecar <same dir>/<urdf stem>.hand.json (or an explicit one).
+  /// Throws Error naming the file and the element on unreadable files, unknown links or
+  /// joints, links without collision geometry where the sidecar needs it, and bad values.
+  static HandModel load(const std::string& urdf_path, const std::string& sidecar_path = "");
+
+  const std::string& name() const;              ///< robot name from the URDF
+  const std::string& urdfSha256() const;        ///< SHA-256 of the URDF file bytes, hex
+  const std::string& urdfPath() const;          ///< the URDF file read
+  const std::string& sidecarPath() const;       ///< the sidecar file read
+  std::vector<std::string> jointNames() const;  ///< actuated joints: order of every joint vector
+  Eigen::VectorXd preshape() const;             ///< open preshape, one value per joint name
+  Eigen::Vector3d approachAxis()
+      const;                     ///< unit, palm frame: direction the hand moves toward the object
+  double rotationScale() const;  ///< palm-to-fingertip length in metres (rho hint)
+  double reach() const;          ///< bounding radius of the open hand about the palm origin, metres
+
+  /// Lower limits of the actuated joints (jointNames() order), radians or metres.
+  Eigen::VectorXd lowerLimits() const;
+  /// Upper limits of the actuated joints (jointNames() order), radians or metres.
+  Eigen::VectorXd upperLimits() const;
+  /// Every link of the URDF tree; Contact::link indexes this list.
+  const std::vector<HandLink>& links() const;
+  /// Every URDF joint, parents before children.
+  const std::vector<HandJoint>& joints() const;
+  /// Index of the palm link in links().
+  int palmLink() const;
+  /// Palm frame expressed in the palm link frame.
+  const Eigen::Isometry3d& palmFrame() const;
+  /// The closing motion: which actuated joints close, toward which limit, how fast.
+  const std::vector<ClosingJoint>& closing() const;
+  /// Squeeze after contact, metres: how far each contact is pressed into the object.
+  double squeeze() const;
+  /// Finger names from the sidecar (HandLink::finger indexes this list).
+  const std::vector<std::string>& fingerNames() const;
+  /// Index into links() of a link by name, -1 if none.
+  int linkIndex(const std::string& name) const;
+  /// Index into jointNames() of an actuated joint by name, -1 if none.
+  int jointIndex(const std::string& name) const;
+
+  /// Pose of every link (links() order) in the palm frame for actuated joint values q
+  /// (jointNames() order; values are clamped to the limits). Throws Error on a size mismatch.
+  std::vector<Eigen::Isometry3d> linkPoses(const Eigen::VectorXd& q) const;
+  /// Values of every URDF joint (joints() order) for actuated values q (not clamped).
+  Eigen::VectorXd allJointValues(const Eigen::VectorXd& q) const;
+  /// For each link, the actuated joints (jointNames() indices) that move it relative to the palm.
+  const std::vector<std::vector<int>>& linkDrivers() const;
+  /// For each actuated joint, an upper bound on the speed (m per unit of q) of any point of any
+  /// link it moves: lever arm for revolute joints (times |mimic multiplier|), 1 for prismatic.
+  const std::vector<double>& jointLevers() const;
+
+ private:
+  std::string name_, sha_, urdf_path_, sidecar_path_;
+  std::vector<HandLink> links_;
+  std::vector<HandJoint> joints_;
+  std::vector<std::string> actuated_;
+  std::vector<double> lower_, upper_;
+  Eigen::VectorXd preshape_;
+  Eigen::Vector3d approach_ = Eigen::Vector3d::UnitZ();
+  double rotation_scale_ = 0.0;
+  double reach_ = 0.0;
+  int palm_link_ = -1;
+  Eigen::Isometry3d palm_frame_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d root_to_palm_ = Eigen::Isometry3d::Identity();  // palm frame in root frame
+  std::vector<ClosingJoint> closing_;
+  double squeeze_ = 0.0;
+  std::vector<std::string> fingers_;
+  std::vector<std::vector<int>> link_drivers_;
+  std::vector<double> levers_;
+
+  friend struct HandModelBuilder;
+};
+
+}  // namespace taskmap

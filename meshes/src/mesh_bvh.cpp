@@ -1,0 +1,295 @@
+// Bounding-volume hierarchy for inside tests and distances (private to the meshes stage).
+#include "mesh_bvh.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+namespace taskmap::detail {
+namespace {
+
+constexpr int kLeafSize = 4;
+constexpr double kBaryTol = 1e-9;  ///< barycentric band around edges treated as ambiguous
+
+/// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  }
+  const double denom = va + vb + vc;
+  if (!(std::abs(denom) > 0)) {
+    // Degenerate triangle: closest of the three edges.
+    auto seg = [&](const Eigen::Vector3d& s, const Eigen::Vector3d& e) -> Eigen::Vector3d {
+      const Eigen::Vector3d se = e - s;
+      const double len2 = se.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - s).dot(se) / len2, 0.0, 1.0) : 0.0;
+      return s + t * se;
+    };
+    Eigen::Vector3d best = seg(a, b);
+    for (const Eigen::Vector3d& q : {seg(b, c), seg(c, a)}) {
+      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+    }
+    return best;
+  }
+  const double v = vb / denom, w = vc / denom;
+  return a + ab * v + ac * w;
+}
+
+double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
+                    const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
+  return d.squaredNorm();
+}
+
+bool rayHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& inv, const Eigen::Vector3d& lo,
+                const Eigen::Vector3d& hi) {
+  double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    double a = (lo[k] - p[k]) * inv[k], b = (hi[k] - p[k]) * inv[k];
+    if (std::isnan(a) || std::isnan(b)) {
+      // Direction component zero and p on a slab plane: treat as inside the slab.
+      if (p[k] < lo[k] || p[k] > hi[k]) return false;
+      continue;
+    }
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/// Fixed, irrational-looking directions: no axis or diagonal alignment with typical meshes.
+const Eigen::Vector3d kDirections[] = {
+    Eigen::Vector3d(0.2786151, 0.5213317, 0.8065347).normalized(),
+    Eigen::Vector3d(-0.7173561, 0.1953872, -0.6687233).normalized(),
+    Eigen::Vector3d(0.4311926, -0.8746251, 0.2214372).normalized(),
+    Eigen::Vector3d(-0.1523477, -0.3381629, 0.9287761).normalized(),
+    Eigen::Vector3d(0.8361927, 0.3627451, -0.4112693).normalized(),
+    Eigen::Vector3d(-0.5571943, 0.7718357, 0.3063629).normalized(),
+};
+
+}  // namespace
+
+MeshBvh::MeshBvh(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.faces.size();
+  order_.resize(n);
+  std::iota(order_.begin(), order_.end(), 0);
+  std::vector<Eigen::Vector3d> centroids(n);
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& f = mesh.faces[i];
+    centroids[i] = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3.0;
+    for (int c = 0; c < 3; ++c) {
+      lo = lo.cwiseMin(mesh.vertices[f[c]]);
+      hi = hi.cwiseMax(mesh.vertices[f[c]]);
+    }
+  }
+  eps_ = n > 0 ? 1e-12 * (hi - lo).norm() : 0.0;
+  if (n > 0) {
+    nodes_.reserve(2 * n / kLeafSize + 2);
+    // Permutes order_ and fills the triangle corners below.
+    a_.resize(n);
+    b_.resize(n);
+    c_.resize(n);
+    build(0, static_cast<int>(n), centroids);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& f = mesh.faces[static_cast<std::size_t>(order_[i])];
+      a_[i] = mesh.vertices[f[0]];
+      b_[i] = mesh.vertices[f[1]];
+      c_[i] = mesh.vertices[f[2]];
+    }
+    // Node boxes from the final corners, grown by eps_.
+    for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
+      Node& node = nodes_[k];
+      if (node.left < 0) {
+        node.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+        node.hi = -node.lo;
+        for (int i = node.begin; i < node.end; ++i) {
+          node.lo = node.lo.cwiseMin(a_[i]).cwiseMin(b_[i]).cwiseMin(c_[i]);
+          node.hi = node.hi.cwiseMax(a_[i]).cwiseMax(b_[i]).cwiseMax(c_[i]);
+        }
+        node.lo.array() -= eps_;
+        node.hi.array() += eps_;
+      }
+    }
+    // Children always come after their parent: a reverse sweep fills inner boxes.
+    for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
+      Node& node = nodes_[k];
+      if (node.left >= 0) {
+        node.lo = nodes_[node.left].lo.cwiseMin(nodes_[node.right].lo);
+        node.hi = nodes_[node.left].hi.cwiseMax(nodes_[node.right].hi);
+      }
+    }
+  }
+}
+
+int MeshBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centroids) {
+  const int index = static_cast<int>(nodes_.size());
+  nodes_.emplace_back();
+  if (end - begin <= kLeafSize) {
+    nodes_[index].begin = begin;
+    nodes_[index].end = end;
+    return index;
+  }
+  Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
+  for (int i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centroids[order_[i]]);
+    hi = hi.cwiseMax(centroids[order_[i]]);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  const int mid = begin + (end - begin) / 2;
+  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                   [&](int x, int y) {
+                     const double cx = centroids[x][axis], cy = centroids[y][axis];
+                     return cx < cy || (cx == cy && x < y);
+                   });
+  const int left = build(begin, mid, centroids);
+  const int right = build(mid, end, centroids);
+  nodes_[index].left = left;
+  nodes_[index].right = right;
+  return index;
+}
+
+MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const {
+  if (nodes_.empty()) return Parity::kOutside;
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  int crossings = 0;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!rayHitsBox(p, inv, node.lo, node.hi)) continue;
+    if (node.left >= 0) {
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+      continue;
+    }
+    for (int i = node.begin; i < node.end; ++i) {
+      const Eigen::Vector3d e1 = b_[i] - a_[i], e2 = c_[i] - a_[i];
+      const Eigen::Vector3d pvec = d.cross(e2);
+      const double det = e1.dot(pvec);
+      const Eigen::Vector3d s = p - a_[i];
+      const double scale = e1.norm() * e2.norm();
+      if (std::abs(det) <= 1e-12 * scale) {
+        // Ray parallel to the triangle's plane: only matters if it runs inside the plane.
+        const Eigen::Vector3d normal = e1.cross(e2);
+        const double nn = normal.norm();
+        if (nn == 0 || std::abs(s.dot(normal)) / nn <= eps_) {
+          const Eigen::Vector3d q = closestOnTriangle(p, a_[i], b_[i], c_[i]);
+          if ((q - p).norm() <= eps_) return Parity::kOnSurface;
+          return Parity::kAmbiguous;
+        }
+        continue;
+      }
+      const double inv_det = 1.0 / det;
+      const double u = s.dot(pvec) * inv_det;
+      if (u < -kBaryTol || u > 1 + kBaryTol) continue;
+      const Eigen::Vector3d qvec = s.cross(e1);
+      const double v = d.dot(qvec) * inv_det;
+      if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
+      const double t = e2.dot(qvec) * inv_det;
+      if (t < -eps_) continue;
+      if (t <= eps_) return Parity::kOnSurface;
+      if (u < kBaryTol || v < kBaryTol || u + v > 1 - kBaryTol) return Parity::kAmbiguous;
+      ++crossings;
+    }
+  }
+  return (crossings % 2 == 1) ? Parity::kInside : Parity::kOutside;
+}
+
+bool MeshBvh::contains(const Eigen::Vector3d& p) const {
+  if (nodes_.empty() || !p.allFinite()) return false;
+  const Node& root = nodes_[0];
+  if ((p.array() < root.lo.array()).any() || (p.array() > root.hi.array()).any()) return false;
+  for (const Eigen::Vector3d& d : kDirections) {
+    switch (rayParity(p, d)) {
+      case Parity::kInside:
+        return true;
+      case Parity::kOutside:
+        return false;
+      case Parity::kOnSurface:
+        return false;
+      case Parity::kAmbiguous:
+        break;
+    }
+  }
+  return windingNumber(p) > 0.5;
+}
+
+double MeshBvh::closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest,
+                             int* face) const {
+  double best2 = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_point = p;
+  int best_face = -1;
+  if (nodes_.empty()) {
+    if (face != nullptr) *face = -1;
+    return best2;
+  }
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.lo, node.hi) >= best2) continue;
+    if (node.left >= 0) {
+      const double dl = boxDistance2(p, nodes_[node.left].lo, nodes_[node.left].hi);
+      const double dr = boxDistance2(p, nodes_[node.right].lo, nodes_[node.right].hi);
+      // Push the farther child first so the nearer one is searched first.
+      if (dl < dr) {
+        stack[top++] = node.right;
+        stack[top++] = node.left;
+      } else {
+        stack[top++] = node.left;
+        stack[top++] = node.right;
+      }
+      continue;
+    }
+    for (int i = node.begin; i < node.end; ++i) {
+      const Eigen::Vector3d q = closestOnTriangle(p, a_[i], b_[i], c_[i]);
+      const double d2 = (q - p).squaredNorm();
+      if (d2 < best2) {
+        best2 = d2;
+        best_point = q;
+        best_face = order_[i];
+      }
+    }
+  }
+  if (closest != nullptr) *closest = best_point;
+  if (face != nullptr) *face = best_face;
+  return std::sqrt(best2);
+}
+
+double MeshBvh::windingNumber(const Eigen::Vector3d& p) const {
+  double total = 0;
+  for (std::size_t i = 0; i < a_.size(); ++i) {
+    const Eigen::Vector3d a = a_[i] - p, b = b_[i] - p, c = c_[i] - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    total += 2.0 * std::atan2(num, den);
+  }
+  return total / (4.0 * M_PI);
+}
+
+}  // namespace taskmap::detail

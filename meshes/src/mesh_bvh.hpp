@@ -1,0 +1,54 @@
+#pragma once
+/// @file mesh_bvh.hpp
+/// Private to the meshes stage: a bounding-volume hierarchy over a triangle mesh for ray
+/// parity (inside tests) and closest-point queries. Immutable after construction; all
+/// queries are const and thread-safe.
+
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "taskmap/meshes/triangle_mesh.hpp"
+
+namespace taskmap::detail {
+
+/// Axis-aligned box tree with up to 4 triangles per leaf (median split of centroids).
+class MeshBvh {
+ public:
+  /// Builds the tree; the mesh is copied.
+  explicit MeshBvh(const TriangleMesh& mesh);
+
+  /// Result of a ray parity query.
+  enum class Parity { kInside, kOutside, kOnSurface, kAmbiguous };
+
+  /// Parity of the crossings of the ray p + t d (t > 0) with the surface. kAmbiguous when the
+  /// ray grazes an edge or a vertex within a tolerance; kOnSurface when p lies on a triangle.
+  Parity rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const;
+
+  /// True when p is strictly inside the closed mesh (ray parity over several fixed
+  /// directions, generalized winding number as the fallback when all rays are ambiguous).
+  bool contains(const Eigen::Vector3d& p) const;
+
+  /// Distance from p to the closest surface point (metres); closest point and face on request.
+  double closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest = nullptr,
+                      int* face = nullptr) const;
+
+  /// Generalized winding number of the surface around p (1 inside, 0 outside), O(n).
+  double windingNumber(const Eigen::Vector3d& p) const;
+
+ private:
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    int left = -1, right = -1;  ///< children; -1 in a leaf
+    int begin = 0, end = 0;     ///< triangle range in order_ for a leaf
+  };
+  int build(int begin, int end, std::vector<Eigen::Vector3d>& centroids);
+
+  std::vector<Eigen::Vector3d> a_, b_, c_;  ///< triangle corners, in order_
+  std::vector<int> order_;                  ///< original face index for each slot
+  std::vector<Node> nodes_;
+  double eps_ = 0;  ///< length tolerance: 1e-12 times the bounding box diagonal
+};
+
+}  // namespace taskmap::detail

@@ -1,0 +1,172 @@
+// Convex hull of a 6-D wrench set through reentrant qhull (libqhull_r C API).
+// Every call owns its qhT: no global qhull state, no lock, threads run in parallel.
+#include "taskmap/quality/wrench_hull.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+namespace taskmap {
+namespace {
+
+constexpr int kDim = 6;
+
+/// A sink for qhull's error and warning text: qhull must never print to stdout or stderr.
+/// One process-wide FILE* opened once (thread-safe static initialisation); stdio locks it
+/// internally, and qhull writes to it only on warnings and errors.
+FILE* silentSink() {
+  static FILE* sink = std::fopen("/dev/null", "w");
+  return sink;
+}
+
+const char* qhullExitName(int code) {
+  switch (code) {
+    case qh_ERRinput:
+      return "input error";
+    case qh_ERRsingular:
+      return "singular input (initial simplex is flat)";
+    case qh_ERRprec:
+      return "precision error";
+    case qh_ERRmem:
+      return "out of memory";
+    case qh_ERRqhull:
+      return "internal error";
+    case qh_ERRtopology:
+      return "topology error";
+    case qh_ERRwide:
+      return "wide facet error";
+    case qh_ERRdebug:
+      return "debug exit";
+    default:
+      return "unknown error";
+  }
+}
+
+/// Owns one qhull instance; frees it on every path (including early returns).
+class QhullRun {
+ public:
+  explicit QhullRun(FILE* err) { qh_zero(&qh_, err); }
+  ~QhullRun() {
+    qh_freeqhull(&qh_, !qh_ALL);
+    int curlong = 0, totlong = 0;
+    qh_memfreeshort(&qh_, &curlong, &totlong);
+  }
+  QhullRun(const QhullRun&) = delete;
+  QhullRun& operator=(const QhullRun&) = delete;
+  qhT* get() { return &qh_; }
+
+ private:
+  qhT qh_;
+};
+
+}  // namespace
+
+WrenchHull wrenchHull(const WrenchMatrix& wrenches, bool check_rank) {
+  WrenchHull hull;
+  const Eigen::Index n = wrenches.cols();
+  if (!wrenches.allFinite()) {
+    hull.status = QualityStatus::kInvalidInput;
+    hull.message = "a wrench is NaN or infinite";
+    return hull;
+  }
+  if (n > 0) hull.scale = wrenches.colwise().norm().maxCoeff();
+  if (n < kDim + 1) {
+    hull.status = QualityStatus::kDegenerate;
+    hull.message = std::to_string(n) + " wrenches cannot span 6 dimensions (7 needed)";
+    return hull;
+  }
+  if (n > std::numeric_limits<int>::max() / kDim) {
+    hull.status = QualityStatus::kInvalidInput;
+    hull.message = "too many wrenches for qhull";
+    return hull;
+  }
+
+  // Affine rank with Eigen before qhull: singular values of the centred wrench matrix from its
+  // 6 x 6 Gram matrix (kDegenerateSpread = 1e-7 keeps the eigenvalue ratio at 1e-14, well
+  // above the Gram matrix's round-off).
+  if (check_rank) {
+    const Eigen::Matrix<double, 6, 1> mean = wrenches.rowwise().mean();
+    WrenchMatrix centred = wrenches.colwise() - mean;
+    const double magnitude = centred.cwiseAbs().maxCoeff();
+    if (magnitude > 0.0) centred /= magnitude;  // no overflow or underflow in the Gram matrix
+    const Eigen::Matrix<double, 6, 6> gram = centred * centred.transpose();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram,
+                                                                         Eigen::EigenvaluesOnly);
+    const double lmax = eig.eigenvalues()(kDim - 1);
+    const double lmin = eig.eigenvalues()(0);
+    if (!(lmax > 0.0) || lmin <= kDegenerateSpread * kDegenerateSpread * lmax) {
+      int rank = 0;
+      for (int i = 0; i < kDim; ++i) {
+        rank += eig.eigenvalues()(i) > kDegenerateSpread * kDegenerateSpread * lmax;
+      }
+      if (!(lmax > 0.0)) rank = 0;
+      hull.status = QualityStatus::kDegenerate;
+      char thickness[32];
+      std::snprintf(thickness, sizeof thickness, "%.3g",
+                    lmax > 0.0 ? std::sqrt(std::max(lmin, 0.0) / lmax) : 0.0);
+      hull.message = "wrenches span an affine subspace of dimension " + std::to_string(rank) +
+                     " < 6 (relative thickness " + thickness + ")";
+      return hull;
+    }
+  }
+
+  FILE* sink = silentSink();
+  if (sink == nullptr) {
+    hull.status = QualityStatus::kHullFailed;
+    hull.message = "cannot open /dev/null to keep qhull silent";
+    return hull;
+  }
+
+  // qhull may reorder nothing in the input, but takes a non-const pointer: copy (column-major
+  // 6 x n is exactly qhull's point-major layout).
+  std::vector<coordT> points(wrenches.data(), wrenches.data() + kDim * n);
+  QhullRun run(sink);
+  qhT* qh = run.get();
+  // Qx: exact pre-merges (qhull's default in 5-D and up, stated explicitly); FA: total volume.
+  char flags[] = "qhull Qx FA";
+  const int code =
+      qh_new_qhull(qh, kDim, static_cast<int>(n), points.data(), False, flags, nullptr, sink);
+  if (code != 0) {
+    hull.status = code == qh_ERRsingular ? QualityStatus::kDegenerate : QualityStatus::kHullFailed;
+    hull.message = std::string("qhull: ") + qhullExitName(code);
+    return hull;
+  }
+
+  int facets = 0;
+  for (facetT* f = qh->facet_list; f && f->next; f = f->next) ++facets;
+  hull.normals.resize(kDim, facets);
+  hull.offsets.resize(facets);
+  int i = 0;
+  for (facetT* f = qh->facet_list; f && f->next; f = f->next, ++i) {
+    for (int k = 0; k < kDim; ++k) hull.normals(k, i) = f->normal[k];
+    hull.offsets(i) = f->offset;
+  }
+  hull.volume = qh->hasAreaVolume ? qh->totvol : 0.0;
+  hull.status = QualityStatus::kOk;
+  return hull;
+}
+
+void summarizeHull(const WrenchHull& hull, QualityResult& result) {
+  result.status = hull.status;
+  result.message = hull.message;
+  result.force_closure = false;
+  result.epsilon = 0.0;
+  result.volume = hull.status == QualityStatus::kOk ? hull.volume : 0.0;
+  if (hull.status != QualityStatus::kOk || hull.offsets.size() == 0) return;
+  const double nearest = -hull.offsets.maxCoeff();  // min over facets of -b_f
+  if (nearest > kClosureTolerance * hull.scale) {
+    result.force_closure = true;
+    result.epsilon = nearest;
+  }
+}
+
+}  // namespace taskmap

@@ -1,0 +1,124 @@
+// Single-linkage dendrogram time on clustered, embedded grasp poses, for n = 1e4, 1e5, 1e6,
+// and side by side with fastcluster.linkage_vector(method="single") (Debian's
+// python3-fastcluster) at n = 2e4 in the same run, with a check that the merge distances
+// are identical. Counters: fastcluster_over_ours (speed-up), max_rel_diff of distances.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <string>
+#include <unistd.h>
+
+#include "taskmap/clustering/clustering.hpp"
+#include "taskmap/meshes/random.hpp"
+
+namespace {
+
+/// n poses in `blobs` Gaussian blobs (1 cm, 0.1 rad) with centres uniform in a 0.3 m cube
+/// and uniform orientations, embedded with rho = 0.1 m.
+taskmap::PointMatrix clusteredPoses(int n, int blobs, std::uint64_t seed) {
+  taskmap::Rng centre_rng(seed, 0);
+  std::vector<taskmap::Pose> centres(blobs);
+  for (auto& c : centres) {
+    c.position = Eigen::Vector3d(centre_rng.uniform(0, 0.3), centre_rng.uniform(0, 0.3),
+                                 centre_rng.uniform(0, 0.3));
+    c.orientation = centre_rng.rotation();
+  }
+  taskmap::PointMatrix points(n, taskmap::kEmbeddingDim);
+  taskmap::Rng rng(seed, 1);
+  for (int i = 0; i < n; ++i) {
+    const taskmap::Pose& c = centres[rng.below(blobs)];
+    taskmap::Pose p;
+    p.position = c.position + 0.01 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+    const Eigen::Vector3d w = 0.1 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+    p.orientation = Eigen::Quaterniond(c.orientation.toRotationMatrix() * taskmap::rotationExp(w));
+    points.row(i) = taskmap::embedPose(p, 0.1).transpose();
+  }
+  return points;
+}
+
+std::map<int, double>& ourSeconds() {
+  static std::map<int, double> seconds;
+  return seconds;
+}
+
+void BM_SingleLinkage(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const taskmap::PointMatrix points = clusteredPoses(n, 300, 1);
+  double total = 0.0;
+  int runs = 0;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    taskmap::LinkageMatrix z = taskmap::computeLinkage(points, taskmap::Linkage::kSingle);
+    total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ++runs;
+    benchmark::DoNotOptimize(z.data());
+  }
+  ourSeconds()[n] = total / runs;
+  state.counters["points"] = n;
+}
+BENCHMARK(BM_SingleLinkage)->Arg(10000)->Arg(20000)->Arg(100000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SingleLinkage)->Arg(1000000)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+void writeText(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m) {
+  std::ofstream out(path);
+  char buf[32];
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    for (Eigen::Index j = 0; j < m.cols(); ++j) {
+      std::snprintf(buf, sizeof buf, "%.17g", m(i, j));
+      out << (j ? " " : "") << buf;
+    }
+    out << "\n";
+  }
+}
+
+/// fastcluster.linkage_vector on the same 2e4 points; time measured inside python around the
+/// call only (manual time).
+void BM_FastclusterSingle(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const taskmap::PointMatrix points = clusteredPoses(n, 300, 1);
+  const taskmap::LinkageMatrix ours = taskmap::computeLinkage(points, taskmap::Linkage::kSingle);
+  char dir_template[] = "/tmp/taskmap_bench_XXXXXX";
+  const char* dir = mkdtemp(dir_template);
+  if (!dir) {
+    state.SkipWithError("mkdtemp failed");
+    return;
+  }
+  const std::string base(dir);
+  writeText(base + "/points.txt", points);
+  writeText(base + "/ours.txt", ours);
+  {
+    std::ofstream py(base + "/run.py");
+    py << "import sys, time, numpy as np, fastcluster\n"
+          "X = np.loadtxt(sys.argv[1]); ours = np.loadtxt(sys.argv[2])\n"
+          "t = time.perf_counter(); Z = fastcluster.linkage_vector(X, method='single')\n"
+          "t = time.perf_counter() - t\n"
+          "rel = np.max(np.abs(Z[:, 2] - ours[:, 2]) / np.maximum(np.abs(Z[:, 2]), 1e-300))\n"
+          "open(sys.argv[3], 'w').write('%.9g %.9g\\n' % (t, rel))\n";
+  }
+  double max_rel = -1.0;
+  for (auto _ : state) {
+    const std::string cmd = std::string(TASKMAP_PYTHON) + " " + base + "/run.py " + base +
+                            "/points.txt " + base + "/ours.txt " + base + "/out.txt";
+    if (std::system(cmd.c_str()) != 0) {
+      state.SkipWithError("python3 with numpy and fastcluster failed");
+      break;
+    }
+    std::ifstream in(base + "/out.txt");
+    double seconds = 0.0;
+    in >> seconds >> max_rel;
+    state.SetIterationTime(seconds);
+    const auto it = ourSeconds().find(n);
+    if (it != ourSeconds().end()) state.counters["fastcluster_over_ours"] = seconds / it->second;
+  }
+  state.counters["max_rel_diff"] = max_rel;
+  std::system(("rm -rf " + base).c_str());
+}
+BENCHMARK(BM_FastclusterSingle)->Arg(20000)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

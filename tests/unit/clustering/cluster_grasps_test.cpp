@@ -1,0 +1,245 @@
+// clusterGrasps / clusterFromLinkage: pose metric, cuts, outliers, summaries vs brute force.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "taskmap/clustering/clustering.hpp"
+#include "taskmap/meshes/error.hpp"
+#include "taskmap/meshes/random.hpp"
+
+namespace taskmap {
+namespace {
+
+struct Grasps {
+  std::vector<Pose> poses;
+  std::vector<double> epsilon;
+  std::vector<int> blob;  ///< generating blob, -1 for scattered outliers
+};
+
+/// num_blobs blobs of poses (1 cm, 0.05 rad) far apart, plus scattered outliers.
+Grasps blobGrasps(const std::vector<int>& blob_sizes, int outliers, std::uint64_t seed) {
+  Rng rng(seed, 0);
+  Grasps g;
+  for (std::size_t b = 0; b < blob_sizes.size(); ++b) {
+    Pose centre;
+    centre.position = Eigen::Vector3d(0.5 * static_cast<double>(b), 0.1, -0.2);
+    centre.orientation = rng.rotation();
+    for (int i = 0; i < blob_sizes[b]; ++i) {
+      Pose p;
+      p.position = centre.position + 0.01 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+      const Eigen::Vector3d w = 0.05 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+      p.orientation = Eigen::Quaterniond(centre.orientation.toRotationMatrix() * rotationExp(w));
+      if (i % 2) p.orientation.coeffs() *= -1.0;  // q and -q are the same orientation
+      g.poses.push_back(p);
+      g.epsilon.push_back(rng.uniform(0.0, 0.2));
+      g.blob.push_back(static_cast<int>(b));
+    }
+  }
+  for (int i = 0; i < outliers; ++i) {
+    Pose p;
+    p.position = Eigen::Vector3d(rng.uniform(-3, 3), rng.uniform(3, 6), rng.uniform(-3, 3));
+    p.orientation = rng.rotation();
+    g.poses.push_back(p);
+    g.epsilon.push_back(rng.uniform(0.0, 0.2));
+    g.blob.push_back(-1);
+  }
+  // Interleave deterministically so that blobs are not contiguous in index order.
+  Rng shuffle(seed, 1);
+  for (std::size_t i = g.poses.size(); i > 1; --i) {
+    const std::size_t j = shuffle.below(i);
+    std::swap(g.poses[i - 1], g.poses[j]);
+    std::swap(g.epsilon[i - 1], g.epsilon[j]);
+    std::swap(g.blob[i - 1], g.blob[j]);
+  }
+  return g;
+}
+
+std::string errorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(PoseMetric, OppositeQuaternionsAreOnePose) {
+  Pose a;
+  a.position = Eigen::Vector3d(0.1, 0.2, 0.3);
+  a.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  Pose b = a;
+  b.orientation.coeffs() *= -1.0;
+  const ClusteringResult r = clusterGrasps({a, b}, {0.1, 0.2});
+  ASSERT_EQ(r.linkage.rows(), 1);
+  EXPECT_NEAR(r.linkage(0, 2), 0.0, 1e-15);
+}
+
+TEST(PoseMetric, HalfTurnTwinIsTwoRhoAway) {
+  Pose a;
+  a.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+  Pose b = a;
+  b.orientation = a.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  for (double rho : {0.1, 0.25}) {
+    ClusteringOptions options;
+    options.rotation_scale = rho;
+    const ClusteringResult r = clusterGrasps({a, b}, {0.1, 0.2}, options);
+    EXPECT_NEAR(r.linkage(0, 2), 2.0 * rho, 1e-14);
+    EXPECT_NEAR(r.linkage(0, 2), poseDistance(a, b, rho), 1e-14);
+    EXPECT_EQ(r.rotation_scale, rho);
+  }
+}
+
+TEST(ClusterGrasps, BlobsBecomeClustersAndStragglersOutliers) {
+  const Grasps g = blobGrasps({300, 200, 120}, 8, 21);
+  const ClusteringResult r = clusterGrasps(g.poses, g.epsilon);
+  const int n = static_cast<int>(g.poses.size());
+  EXPECT_EQ(r.min_size, static_cast<int>(std::ceil(0.02 * n)));
+  ASSERT_EQ(r.clusters.size(), 3u);
+  ASSERT_EQ(r.labels.size(), g.poses.size());
+  // Largest first: blob b has label b; outliers are -1.
+  for (int i = 0; i < n; ++i) EXPECT_EQ(r.labels[i], g.blob[i]) << "grasp " << i;
+  // Summaries against brute force.
+  for (int c = 0; c < 3; ++c) {
+    const ClusterSummary& s = r.clusters[c];
+    int size = 0, best = -1;
+    double eps_sum = 0.0;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+    std::vector<Eigen::Quaterniond> qs;
+    for (int i = 0; i < n; ++i) {
+      if (r.labels[i] != c) continue;
+      ++size;
+      eps_sum += g.epsilon[i];
+      if (best < 0 || g.epsilon[i] > g.epsilon[best]) best = i;
+      sum += g.poses[i].position;
+      lo = lo.cwiseMin(g.poses[i].position);
+      hi = hi.cwiseMax(g.poses[i].position);
+      qs.push_back(g.poses[i].orientation);
+    }
+    EXPECT_EQ(s.size, size);
+    EXPECT_EQ(s.representative, best);
+    EXPECT_DOUBLE_EQ(s.best_epsilon, g.epsilon[best]);
+    EXPECT_NEAR(s.mean_epsilon, eps_sum / size, 1e-15);
+    EXPECT_LT((s.mean_pose.position - sum / size).norm(), 1e-12);
+    EXPECT_EQ(s.bounds_min, lo);
+    EXPECT_EQ(s.bounds_max, hi);
+    EXPECT_NEAR(rotationAngle(s.mean_pose.orientation, meanOrientation(qs)), 0.0, 1e-9);
+    // The mean orientation is inside the blob (spread 0.05 rad), whatever the signs of q.
+    EXPECT_LT(rotationAngle(s.mean_pose.orientation, g.poses[best].orientation), 0.3);
+  }
+  // Default threshold separates: it lies between the blobs' inner and outer distances.
+  EXPECT_GT(r.threshold, 0.0);
+  EXPECT_LT(r.threshold, 0.5);
+}
+
+TEST(ClusterGrasps, CutsByCountAndThresholdAndMinSize) {
+  const Grasps g = blobGrasps({60, 40, 30}, 0, 22);
+  ClusteringOptions by_count;
+  by_count.num_clusters = 2;
+  const ClusteringResult two = clusterGrasps(g.poses, g.epsilon, by_count);
+  ASSERT_EQ(two.clusters.size(), 2u);
+  EXPECT_EQ(two.clusters[0].size + two.clusters[1].size, 130);
+  EXPECT_EQ(two.threshold, two.linkage(127, 2));
+  ClusteringOptions tiny;
+  tiny.threshold = 0.0;  // nothing merges: every grasp is a cluster of one
+  tiny.min_size = 1;
+  const ClusteringResult singles = clusterGrasps(g.poses, g.epsilon, tiny);
+  EXPECT_EQ(singles.clusters.size(), 130u);
+  for (int i = 0; i < 130; ++i) EXPECT_EQ(singles.labels[i], i);  // equal sizes: index order
+  ClusteringOptions big;
+  big.min_size = 45;
+  const ClusteringResult only_big = clusterGrasps(g.poses, g.epsilon, big);
+  ASSERT_EQ(only_big.clusters.size(), 1u);
+  EXPECT_EQ(only_big.clusters[0].size, 60);
+  for (int i = 0; i < 130; ++i) EXPECT_EQ(only_big.labels[i], g.blob[i] == 0 ? 0 : -1);
+}
+
+TEST(ClusterGrasps, FromLinkageReproducesAndRecuts) {
+  const Grasps g = blobGrasps({50, 50, 20}, 3, 23);
+  ClusteringOptions options;
+  options.method = Linkage::kAverage;
+  const ClusteringResult a = clusterGrasps(g.poses, g.epsilon, options);
+  const ClusteringResult b = clusterFromLinkage(g.poses, g.epsilon, a.linkage, options);
+  EXPECT_EQ(a.labels, b.labels);
+  EXPECT_EQ(a.linkage, b.linkage);
+  EXPECT_EQ(a.threshold, b.threshold);
+  const ClusteringResult again = clusterGrasps(g.poses, g.epsilon, options);
+  EXPECT_EQ(a.labels, again.labels);  // deterministic
+  options.num_clusters = 3;
+  const ClusteringResult three = clusterFromLinkage(g.poses, g.epsilon, a.linkage, options);
+  EXPECT_LE(three.clusters.size(), 3u);
+  EXPECT_EQ(errorOf([&] { clusterFromLinkage(g.poses, g.epsilon, LinkageMatrix(5, 4), options); }),
+            "clusterFromLinkage: the dendrogram has 5 rows but 123 grasps need 122; recompute it "
+            "with computeLinkage");
+  options.num_clusters = 124;
+  EXPECT_EQ(errorOf([&] { clusterFromLinkage(g.poses, g.epsilon, a.linkage, options); }),
+            "clusterFromLinkage: num_clusters 124 exceeds the number of grasps (123)");
+}
+
+TEST(ClusterGrasps, TinyInputs) {
+  const ClusteringResult none = clusterGrasps({}, {});
+  EXPECT_TRUE(none.labels.empty());
+  EXPECT_TRUE(none.clusters.empty());
+  EXPECT_EQ(none.linkage.rows(), 0);
+  Pose p;
+  p.position = Eigen::Vector3d(1, 2, 3);
+  const ClusteringResult one = clusterGrasps({p}, {0.3});
+  ASSERT_EQ(one.clusters.size(), 1u);
+  EXPECT_EQ(one.labels, std::vector<int>{0});
+  EXPECT_EQ(one.clusters[0].representative, 0);
+  EXPECT_EQ(one.clusters[0].mean_pose.position, p.position);
+}
+
+TEST(ClusteringOptions, Validation) {
+  ClusteringOptions o;
+  EXPECT_NO_THROW(o.validate());
+  o.threshold = 0.1;
+  o.num_clusters = 3;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering options threshold and num_clusters exclude each other: set one");
+  o = ClusteringOptions{};
+  o.rotation_scale = 0.0;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering option rotation_scale must be a positive length per radian, got 0.000000");
+  o = ClusteringOptions{};
+  o.threshold = -1.0;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering option threshold must be a finite distance >= 0 (metres), got -1.000000");
+  o = ClusteringOptions{};
+  o.num_clusters = 0;
+  EXPECT_EQ(errorOf([&] { o.validate(); }), "clustering option num_clusters must be >= 1, got 0");
+  o = ClusteringOptions{};
+  o.min_size_fraction = 1.5;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering option min_size_fraction must be in [0, 1], got 1.500000");
+  o = ClusteringOptions{};
+  o.min_size = -2;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering option min_size must be >= 0 (0: use min_size_fraction), got -2");
+  o = ClusteringOptions{};
+  EXPECT_EQ(resolveMinSize(o, 1000), 20);
+  EXPECT_EQ(resolveMinSize(o, 1001), 21);
+  EXPECT_EQ(resolveMinSize(o, 10), 1);
+  o.min_size = 7;
+  EXPECT_EQ(resolveMinSize(o, 1000), 7);
+}
+
+TEST(ClusterGrasps, RejectsBadGrasps) {
+  Pose p;
+  EXPECT_EQ(errorOf([&] { clusterGrasps({p, p}, {0.1}); }),
+            "clusterGrasps: 2 poses but 1 epsilon values; give one per grasp");
+  EXPECT_EQ(errorOf([&] { clusterGrasps({p, p}, {0.1, std::nan("")}); }),
+            "clusterGrasps: epsilon of grasp 1 is not finite");
+  Pose bad;
+  bad.position.x() = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(errorOf([&] { clusterGrasps({p, bad}, {0.1, 0.1}); }),
+            "clusterGrasps: pose of grasp 1 is not finite or has a zero quaternion");
+}
+
+}  // namespace
+}  // namespace taskmap

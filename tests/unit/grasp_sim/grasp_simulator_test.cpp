@@ -1,0 +1,277 @@
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <thread>
+
+#include "taskmap/meshes/error.hpp"
+#include "taskmap/meshes/random.hpp"
+#include "test_meshes.hpp"
+
+namespace taskmap {
+namespace {
+
+HandModel loadHand(const std::string& name) {
+  return HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/" + name + "/" + name + ".urdf");
+}
+
+/// Palm pose whose approach axis (palm z) points along -z of the object and whose palm y axis
+/// (the Panda's finger motion) is the object's x axis.
+Pose fromAbove(const Eigen::Vector3d& p) {
+  Eigen::Matrix3d r;
+  r << 0, 1, 0, 1, 0, 0, 0, 0, -1;
+  Pose pose;
+  pose.position = p;
+  pose.orientation = Eigen::Quaterniond(r);
+  return pose;
+}
+
+bool hasFinger(const GraspResult& r, const std::string& f) {
+  for (const auto& x : r.fingers_in_contact)
+    if (x == f) return true;
+  return false;
+}
+
+constexpr double kTol = 5e-4;
+
+TEST(GraspSimulator, StatusNamesAndOptions) {
+  ASSERT_EQ(allGraspStatuses().size(), 6u);
+  EXPECT_STREQ(toString(GraspStatus::kOk), "ok");
+  EXPECT_STREQ(toString(GraspStatus::kNotRetractable), "not_retractable");
+  EXPECT_STREQ(toString(GraspStatus::kNoPalmContact), "no_palm_contact");
+  EXPECT_STREQ(toString(GraspStatus::kNoFingerContact), "no_finger_contact");
+  EXPECT_STREQ(toString(GraspStatus::kSelfCollision), "self_collision");
+  EXPECT_STREQ(toString(GraspStatus::kStepLimit), "step_limit");
+  GraspSimOptions o;
+  EXPECT_NO_THROW(o.validate());
+  o.contact_tolerance = 0.0;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("contact_tolerance"), std::string::npos);
+  }
+  o = GraspSimOptions();
+  o.max_retraction = -1;
+  EXPECT_THROW(o.validate(), Error);
+  o = GraspSimOptions();
+  o.squeeze = 0.5;
+  EXPECT_THROW(o.validate(), Error);
+  o = GraspSimOptions();
+  o.max_closing_steps = 1;
+  EXPECT_THROW(o.validate(), Error);
+  // The constructor validates too.
+  const HandModel hand = loadHand("panda");
+  o = GraspSimOptions();
+  o.contact_tolerance = -1;
+  EXPECT_THROW(GraspSimulator(testing::makeBox(0.05, 0.05, 0.05), hand, o), Error);
+}
+
+TEST(GraspSimulator, ParallelJawClosesOnBoxesOfSeveralWidths) {
+  const HandModel hand = loadHand("panda");
+  const double squeeze = hand.squeeze();
+  const double height = 0.10;
+  for (double w : {0.02, 0.035, 0.05, 0.07}) {
+    SCOPED_TRACE("width " + std::to_string(w));
+    GraspSimulator sim(testing::makeBox(w, 0.03, height), hand);
+    const GraspResult r = sim.simulate(fromAbove(Eigen::Vector3d(0.003, 0.001, -0.01)));
+    ASSERT_EQ(r.status, GraspStatus::kOk) << r.message;
+    EXPECT_TRUE(r.palm_contact);
+    EXPECT_TRUE(hasFinger(r, "left"));
+    EXPECT_TRUE(hasFinger(r, "right"));
+    // Opening between the inner finger faces: the width less the squeeze of both fingers.
+    const double opening = r.joints[0] + r.joints[1];
+    EXPECT_NEAR(opening, w - 2 * squeeze, kTol);
+    // Palm pressed onto the top face by the squeeze.
+    EXPECT_NEAR(r.pose.position.z(), 0.5 * height - squeeze, kTol);
+    int side_contacts[2] = {0, 0};
+    for (const Contact& c : r.contacts) {
+      EXPECT_GT(c.depth, 0.0);
+      EXPECT_NEAR(c.depth, squeeze, kTol);
+      const std::string& link = hand.links()[static_cast<std::size_t>(c.link)].name;
+      if (link == "panda_hand") {
+        EXPECT_NEAR(c.point.z(), 0.5 * height, 1e-6);
+        EXPECT_GT(c.normal.z(), 0.999);
+        continue;
+      }
+      // Finger contacts lie on the two x faces with normals along +-x.
+      EXPECT_NEAR(std::abs(c.point.x()), 0.5 * w, 1e-6) << link;
+      EXPECT_GT(std::abs(c.normal.x()), 0.999) << link;
+      EXPECT_GT(c.normal.x() * c.point.x(), 0.0) << link;  // outward
+      EXPECT_EQ(link == "panda_leftfinger", c.point.x() > 0) << link;
+      ++side_contacts[c.point.x() > 0 ? 0 : 1];
+    }
+    EXPECT_GE(side_contacts[0], 1);
+    EXPECT_GE(side_contacts[1], 1);
+  }
+}
+
+TEST(GraspSimulator, ThreeFingerHandWrapsCylinder) {
+  const HandModel hand = loadHand("barrett");
+  const double r = 0.035;
+  const int sides = 64;
+  GraspSimulator sim(testing::makeCylinder(r, 0.20, sides, 1), hand);
+  for (double offset : {0.0, 0.003, -0.004}) {
+    SCOPED_TRACE("offset " + std::to_string(offset));
+    const GraspResult res = sim.simulate(fromAbove(Eigen::Vector3d(offset, 0.01, 0.0)));
+    ASSERT_EQ(res.status, GraspStatus::kOk) << res.message;
+    EXPECT_TRUE(res.palm_contact);
+    for (const char* f : {"f1", "f2", "f3"}) EXPECT_TRUE(hasFinger(res, f)) << f;
+    const double inner = r * std::cos(M_PI / sides);  // facet centre distance
+    for (const Contact& c : res.contacts) {
+      const Eigen::Vector2d radial(c.point.x(), c.point.z());  // axis along y
+      EXPECT_GE(radial.norm(), inner - 1e-6);
+      EXPECT_LE(radial.norm(), r + 1e-6);
+      EXPECT_NEAR(c.normal.y(), 0.0, 1e-9);
+      EXPECT_GT(Eigen::Vector2d(c.normal.x(), c.normal.z()).dot(radial.normalized()),
+                std::cos(M_PI / sides) - 1e-9);
+      EXPECT_GT(c.depth, 0.0);
+      EXPECT_LT(c.depth, 3 * hand.squeeze());
+    }
+  }
+}
+
+TEST(GraspSimulator, HumanoidPowerGraspUsesEveryFinger) {
+  const HandModel hand = loadHand("humanoid");
+  GraspSimulator sim(testing::makeCylinder(0.035, 0.20, 48, 1), hand);
+  const GraspResult res = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.01, 0.0)));
+  ASSERT_EQ(res.status, GraspStatus::kOk) << res.message;
+  EXPECT_TRUE(res.palm_contact);
+  EXPECT_EQ(res.fingers_in_contact.size(), 5u);
+}
+
+TEST(GraspSimulator, HandStartingOutsideAdvancesToTheSurface) {
+  const HandModel hand = loadHand("panda");
+  GraspSimulator sim(testing::makeBox(0.04, 0.03, 0.10), hand);
+  const GraspResult inside = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.0)));
+  const GraspResult outside = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.25)));
+  ASSERT_EQ(outside.status, GraspStatus::kOk) << outside.message;
+  EXPECT_LT(outside.stats.retraction, 0.0);  // advanced
+  EXPECT_NEAR(outside.pose.position.z(), inside.pose.position.z(), kTol);
+  EXPECT_NEAR(outside.joints[0] + outside.joints[1], inside.joints[0] + inside.joints[1], kTol);
+  // Pointing away from the object: nothing to touch.
+  Pose away = fromAbove(Eigen::Vector3d(0.0, 0.0, 0.25));
+  away.orientation =
+      away.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  const GraspResult none = sim.simulate(away);
+  EXPECT_EQ(none.status, GraspStatus::kNoPalmContact);
+  EXPECT_NE(none.message.find("touches nothing"), std::string::npos) << none.message;
+}
+
+TEST(GraspSimulator, NotRetractableWithinMaxRetraction) {
+  const HandModel hand = loadHand("barrett");
+  GraspSimOptions o;
+  o.max_retraction = 0.05;
+  GraspSimulator sim(testing::makeBox(0.30, 0.30, 0.30), hand, o);
+  const GraspResult r = sim.simulate(fromAbove(Eigen::Vector3d(0.01, 0.02, 0.0)));
+  EXPECT_EQ(r.status, GraspStatus::kNotRetractable);
+  EXPECT_NE(r.message.find("still penetrates"), std::string::npos) << r.message;
+  EXPECT_DOUBLE_EQ(r.stats.retraction, 0.05);
+  EXPECT_TRUE(r.contacts.empty());
+  // With the automatic limit the same pose retracts out of the top face: the hand is free
+  // once the fingertips (0.125 m ahead of the palm) leave it, so the fingers touch first.
+  GraspSimulator sim_auto(testing::makeBox(0.30, 0.30, 0.30), hand);
+  const GraspResult out = sim_auto.simulate(fromAbove(Eigen::Vector3d(0.01, 0.02, 0.0)));
+  EXPECT_EQ(out.status, GraspStatus::kNoPalmContact);
+  EXPECT_GE(out.stats.retraction, 0.15 + 0.125);
+  EXPECT_LE(out.stats.retraction, 0.15 + 0.125 + kTol);
+}
+
+TEST(GraspSimulator, FingersFirstGiveNoPalmContactUnlessAllowed) {
+  const HandModel hand = loadHand("panda");
+  // Wider than the open gripper: the fingertips land on the top face first.
+  GraspSimulator sim(testing::makeBox(0.12, 0.03, 0.10), hand);
+  const GraspResult r = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.0)));
+  EXPECT_EQ(r.status, GraspStatus::kNoPalmContact);
+  EXPECT_NE(r.message.find("before the palm"), std::string::npos) << r.message;
+  // Fingertips rest on the top face: palm 0.045 m (finger length) above it.
+  EXPECT_NEAR(r.pose.position.z(), 0.05 + 0.045, kTol);
+  GraspSimOptions o;
+  o.require_palm_contact = false;
+  GraspSimulator lenient(testing::makeBox(0.12, 0.03, 0.10), hand, o);
+  const GraspResult l = lenient.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.0)));
+  // The fingers touch the top face and stop at once; sliding along it presses nothing.
+  EXPECT_EQ(l.status, GraspStatus::kNoFingerContact) << l.message;
+  EXPECT_FALSE(l.palm_contact);
+}
+
+TEST(GraspSimulator, ThinObjectLeavesFingersClosedWithoutContact) {
+  const HandModel hand = loadHand("panda");
+  // A 1 cm post narrower than the finger pads: the fingers reach it.
+  GraspSimulator sim(testing::makeBox(0.01, 0.01, 0.10), hand);
+  const GraspResult r = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.0)));
+  ASSERT_EQ(r.status, GraspStatus::kOk) << r.message;
+  EXPECT_NEAR(r.joints[0] + r.joints[1], 0.01 - 2 * hand.squeeze(), kTol);
+  // A 4 mm post under the palm but beside the finger pads (pads span +-0.01 m across):
+  // the fingers close to their limit without touching it.
+  GraspSimulator far(testing::makeBox(0.004, 0.004, 0.10), hand);
+  Pose side = fromAbove(Eigen::Vector3d(0.0, 0.02, 0.0));  // post beside the finger pads
+  const GraspResult n = far.simulate(side);
+  EXPECT_EQ(n.status, GraspStatus::kNoFingerContact) << n.message;
+  EXPECT_TRUE(n.palm_contact);
+  EXPECT_NEAR(n.joints[0], 0.0, 1e-12);  // closed to the limit
+  EXPECT_NEAR(n.joints[1], 0.0, 1e-12);
+}
+
+/// Random poses in the object's bounding box (the volume sampler's distribution without the
+/// inside test) for the determinism tests.
+std::vector<Pose> randomPoses(int n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  std::vector<Pose> poses;
+  for (int i = 0; i < n; ++i) {
+    Rng rng(42, static_cast<std::uint64_t>(i));
+    Pose p;
+    for (int k = 0; k < 3; ++k) p.position[k] = rng.uniform(lo[k], hi[k]);
+    p.orientation = rng.rotation();
+    poses.push_back(p);
+  }
+  return poses;
+}
+
+void expectSame(const GraspResult& a, const GraspResult& b) {
+  ASSERT_EQ(a.status, b.status);
+  EXPECT_EQ(a.message, b.message);
+  EXPECT_EQ(a.pose.position, b.pose.position);
+  EXPECT_EQ(a.pose.orientation.coeffs(), b.pose.orientation.coeffs());
+  EXPECT_EQ(a.joints, b.joints);
+  ASSERT_EQ(a.contacts.size(), b.contacts.size());
+  for (std::size_t i = 0; i < a.contacts.size(); ++i) {
+    EXPECT_EQ(a.contacts[i].point, b.contacts[i].point);
+    EXPECT_EQ(a.contacts[i].normal, b.contacts[i].normal);
+    EXPECT_EQ(a.contacts[i].depth, b.contacts[i].depth);
+    EXPECT_EQ(a.contacts[i].link, b.contacts[i].link);
+  }
+  EXPECT_EQ(a.fingers_in_contact, b.fingers_in_contact);
+  EXPECT_EQ(a.palm_contact, b.palm_contact);
+  EXPECT_EQ(a.stats.queries, b.stats.queries);
+}
+
+TEST(GraspSimulator, ParallelThreadsMatchSequentialRun) {
+  const HandModel hand = loadHand("barrett");
+  GraspSimulator sim(testing::makeCylinder(0.035, 0.20, 32, 2), hand);
+  const auto poses =
+      randomPoses(48, Eigen::Vector3d(-0.035, -0.035, -0.1), Eigen::Vector3d(0.035, 0.035, 0.1));
+  std::vector<GraspResult> seq;
+  for (const Pose& p : poses) seq.push_back(sim.simulate(p));
+  std::vector<GraspResult> par(poses.size());
+  std::vector<std::thread> threads;
+  const int kThreads = 4;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      // Interleaved, reversed order per thread: a different schedule than the sequential run.
+      for (int i = static_cast<int>(poses.size()) - 1 - t; i >= 0; i -= kThreads)
+        par[static_cast<std::size_t>(i)] = sim.simulate(poses[static_cast<std::size_t>(i)]);
+    });
+  for (auto& th : threads) th.join();
+  int ok = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    SCOPED_TRACE("trial " + std::to_string(i));
+    expectSame(seq[i], par[i]);
+    ok += seq[i].status == GraspStatus::kOk;
+  }
+  EXPECT_GT(ok, 0);  // the set exercises the closing path
+}
+
+}  // namespace
+}  // namespace taskmap

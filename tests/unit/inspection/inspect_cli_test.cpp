@@ -1,0 +1,361 @@
+// `taskmap inspect`, `taskmap export` and `taskmap import` through the command line.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <string>
+
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+#include <cairo.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "synthetic_map.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string out;  // stdout and stderr
+};
+
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class InspectCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) /
+           ("inspect_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    map_ = testing::syntheticMap();
+    map_path_ = (dir_ / "basket.h5").string();
+    writeMap(map_path_, map_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+  TaskMapData map_;
+  std::string map_path_;
+};
+
+std::vector<double> forceClosureEpsilons(const TaskMapData& m) {
+  std::vector<double> e;
+  for (std::size_t i = 0; i < m.grasps.size(); ++i)
+    if (m.grasps.force_closure[i]) e.push_back(m.grasps.epsilon[i]);
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
+TEST_F(InspectCliTest, TextSummaryNamesEverything) {
+  const CliRun r = run("inspect " + map_path_);
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* s : {"basket: 32 vertices, 48 faces", "three_finger (3 joints)",
+                        "volume sampler, seed 11, 306 trials", "no_contact 204, ok 102",
+                        "102 stored, 99 in force closure, valid rate 32.4% of trials",
+                        "clusters   3 (single linkage", "6 outliers"}) {
+    EXPECT_NE(r.out.find(s), std::string::npos) << "missing '" << s << "' in\n" << r.out;
+  }
+  // Epsilon statistics against a sorted copy.
+  const std::vector<double> e = forceClosureEpsilons(map_);
+  ASSERT_EQ(e.size(), 99u);
+  char line[128];
+  std::snprintf(line, sizeof(line), "min %.4g  median %.4g  max %.4g", e.front(), e[49], e.back());
+  EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  // One table row per cluster, with its size and representative.
+  for (const auto& c : map_.clustering->clusters) {
+    std::snprintf(line, sizeof(line), "%6d %6d", c.size, c.representative);
+    EXPECT_NE(r.out.find(line), std::string::npos) << line << "\n" << r.out;
+  }
+}
+
+TEST_F(InspectCliTest, JsonMatchesTheMap) {
+  const CliRun r = run("inspect --json " + map_path_);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["object"]["name"], "basket");
+  EXPECT_EQ(j["hand"]["name"], "three_finger");
+  EXPECT_EQ(j["sampling"]["seed"], 11);
+  EXPECT_EQ(j["sampling"]["outcomes"]["ok"], 102);
+  EXPECT_EQ(j["grasps"]["count"], 102);
+  EXPECT_EQ(j["grasps"]["force_closure"], 99);
+  EXPECT_DOUBLE_EQ(j["grasps"]["valid_rate"].get<double>(), 99.0 / 306.0);
+  const std::vector<double> e = forceClosureEpsilons(map_);
+  EXPECT_DOUBLE_EQ(j["epsilon"]["min"].get<double>(), e.front());
+  EXPECT_DOUBLE_EQ(j["epsilon"]["median"].get<double>(), e[49]);
+  EXPECT_DOUBLE_EQ(j["epsilon"]["max"].get<double>(), e.back());
+  const auto& clusters = j["clustering"]["clusters"];
+  ASSERT_EQ(clusters.size(), 3u);
+  EXPECT_EQ(j["clustering"]["outliers"], 6);
+  std::set<std::string> colors;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const ClusterSummary& c = map_.clustering->clusters[k];
+    EXPECT_EQ(clusters[k]["size"], c.size);
+    EXPECT_EQ(clusters[k]["representative"], c.representative);
+    EXPECT_DOUBLE_EQ(clusters[k]["best_epsilon"].get<double>(), c.best_epsilon);
+    const Pose rep = map_.grasps.poseAt(static_cast<std::size_t>(c.representative));
+    const Eigen::Vector3d axis = rep.orientation.toRotationMatrix().col(2);
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_NEAR(clusters[k]["pose"][d].get<double>(), rep.position[d], 1e-15);
+      EXPECT_NEAR(clusters[k]["approach"][d].get<double>(), axis[d], 1e-12);
+    }
+    colors.insert(clusters[k]["color"].get<std::string>());
+  }
+  EXPECT_EQ(colors.size(), 3u);
+}
+
+// Reads a PNG with cairo; counts pixels per exact RGB colour.
+struct Png {
+  int width = 0, height = 0;
+  std::map<std::uint32_t, int> counts;
+  int count(std::uint32_t rgb) const {
+    const auto it = counts.find(rgb);
+    return it == counts.end() ? 0 : it->second;
+  }
+};
+
+Png readPng(const std::string& file) {
+  Png png;
+  cairo_surface_t* s = cairo_image_surface_create_from_png(file.c_str());
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    png.width = cairo_image_surface_get_width(s);
+    png.height = cairo_image_surface_get_height(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    for (int y = 0; y < png.height; ++y) {
+      const auto* row = reinterpret_cast<const std::uint32_t*>(data + y * stride);
+      for (int x = 0; x < png.width; ++x) ++png.counts[row[x] & 0xffffffu];
+    }
+  }
+  cairo_surface_destroy(s);
+  return png;
+}
+
+std::uint32_t hexColor(const std::string& hex) {
+  return static_cast<std::uint32_t>(std::stoul(hex.substr(1), nullptr, 16));
+}
+
+TEST_F(InspectCliTest, PictureHasEveryClusterColour) {
+  const std::string png_path = path("map.png");
+  const CliRun r = run("inspect --json --png " + png_path + " " + map_path_);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const Png png = readPng(png_path);
+  EXPECT_EQ(png.width, 1600);
+  EXPECT_EQ(png.height, 1100);
+  // Not blank: many colours, a large light-grey silhouette.
+  EXPECT_GT(png.counts.size(), 50u);
+  EXPECT_GT(png.count(0xcccccc), 20000);
+  // Every cluster's colour covers more than its legend swatch (16 x 16): dots, markers, bars.
+  int distinct = 0;
+  for (const auto& c : j["clustering"]["clusters"]) {
+    const int count = png.count(hexColor(c["color"]));
+    EXPECT_GT(count, 1000) << c["color"];
+    distinct += count > 0;
+  }
+  EXPECT_GE(distinct, static_cast<int>(map_.clustering->clusters.size()));
+  EXPECT_GT(png.count(0x969696), 0);  // outliers grey
+  // Written atomically: no temporary file left beside it.
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) files += e.path().extension() != ".h5";
+  EXPECT_EQ(files, 1);
+
+  ASSERT_EQ(run("inspect --png " + png_path + " --width 900 --height 650 " + map_path_).code, 0);
+  const Png small = readPng(png_path);
+  EXPECT_EQ(small.width, 900);
+  EXPECT_EQ(small.height, 650);
+}
+
+TEST_F(InspectCliTest, ManyClustersKeepDistinctColours) {
+  // 24 clusters (one per grasp group) from the same grasps, re-labelled round robin.
+  TaskMapData m = map_;
+  ClusteringResult& c = *m.clustering;
+  const int k_count = 24;
+  c.clusters.assign(k_count, ClusterSummary{});
+  for (std::size_t i = 0; i < c.labels.size(); ++i) c.labels[i] = static_cast<int>(i % k_count);
+  for (int k = 0; k < k_count; ++k) {
+    ClusterSummary& s = c.clusters[static_cast<std::size_t>(k)];
+    for (std::size_t i = static_cast<std::size_t>(k); i < c.labels.size(); i += k_count) {
+      ++s.size;
+      if (s.representative < 0) s.representative = static_cast<int>(i);
+    }
+    s.mean_pose = m.grasps.poseAt(static_cast<std::size_t>(s.representative));
+  }
+  const std::string file = path("many.h5");
+  writeMap(file, m);
+  const std::string png_path = path("many.png");
+  const CliRun r = run("inspect --json --png " + png_path + " " + file);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const Png png = readPng(png_path);
+  std::set<std::uint32_t> colors;
+  for (const auto& cl : j["clustering"]["clusters"]) {
+    colors.insert(hexColor(cl["color"]));
+    EXPECT_GT(png.count(hexColor(cl["color"])), 300) << cl["color"];
+  }
+  EXPECT_EQ(colors.size(), static_cast<std::size_t>(k_count));
+  EXPECT_EQ(colors.count(0x969696), 0u);
+}
+
+int countFaces(const aiMesh& mesh, unsigned indices) {
+  int n = 0;
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) n += mesh.mFaces[f].mNumIndices == indices;
+  return n;
+}
+
+TEST_F(InspectCliTest, PlyAndGlbReadBackWithObjectAndGraspCounts) {
+  const auto nv = static_cast<unsigned>(map_.object.vertices.rows());
+  const auto n = static_cast<unsigned>(map_.grasps.size());
+  const unsigned glyph_vertices = 3 * 32;  // one glyph per cluster
+  ASSERT_EQ(run("export " + map_path_ + " --format ply -o " + path("m.ply")).code, 0);
+  Assimp::Importer ply;
+  const aiScene* s = ply.ReadFile(path("m.ply"), 0);
+  ASSERT_NE(s, nullptr) << ply.GetErrorString();
+  ASSERT_EQ(s->mNumMeshes, 1u);
+  EXPECT_EQ(s->mMeshes[0]->mNumVertices, nv + n + glyph_vertices);
+  EXPECT_EQ(countFaces(*s->mMeshes[0], 1), static_cast<int>(n));
+  EXPECT_EQ(countFaces(*s->mMeshes[0], 3), static_cast<int>(map_.object.faces.rows()) + 3 * 48);
+  // The object's vertices come first.
+  for (unsigned i = 0; i < nv; ++i) {
+    EXPECT_NEAR(s->mMeshes[0]->mVertices[i].z, map_.object.vertices(i, 2), 1e-6);
+  }
+
+  ASSERT_EQ(run("export " + map_path_ + " --format glb -o " + path("m.glb")).code, 0);
+  Assimp::Importer glb;
+  s = glb.ReadFile(path("m.glb"), 0);
+  ASSERT_NE(s, nullptr) << glb.GetErrorString();
+  std::map<std::string, const aiMesh*> meshes;
+  for (unsigned i = 0; i < s->mNumMeshes; ++i) meshes[s->mMeshes[i]->mName.C_Str()] = s->mMeshes[i];
+  ASSERT_EQ(meshes.size(), 3u);
+  // glTF export joins identical vertices: the object keeps its distinct vertices (all of them
+  // for a repaired mesh; the synthetic basket's bars share a few corners).
+  std::set<std::array<double, 3>> distinct;
+  for (unsigned i = 0; i < nv; ++i) {
+    distinct.insert({map_.object.vertices(i, 0), map_.object.vertices(i, 1),
+                     map_.object.vertices(i, 2)});
+  }
+  ASSERT_LT(distinct.size(), nv);
+  EXPECT_EQ(meshes["object"]->mNumVertices, distinct.size());
+  EXPECT_EQ(meshes["object"]->mNumFaces, static_cast<unsigned>(map_.object.faces.rows()));
+  EXPECT_EQ(meshes["grasps"]->mNumFaces, n);
+  EXPECT_EQ(countFaces(*meshes["grasps"], 1), static_cast<int>(n));
+  EXPECT_EQ(meshes["glyphs"]->mNumVertices, glyph_vertices);
+}
+
+TEST_F(InspectCliTest, AcronymExportThenImportKeepsPosesAndFlags) {
+  const std::string acr = path("basket_acronym.h5");
+  CliRun r = run("export " + map_path_ + " --format acronym -o " + acr);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string imported = path("imported.h5");
+  r = run("import --acronym " + acr + " --object " + TASKMAP_OBJECTS_DIR + "/box.obj -o " +
+          imported);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TaskMapData back = readMap(imported);
+  ASSERT_EQ(back.grasps.size(), map_.grasps.size());
+  for (std::size_t i = 0; i < back.grasps.size(); ++i) {
+    const Pose a = back.grasps.poseAt(i), b = map_.grasps.poseAt(i);
+    EXPECT_LT((a.position - b.position).cwiseAbs().maxCoeff(), 1e-12) << i;
+    EXPECT_LT(std::min((a.orientation.coeffs() - b.orientation.coeffs()).cwiseAbs().maxCoeff(),
+                       (a.orientation.coeffs() + b.orientation.coeffs()).cwiseAbs().maxCoeff()),
+              1e-12)
+        << i;
+    EXPECT_EQ(back.grasps.force_closure[i], map_.grasps.force_closure[i]) << i;
+  }
+  EXPECT_FALSE(back.grasps.contacts_available);
+  ASSERT_TRUE(back.clustering.has_value());
+  EXPECT_EQ(back.clustering->labels.size(), back.grasps.size());
+  EXPECT_EQ(back.object.name, "box");
+  // The imported map inspects like any other.
+  r = run("inspect " + imported);
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("contacts absent (imported map)"), std::string::npos) << r.out;
+}
+
+TEST_F(InspectCliTest, BadInputGivesClearErrorsAndNonZeroExit) {
+  CliRun r = run("inspect " + path("missing.h5"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("taskmap: error: map file '" + path("missing.h5") + "' does not exist"),
+            std::string::npos)
+      << r.out;
+
+  const std::string corrupt = path("corrupt.h5");
+  {
+    std::ifstream in(map_path_, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    bytes.resize(bytes.size() / 3);  // truncated
+    std::ofstream(corrupt, std::ios::binary) << bytes;
+  }
+  for (const std::string& cmd : {"inspect " + corrupt, "export " + corrupt + " --format ply -o " +
+                                                           path("x.ply")}) {
+    r = run(cmd);
+    EXPECT_EQ(r.code, 1) << cmd << "\n" << r.out;
+    EXPECT_NE(r.out.find("taskmap: error:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(corrupt), std::string::npos) << r.out;
+  }
+  const std::string text = path("text.h5");
+  std::ofstream(text) << "hello\n";
+  r = run("inspect " + text);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find(text), std::string::npos) << r.out;
+
+  r = run("export " + map_path_ + " --format stl -o " + path("x.stl"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("unknown format 'stl'; use ply, glb or acronym"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(path("x.stl")));
+
+  r = run("inspect --png /nonexistent/dir/x.png " + map_path_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("cannot write picture '/nonexistent/dir/x.png'"), std::string::npos)
+      << r.out;
+  r = run("inspect --png " + path("x.png") + " --width 10 " + map_path_);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("--width 10 is out of range"), std::string::npos) << r.out;
+
+  r = run("import --acronym " + path("none.h5") + " --object " + TASKMAP_OBJECTS_DIR +
+          "/box.obj -o " + path("y.h5"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("does not exist"), std::string::npos) << r.out;
+  r = run("import --acronym " + map_path_ + " --object " + TASKMAP_OBJECTS_DIR + "/box.obj -o " +
+          path("y.h5"));
+  EXPECT_EQ(r.code, 1);  // a task map is not an ACRONYM file
+  EXPECT_NE(r.out.find("grasps/transforms is missing"), std::string::npos) << r.out;
+  const std::string acr = path("a.h5");
+  ASSERT_EQ(run("export " + map_path_ + " --format acronym -o " + acr).code, 0);
+  r = run("import --acronym " + acr + " --object " + path("nomesh.obj") + " -o " + path("y.h5"));
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.out.find("object mesh '" + path("nomesh.obj") + "' does not exist"),
+            std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(path("y.h5")));
+}
+
+}  // namespace
+}  // namespace taskmap

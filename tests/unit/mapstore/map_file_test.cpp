@@ -1,0 +1,474 @@
+// Task map files: exact round trip, edge sizes, and a clear error for every corruption.
+#include "taskmap/mapstore/map_file.hpp"
+
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "taskmap/meshes/error.hpp"
+#include "taskmap/meshes/random.hpp"
+
+namespace taskmap {
+namespace {
+
+std::string tempDir() {
+  static const std::string dir = [] {
+    std::string d = ::testing::TempDir() + "map_file_test_" + std::to_string(::getpid());
+    std::string cmd = "mkdir -p '" + d + "'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+    return d;
+  }();
+  return dir;
+}
+
+std::string tempPath(const std::string& name) {
+  return tempDir() + "/" + name;
+}
+
+// A map of n grasps with random but valid content; clustering when n >= 1 and cluster.
+TaskMapData sampleMap(int n, bool cluster = true, int joints = 4) {
+  Rng rng(7, static_cast<std::uint64_t>(n));
+  TaskMapData m;
+  m.generator = "taskmap test";
+  m.created_utc = "2026-01-01T00:00:00Z";
+  m.object.name = "box";
+  m.object.source_sha256 = std::string(64, 'a');
+  m.object.scale = 0.5;
+  m.object.volume = 0.001;
+  m.object.center_of_mass = Eigen::Vector3d(0.01, -0.02, 0.03);
+  m.object.torque_scale = 0.0866;
+  m.object.vertices = RowMatrixXd::Random(8, 3);
+  m.object.faces.resize(2, 3);
+  m.object.faces << 0, 1, 2, 5, 6, 7;
+  m.hand.name = "panda";
+  m.hand.urdf_sha256 = std::string(64, 'b');
+  for (int j = 0; j < joints; ++j) m.hand.joint_names.push_back("joint_" + std::to_string(j));
+  m.sampling.sampler = "volume";
+  m.sampling.seed = 12345678901234ull;
+  m.sampling.trials = 100;
+  m.sampling.outcomes = {{"force_closure", static_cast<std::uint64_t>(n)},
+                         {"no_contact", 100 - static_cast<std::uint64_t>(n)}};
+  m.sampling.params_json = R"({"valid": 3})";
+  m.quality.friction = 0.7;
+  m.quality.cone_edges = 6;
+  m.quality.contact_model = "soft_finger";
+  MapGrasps& g = m.grasps;
+  g.rotation_scale = 0.12;
+  g.pose.resize(n, 7);
+  g.joints = RowMatrixXd::Random(n, joints);
+  g.contact_offsets.push_back(0);
+  std::vector<Pose> poses;
+  for (int i = 0; i < n; ++i) {
+    Pose p;
+    p.position = Eigen::Vector3d(rng.uniform(), rng.uniform(), rng.uniform());
+    p.orientation = rng.rotation();
+    poses.push_back(p);
+    g.pose.row(i) = p.toVector7().transpose();
+    g.force_closure.push_back(static_cast<std::uint8_t>(i % 2));
+    g.epsilon.push_back(rng.uniform());
+    g.volume.push_back(rng.uniform() * 1e-3);
+    g.contact_offsets.push_back(g.contact_offsets.back() + (i % 3) + 1);
+  }
+  const auto contacts = static_cast<Eigen::Index>(g.contact_offsets.back());
+  g.contact_points = RowMatrixXd::Random(contacts, 3);
+  g.contact_normals.resize(contacts, 3);
+  for (Eigen::Index c = 0; c < contacts; ++c) {
+    g.contact_normals.row(c) = rng.direction().transpose();
+    g.contact_depths.push_back(rng.uniform() * 1e-3);
+    g.contact_links.push_back(static_cast<std::int32_t>(c % 5) - 1);
+  }
+  if (cluster && n >= 1) {
+    ClusteringResult c;
+    c.method = Linkage::kAverage;
+    c.rotation_scale = 0.12;
+    c.threshold = 0.05;
+    c.min_size = 1;
+    c.linkage.resize(n - 1, 4);
+    for (int r = 0; r + 1 < n; ++r)
+      c.linkage.row(r) << (r == 0 ? 0 : n + r - 1), r + 1, 0.01 * r, r + 2;
+    // Two clusters when possible: first half and second half; last grasp an outlier if n > 2.
+    c.labels.assign(static_cast<std::size_t>(n), 0);
+    for (int i = n / 2; i < n; ++i) c.labels[static_cast<std::size_t>(i)] = n >= 2 ? 1 : 0;
+    if (n > 2) c.labels.back() = -1;
+    const int k = n >= 2 ? 2 : 1;
+    for (int j = 0; j < k; ++j) {
+      ClusterSummary s;
+      for (int i = 0; i < n; ++i)
+        if (c.labels[static_cast<std::size_t>(i)] == j) {
+          if (s.size == 0) s.representative = i;
+          ++s.size;
+        }
+      s.mean_pose = poses[static_cast<std::size_t>(s.representative)];
+      s.mean_pose.orientation =
+          Eigen::Quaterniond(s.mean_pose.toVector7()(3), s.mean_pose.toVector7()(4),
+                             s.mean_pose.toVector7()(5), s.mean_pose.toVector7()(6));
+      s.mean_epsilon = 0.1 * j;
+      s.best_epsilon = 0.2 * j;
+      s.bounds_min = Eigen::Vector3d(-1, -2, -3 + j);
+      s.bounds_max = Eigen::Vector3d(1, 2, 3 + j);
+      c.clusters.push_back(s);
+    }
+    m.clustering = c;
+  }
+  return m;
+}
+
+void expectSameMap(const TaskMapData& a, const TaskMapData& b) {
+  EXPECT_EQ(a.generator, b.generator);
+  EXPECT_EQ(a.created_utc, b.created_utc);
+  EXPECT_EQ(a.object.name, b.object.name);
+  EXPECT_EQ(a.object.source_sha256, b.object.source_sha256);
+  EXPECT_EQ(a.object.scale, b.object.scale);
+  EXPECT_EQ(a.object.volume, b.object.volume);
+  EXPECT_EQ(a.object.center_of_mass, b.object.center_of_mass);
+  EXPECT_EQ(a.object.torque_scale, b.object.torque_scale);
+  EXPECT_EQ(a.object.vertices, b.object.vertices);
+  EXPECT_EQ(a.object.faces, b.object.faces);
+  EXPECT_EQ(a.hand.name, b.hand.name);
+  EXPECT_EQ(a.hand.urdf_sha256, b.hand.urdf_sha256);
+  EXPECT_EQ(a.hand.joint_names, b.hand.joint_names);
+  EXPECT_EQ(a.sampling.sampler, b.sampling.sampler);
+  EXPECT_EQ(a.sampling.seed, b.sampling.seed);
+  EXPECT_EQ(a.sampling.trials, b.sampling.trials);
+  EXPECT_EQ(a.sampling.outcomes, b.sampling.outcomes);
+  EXPECT_EQ(a.sampling.params_json, b.sampling.params_json);
+  EXPECT_EQ(a.quality.friction, b.quality.friction);
+  EXPECT_EQ(a.quality.cone_edges, b.quality.cone_edges);
+  EXPECT_EQ(a.quality.contact_model, b.quality.contact_model);
+  const MapGrasps &g = a.grasps, &h = b.grasps;
+  EXPECT_EQ(g.pose, h.pose);
+  EXPECT_EQ(g.joints, h.joints);
+  EXPECT_EQ(g.joints.cols(), h.joints.cols());
+  EXPECT_EQ(g.force_closure, h.force_closure);
+  EXPECT_EQ(g.epsilon, h.epsilon);
+  EXPECT_EQ(g.volume, h.volume);
+  EXPECT_EQ(g.contact_offsets, h.contact_offsets);
+  EXPECT_EQ(g.contact_points, h.contact_points);
+  EXPECT_EQ(g.contact_normals, h.contact_normals);
+  EXPECT_EQ(g.contact_depths, h.contact_depths);
+  EXPECT_EQ(g.contact_links, h.contact_links);
+  EXPECT_EQ(g.contacts_available, h.contacts_available);
+  EXPECT_EQ(g.rotation_scale, h.rotation_scale);
+  ASSERT_EQ(a.clustering.has_value(), b.clustering.has_value());
+  if (!a.clustering) return;
+  const ClusteringResult &c = *a.clustering, &d = *b.clustering;
+  EXPECT_EQ(c.labels, d.labels);
+  EXPECT_EQ(c.linkage, d.linkage);
+  EXPECT_EQ(c.method, d.method);
+  EXPECT_EQ(c.rotation_scale, d.rotation_scale);
+  EXPECT_EQ(c.threshold, d.threshold);
+  EXPECT_EQ(c.min_size, d.min_size);
+  ASSERT_EQ(c.clusters.size(), d.clusters.size());
+  for (std::size_t j = 0; j < c.clusters.size(); ++j) {
+    EXPECT_EQ(c.clusters[j].size, d.clusters[j].size);
+    EXPECT_EQ(c.clusters[j].representative, d.clusters[j].representative);
+    EXPECT_EQ(c.clusters[j].mean_pose.toVector7(), d.clusters[j].mean_pose.toVector7());
+    EXPECT_EQ(c.clusters[j].mean_epsilon, d.clusters[j].mean_epsilon);
+    EXPECT_EQ(c.clusters[j].best_epsilon, d.clusters[j].best_epsilon);
+    EXPECT_EQ(c.clusters[j].bounds_min, d.clusters[j].bounds_min);
+    EXPECT_EQ(c.clusters[j].bounds_max, d.clusters[j].bounds_max);
+  }
+}
+
+// Expects readMap(path) to throw an Error whose message contains every part.
+void expectReadError(const std::string& path, const std::vector<std::string>& parts) {
+  try {
+    readMap(path);
+    FAIL() << "readMap accepted " << path;
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
+  }
+}
+
+
+// ---- HDF5 edits for corrupt files (the test links HDF5 itself) ----
+struct File {
+  explicit File(const std::string& path) : id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
+    EXPECT_GE(id, 0);
+  }
+  ~File() { H5Fclose(id); }
+  hid_t id;
+};
+
+void setIntAttr(const std::string& path, const char* obj, const char* name, std::int64_t v) {
+  File f(path);
+  hid_t a = H5Aopen_by_name(f.id, obj, name, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(a, 0);
+  EXPECT_GE(H5Awrite(a, H5T_NATIVE_INT64, &v), 0);
+  H5Aclose(a);
+}
+
+template <typename T>
+void editDataset(const std::string& path, const char* name, hid_t mem_type, std::size_t count,
+                 const std::function<void(std::vector<T>&)>& edit) {
+  File f(path);
+  hid_t d = H5Dopen2(f.id, name, H5P_DEFAULT);
+  ASSERT_GE(d, 0);
+  std::vector<T> values(count);
+  ASSERT_GE(H5Dread(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  edit(values);
+  EXPECT_GE(H5Dwrite(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+  H5Dclose(d);
+}
+
+void deleteLink(const std::string& path, const char* name) {
+  File f(path);
+  EXPECT_GE(H5Ldelete(f.id, name, H5P_DEFAULT), 0);
+}
+
+// ------------------------------------------------------------------------- tests
+
+TEST(MapFileTest, RoundTripIsExact) {
+  const TaskMapData m = sampleMap(9);
+  const std::string path = tempPath("round_trip.h5");
+  writeMap(path, m);
+  expectSameMap(m, readMap(path));
+}
+
+TEST(MapFileTest, RoundTripOfEmptyAndSingleGraspMaps) {
+  for (int n : {0, 1, 2}) {
+    for (bool cluster : {false, true}) {
+      SCOPED_TRACE("n=" + std::to_string(n) + " cluster=" + std::to_string(cluster));
+      const TaskMapData m = sampleMap(n, cluster);
+      const std::string path = tempPath("small_" + std::to_string(n) + ".h5");
+      writeMap(path, m);
+      const TaskMapData r = readMap(path);
+      expectSameMap(m, r);
+      EXPECT_EQ(r.grasps.size(), static_cast<std::size_t>(n));
+    }
+  }
+}
+
+TEST(MapFileTest, RoundTripWithoutContactsOrJoints) {
+  TaskMapData m = sampleMap(3, false, 0);
+  m.grasps.contacts_available = false;
+  m.grasps.contact_offsets.assign(4, 0);
+  m.grasps.contact_points.resize(0, 3);
+  m.grasps.contact_normals.resize(0, 3);
+  m.grasps.contact_depths.clear();
+  m.grasps.contact_links.clear();
+  m.sampling.outcomes.clear();
+  const std::string path = tempPath("no_contacts.h5");
+  writeMap(path, m);
+  expectSameMap(m, readMap(path));
+}
+
+TEST(MapFileTest, LargeMapSpansSeveralChunks) {
+  const TaskMapData m = sampleMap(5000, false);
+  const std::string path = tempPath("large.h5");
+  writeMap(path, m);
+  expectSameMap(m, readMap(path));
+}
+
+TEST(MapFileTest, PoseAtReturnsTheStoredRow) {
+  const TaskMapData m = sampleMap(4);
+  for (std::size_t i = 0; i < 4; ++i)
+    EXPECT_TRUE(m.grasps.poseAt(i).toVector7().isApprox(
+        m.grasps.pose.row(static_cast<Eigen::Index>(i)).transpose(), 1e-15));
+}
+
+TEST(MapFileTest, WriteReplacesAtomicallyAndLeavesNoTemporaryFile) {
+  const std::string dir = tempPath("atomic");
+  ASSERT_EQ(std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str()), 0);
+  const std::string path = dir + "/map.h5";
+  writeMap(path, sampleMap(2));
+  writeMap(path, sampleMap(5));
+  EXPECT_EQ(readMap(path).grasps.size(), 5u);
+  // Only the map itself is in the directory.
+  const std::string listing = dir + "/listing.txt";
+  ASSERT_EQ(std::system(("ls '" + dir + "' > '" + listing + "'").c_str()), 0);
+  std::ifstream in(listing);
+  std::string line, all;
+  while (std::getline(in, line)) all += line + "\n";
+  EXPECT_EQ(all, "listing.txt\nmap.h5\n");
+}
+
+TEST(MapFileTest, InvalidMapIsRefusedAndPreviousFileKept) {
+  const std::string path = tempPath("keep.h5");
+  writeMap(path, sampleMap(3));
+  TaskMapData bad = sampleMap(4);
+  bad.grasps.pose(2, 0) = std::numeric_limits<double>::quiet_NaN();
+  try {
+    writeMap(path, bad);
+    FAIL() << "invalid map written";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/grasps/pose"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(readMap(path).grasps.size(), 3u);
+}
+
+TEST(MapFileTest, UnwritableDirectoryGivesErrorNamingPath) {
+  const std::string path = tempPath("no/such/dir/map.h5");
+  try {
+    writeMap(path, sampleMap(2));
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+  }
+}
+
+TEST(MapFileTest, MissingFile) {
+  expectReadError(tempPath("missing.h5"), {"missing"});
+}
+
+TEST(MapFileTest, GarbageFile) {
+  const std::string path = tempPath("garbage.h5");
+  std::ofstream(path) << "this is not an HDF5 file at all\n";
+  expectReadError(path, {"not an HDF5 file"});
+}
+
+TEST(MapFileTest, TruncatedFilesGiveErrorsNotCrashes) {
+  const std::string path = tempPath("full.h5");
+  writeMap(path, sampleMap(200));
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1000u);
+  for (double fraction : {0.0, 0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99}) {
+    const std::string cut = tempPath("truncated.h5");
+    std::ofstream(cut, std::ios::binary)
+        .write(bytes.data(),
+               static_cast<std::streamsize>(fraction * static_cast<double>(bytes.size())));
+    SCOPED_TRACE(fraction);
+    expectReadError(cut, {});
+  }
+}
+
+TEST(MapFileTest, HdfFileOfAnotherKind) {
+  const std::string path = tempPath("other.h5");
+  hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  H5Fclose(f);
+  expectReadError(path, {"not a task map"});
+}
+
+TEST(MapFileTest, NewerSchemaVersionAsksToUpgrade) {
+  const std::string path = tempPath("newer.h5");
+  writeMap(path, sampleMap(3));
+  setIntAttr(path, "/", "schema_version", 2);
+  expectReadError(path, {"written by a newer taskmap (schema 2); upgrade"});
+}
+
+TEST(MapFileTest, ZeroSchemaVersion) {
+  const std::string path = tempPath("zero.h5");
+  writeMap(path, sampleMap(3));
+  setIntAttr(path, "/", "schema_version", 0);
+  expectReadError(path, {"schema_version"});
+}
+
+TEST(MapFileTest, OffsetsOutOfBounds) {
+  const std::string path = tempPath("offsets.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<std::int64_t>(path, "/grasps/contact_offsets", H5T_NATIVE_INT64, 6,
+                            [](std::vector<std::int64_t>& v) { v.back() += 100; });
+  expectReadError(path, {"/grasps/contact_offsets", "out of bounds"});
+}
+
+TEST(MapFileTest, OffsetsNotMonotone) {
+  const std::string path = tempPath("monotone.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<std::int64_t>(path, "/grasps/contact_offsets", H5T_NATIVE_INT64, 6,
+                            [](std::vector<std::int64_t>& v) { v[2] = v[3] + 1; });
+  expectReadError(path, {"/grasps/contact_offsets", "decreases"});
+}
+
+TEST(MapFileTest, NanPose) {
+  const std::string path = tempPath("nan.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<double>(path, "/grasps/pose", H5T_NATIVE_DOUBLE, 35, [](std::vector<double>& v) {
+    v[7 * 3 + 1] = std::numeric_limits<double>::quiet_NaN();
+  });
+  expectReadError(path, {"/grasps/pose", "row 3", "non-finite"});
+}
+
+TEST(MapFileTest, NonUnitQuaternion) {
+  const std::string path = tempPath("quat.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<double>(path, "/grasps/pose", H5T_NATIVE_DOUBLE, 35,
+                      [](std::vector<double>& v) { v[7 * 4 + 3] *= 2.0; });
+  expectReadError(path, {"/grasps/pose", "row 4", "non-unit quaternion"});
+}
+
+TEST(MapFileTest, MissingDatasetIsNamed) {
+  const std::string path = tempPath("missing_dataset.h5");
+  writeMap(path, sampleMap(5));
+  deleteLink(path, "/grasps/epsilon");
+  expectReadError(path, {"missing dataset /grasps/epsilon"});
+}
+
+TEST(MapFileTest, ClusterLabelOutOfRange) {
+  const std::string path = tempPath("labels.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<std::int32_t>(path, "/grasps/cluster", H5T_NATIVE_INT32, 5,
+                            [](std::vector<std::int32_t>& v) { v[1] = 7; });
+  expectReadError(path, {"/grasps/cluster", "entry 1"});
+}
+
+TEST(MapFileTest, ForceClosureNotBoolean) {
+  const std::string path = tempPath("fc.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<std::uint8_t>(path, "/grasps/force_closure", H5T_NATIVE_UINT8, 5,
+                            [](std::vector<std::uint8_t>& v) { v[4] = 3; });
+  expectReadError(path, {"/grasps/force_closure", "entry 4"});
+}
+
+TEST(MapFileTest, ValidateNamesTheViolatedDataset) {
+  {
+    TaskMapData m = sampleMap(4);
+    m.grasps.epsilon.pop_back();
+    EXPECT_THROW(m.validate(), Error);
+  }
+  {
+    TaskMapData m = sampleMap(4);
+    m.object.faces(1, 2) = 8;
+    try {
+      m.validate();
+      FAIL();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("/object/faces"), std::string::npos) << e.what();
+    }
+  }
+  {
+    TaskMapData m = sampleMap(4);
+    m.sampling.trials = 99;
+    try {
+      m.validate();
+      FAIL();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("/sampling"), std::string::npos) << e.what();
+    }
+  }
+  {
+    TaskMapData m = sampleMap(4);
+    m.clustering->clusters[0].size += 1;
+    try {
+      m.validate();
+      FAIL();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("/clusters/size"), std::string::npos) << e.what();
+    }
+  }
+  {
+    TaskMapData m = sampleMap(4);
+    m.grasps.joints.resize(4, 3);
+    m.grasps.joints.setZero();
+    try {
+      m.validate();
+      FAIL();
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("/grasps/joints"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(sampleMap(6).validate());
+}
+
+}  // namespace
+}  // namespace taskmap

@@ -1,0 +1,66 @@
+// taskmap inspect MAP.h5 [--json] [--png OUT.png]: summary and picture of a task map.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "command.hpp"
+#include "map_picture.hpp"
+#include "map_summary.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/meshes/error.hpp"
+
+namespace taskmap::cli {
+namespace {
+
+struct InspectArgs {
+  std::string map;
+  bool json = false;
+  std::string png;
+  PictureOptions picture;
+};
+
+void runInspect(const InspectArgs& args) {
+  if (!std::filesystem::exists(args.map)) {
+    throw Error("map file '" + args.map + "' does not exist; give the path of a task map (.h5)");
+  }
+  if (!args.png.empty()) args.picture.validate();
+  const TaskMapData map = readMap(args.map);
+  const MapSummary summary = summarizeMap(map, args.map);
+  if (args.json) {
+    std::cout << summaryToJson(summary).dump(2) << "\n";
+  } else {
+    std::cout << formatSummary(summary);
+  }
+  if (!args.png.empty()) {
+    writeMapPicture(map, summary, args.png, args.picture);
+    if (!args.json) std::cout << "picture    " << args.png << "\n";
+  }
+}
+
+const CommandRegistrar kRegistrar("inspect", [](CLI::App& app) {
+  auto args = std::make_shared<InspectArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "inspect",
+      "Summarise a task map: object, hand, sampling, trial outcomes, epsilon statistics and the "
+      "cluster table (--json for scripts), and optionally draw it (--png).");
+  cmd->add_option("map", args->map, "task map file (.h5)")->required();
+  cmd->add_flag("--json", args->json,
+                "print JSON instead of text: keys path, generator, created_utc, object, hand, "
+                "sampling, grasps, epsilon (over force-closure grasps), clustering (null or "
+                "{linkage, threshold, min_size, outliers, clusters[{id, size, representative, "
+                "pose [x y z qw qx qy qz], approach, mean_epsilon, best_epsilon, color}]})");
+  cmd->add_option("--png", args->png,
+                  "also draw the map to this PNG: three orthographic views (top, front, side) "
+                  "of the object silhouette with palm positions coloured by cluster (outliers "
+                  "grey), representatives with their approach axis (palm +z), and a histogram "
+                  "of epsilon per cluster");
+  cmd->add_option("--width", args->picture.width, "picture width in pixels (>= 800)")
+      ->capture_default_str();
+  cmd->add_option("--height", args->picture.height, "picture height in pixels (>= 600)")
+      ->capture_default_str();
+  cmd->callback([args]() { runInspect(*args); });
+});
+
+}  // namespace
+}  // namespace taskmap::cli
