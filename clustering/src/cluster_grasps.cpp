@@ -103,8 +103,7 @@ void checkInputs(const std::vector<Pose>& poses, const std::vector<double>& epsi
   }
   for (std::size_t i = 0; i < poses.size(); ++i) {
     if (!std::isfinite(epsilon[i])) {
-      throw Error(std::string(what) + ": epsilon of grasp " + std::to_string(i) +
-                  " is not finite");
+      throw Error(std::string(what) + ": epsilon of grasp " + std::to_string(i) + " is not finite");
     }
     if (!poses[i].position.allFinite() || !poses[i].orientation.coeffs().allFinite() ||
         poses[i].orientation.norm() < 1e-9) {
@@ -153,8 +152,8 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
   const Eigen::Index expected_rows = n > 0 ? n - 1 : 0;
   if (linkage.rows() != expected_rows) {
     throw Error("clusterFromLinkage: the dendrogram has " + std::to_string(linkage.rows()) +
-                " rows but " + std::to_string(n) + " grasps need " +
-                std::to_string(expected_rows) + "; recompute it with computeLinkage");
+                " rows but " + std::to_string(n) + " grasps need " + std::to_string(expected_rows) +
+                "; recompute it with computeLinkage");
   }
   detail::validateLinkage(linkage, "clusterFromLinkage");
   ClusteringResult result;
@@ -182,8 +181,8 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
     // The distance of the last merge applied (0 when none is).
     result.threshold = n - k > 0 ? linkage(n - k - 1, 2) : 0.0;
   } else {
-    result.threshold = options.threshold ? *options.threshold
-                                         : defaultThreshold(linkage, result.min_size);
+    result.threshold =
+        options.threshold ? *options.threshold : defaultThreshold(linkage, result.min_size);
     raw = cutAtDistance(linkage, result.threshold);
   }
 

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 #include "component_boruvka.hpp"
@@ -38,6 +39,15 @@ using emst::EdgeKey;
 using emst::KdTree;
 using emst::kLeafSize;
 using emst::kNeighbours;
+
+/// Points from which the neighbour lists are computed by several threads.
+constexpr int kParallelPoints = 2000;
+
+/// Threads for the neighbour lists: the hardware's, at most 8.
+int workerThreads() {
+  const unsigned hw = std::thread::hardware_concurrency();
+  return static_cast<int>(std::clamp(hw, 1u, 8u));
+}
 
 /// Components at which the rounds switch to per-component trees (component_boruvka.hpp).
 constexpr int kComponentPhase = 3000;
@@ -68,10 +78,22 @@ class DualTreeBoruvka {
     k_ = std::min(kNeighbours, n_ - 1);
     neighbours_.resize(static_cast<std::size_t>(n_) * k_);
     neighbour_d2_.resize(neighbours_.size());
-    for (int p = 0; p < n_; ++p) {
-      const std::size_t at = static_cast<std::size_t>(p) * k_;
-      tree_.nearest(p, k_, &neighbours_[at], &neighbour_d2_[at]);
+    // Each point's list depends on the tree alone, so splitting the points among threads
+    // cannot change the result.
+    auto lists = [this](int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        const std::size_t at = static_cast<std::size_t>(p) * k_;
+        tree_.nearest(p, k_, &neighbours_[at], &neighbour_d2_[at]);
+      }
+    };
+    const int threads = n_ >= kParallelPoints ? workerThreads() : 1;
+    std::vector<std::thread> workers;
+    for (int t = 1; t < threads; ++t) {
+      workers.emplace_back(lists, static_cast<int>(static_cast<std::int64_t>(n_) * t / threads),
+                           static_cast<int>(static_cast<std::int64_t>(n_) * (t + 1) / threads));
     }
+    lists(0, n_ / threads);
+    for (std::thread& w : workers) w.join();
   }
 
   /// Spanning forest edges as (tree position, tree position, squared length), after rounds
@@ -186,8 +208,8 @@ class DualTreeBoruvka {
   void updateNodeBounds() {
     for (int v = static_cast<int>(nodes_.size()) - 1; v >= 0; --v) {
       const Node& nd = nodes_[v];
-      node_bound_[v] = nd.left < 0 ? leafBound(v)
-                                   : std::max(node_bound_[nd.left], node_bound_[nd.right]);
+      node_bound_[v] =
+          nd.left < 0 ? leafBound(v) : std::max(node_bound_[nd.left], node_bound_[nd.right]);
     }
   }
 
@@ -250,19 +272,19 @@ class DualTreeBoruvka {
   const Tree& tree_;
   const std::vector<Node>& nodes_;
   int n_;
-  std::vector<int> comp_;           // component (a union-find root) of each tree position
+  std::vector<int> comp_;  // component (a union-find root) of each tree position
   std::vector<int> node_comp_;
   std::vector<double> node_bound_;
-  std::vector<int> cached_;         // exact nearest foreign point, -1 if unknown
+  std::vector<int> cached_;  // exact nearest foreign point, -1 if unknown
   std::vector<double> cached_d2_;
-  std::vector<double> lower_;       // lower bound on the squared nearest foreign distance
-  std::vector<double> query_d2_;    // this round: bound, then the best squared distance
-  std::vector<int> query_best_;     // this round: best point found (kNoPoint: none)
+  std::vector<double> lower_;     // lower bound on the squared nearest foreign distance
+  std::vector<double> query_d2_;  // this round: bound, then the best squared distance
+  std::vector<int> query_best_;   // this round: best point found (kNoPoint: none)
   std::vector<char> needs_query_;
-  std::vector<EdgeKey> best_;       // per component root
+  std::vector<EdgeKey> best_;  // per component root
   UnionFind uf_;
-  int k_ = 0;                       // neighbours per point in the lists
-  std::vector<int> neighbours_;     // n x k nearest other points, sorted by (d^2, position)
+  int k_ = 0;                    // neighbours per point in the lists
+  std::vector<int> neighbours_;  // n x k nearest other points, sorted by (d^2, position)
   std::vector<double> neighbour_d2_;
 };
 

@@ -54,7 +54,8 @@ class KdTree {
     }
     data_.resize(static_cast<std::size_t>(n_) * dim_.get());
     for (int p = 0; p < n_; ++p) {
-      for (int k = 0; k < dim_.get(); ++k) data_[static_cast<std::size_t>(p) * dim_.get() + k] = points(order_[p], k);
+      for (int k = 0; k < dim_.get(); ++k)
+        data_[static_cast<std::size_t>(p) * dim_.get() + k] = points(order_[p], k);
     }
   }
 
@@ -116,8 +117,7 @@ class KdTree {
   }
 
  private:
-  void nearestIn(int node, int p, const double* q, int k, int* idx, double* d2,
-                 int skip) const {
+  void nearestIn(int node, int p, const double* q, int k, int* idx, double* d2, int skip) const {
     const Node& nd = nodes_[node];
     if (nd.left < 0) {
       if (node == skip) return;
@@ -219,7 +219,9 @@ double boxBoxDistance2(const KdTree<D>& ta, int a, const KdTree<D>& tb, int b) {
 /// Union-find with path halving and union by size.
 class UnionFind {
  public:
-  explicit UnionFind(int n) : parent_(n), size_(n, 1) { std::iota(parent_.begin(), parent_.end(), 0); }
+  explicit UnionFind(int n) : parent_(n), size_(n, 1) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
   int find(int x) {
     while (parent_[x] != x) {
       parent_[x] = parent_[parent_[x]];

@@ -182,8 +182,7 @@ void validateLinkage(const LinkageMatrix& linkage, const char* what) {
       const double v = linkage(k, c);
       if (v != std::floor(v) || v < 0.0 || v >= static_cast<double>(n + k)) {
         throw Error(row + " refers to cluster " + std::to_string(v) +
-                    ", which does not exist yet (ids must be below " + std::to_string(n + k) +
-                    ")");
+                    ", which does not exist yet (ids must be below " + std::to_string(n + k) + ")");
       }
       const auto id = static_cast<std::size_t>(v);
       if (used[id]) throw Error(row + " merges cluster " + std::to_string(id) + " a second time");

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "collision_scene.hpp"
+#include "squeeze.hpp"
 #include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
@@ -409,49 +410,32 @@ GraspResult GraspSimulator::Impl::run(const Pose& initial) const {
 
   // ---- Squeeze: press each contact-stopped joint's contact point `squeeze` deeper ----
   if (squeeze > 0.0) {
-    const Eigen::VectorXd q_contact = q;
+    std::vector<SqueezeContact> pressing;
     for (std::size_t c = 0; c < nc; ++c) {
       const int l = stop_link[c];
       if (l < 0) continue;
       std::vector<TriangleHit> hits;
       scene->linkHits(l, palm * lp[static_cast<std::size_t>(l)], tol, &hits);
       ++st.queries;
-      if (hits.empty()) continue;
-      // The closest hit on a triangle that faces the link (see kMinNormalAgreement).
+      // The closest hit on a triangle that faces the link (see kMinNormalAgreement); none
+      // when the link was stopped by the hand itself.
       const TriangleHit* best = nullptr;
       for (const auto& hh : hits) {
         if (hh.normal.dot(scene->faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
         if (!best || hh.distance < best->distance) best = &hh;
       }
       if (!best) continue;
-      const Eigen::Vector3d n = scene->faceNormal(best->triangle);
-      // Velocity of the contact point per unit of the closing joint (object frame).
-      Eigen::Vector3d v = Eigen::Vector3d::Zero();
-      const int jc = closing[c].joint;
-      int cur = l;
-      while (links[static_cast<std::size_t>(cur)].parent_joint >= 0) {
-        const HandJoint& hj = hand.joints()[static_cast<std::size_t>(
-            links[static_cast<std::size_t>(cur)].parent_joint)];
-        if (hj.driver == jc) {
-          const Eigen::Isometry3d jf =
-              palm * lp[static_cast<std::size_t>(hj.parent_link)] * hj.origin;
-          const Eigen::Vector3d ax = jf.linear() * hj.axis;
-          if (hj.type == JointType::kRevolute)
-            v += hj.multiplier * ax.cross(best->point - jf.translation());
-          else if (hj.type == JointType::kPrismatic)
-            v += hj.multiplier * ax;
-        }
-        cur = hj.parent_link;
-      }
-      v *= dir[c];
-      // A joint that moves its contact point mostly along the surface cannot press it.
-      const double rate_n = -n.dot(v);
-      if (!(rate_n > 0.25 * v.norm()) || !(rate_n > 1e-12)) continue;
-      const double target = closing[c].target;
-      const double val =
-          q_contact[jc] + dir[c] * (squeeze + std::max(best->distance, 0.0)) / rate_n;
-      q[jc] = dir[c] > 0 ? std::min(val, target) : std::max(val, target);
+      SqueezeContact sc;
+      sc.joint = closing[c].joint;
+      sc.link = l;
+      sc.point = best->point;
+      sc.normal = scene->faceNormal(best->triangle);
+      sc.gap = best->distance;
+      sc.dir = dir[c];
+      sc.target = closing[c].target;
+      pressing.push_back(sc);
     }
+    applySqueeze(hand, palm, lp, pressing, squeeze, &q);
     lp = hand.linkPoses(q);
   }
   if (prof) {

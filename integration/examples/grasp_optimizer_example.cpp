@@ -98,15 +98,16 @@ int main(int argc, char** argv) {
     };
     const auto ranks = rankClusters(map, object, ik, makeComfort(lower, upper));
     for (const auto& r : ranks)
-      std::printf("cluster %d: %s, comfort %.4f\n", r.cluster, r.reachable ? "reachable" : "unreachable",
-                  r.comfort);
+      std::printf("cluster %d: %s, comfort %.4f\n", r.cluster,
+                  r.reachable ? "reachable" : "unreachable", r.comfort);
     const int cluster = ranks.front().cluster;
 
     // Start 5 cm and 0.3 rad away from the best cluster's representative; descend in the world
     // frame with the gradient of g_p + g_q (the chain rule to a Jacobian would go here).
     Pose hand = ranks.front().target_world;
     hand.position += Eigen::Vector3d(0.03, -0.04, 0.0);
-    hand.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) * hand.orientation);
+    hand.orientation =
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()) * hand.orientation);
     // g_q is a normalised density (peak 1/Z, huge for narrow kernels): weigh it so that it
     // is comparable with g_p within one kernel width.
     const double sp = *map.options().position_sigma;
@@ -128,8 +129,8 @@ int main(int argc, char** argv) {
                     e.proximity.value, e.quality.value, e.proximity.nearest.index,
                     e.proximity.nearest.distance);
     }
-    std::printf("final: proximity %.3e (start %.3e), quality %.4e (start %.4e)\n", e.proximity.value,
-                start.proximity.value, e.quality.value, start.quality.value);
+    std::printf("final: proximity %.3e (start %.3e), quality %.4e (start %.4e)\n",
+                e.proximity.value, start.proximity.value, e.quality.value, start.quality.value);
     const bool ok = e.proximity.nearest.distance < sp && e.quality.value < start.quality.value;
     return ok ? 0 : 1;
   } catch (const Error& err) {

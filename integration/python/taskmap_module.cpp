@@ -23,8 +23,12 @@ namespace {
 
 using Vec7 = Eigen::Matrix<double, 7, 1>;
 
-Pose toPose(const Vec7& v) { return Pose::fromVector7(v); }
-Vec7 fromPose(const Pose& p) { return p.toVector7(); }
+Pose toPose(const Vec7& v) {
+  return Pose::fromVector7(v);
+}
+Vec7 fromPose(const Pose& p) {
+  return p.toVector7();
+}
 
 TaskMapOptions makeOptions(const py::kwargs& kw) {
   TaskMapOptions o;
@@ -33,9 +37,12 @@ TaskMapOptions makeOptions(const py::kwargs& kw) {
     const py::handle v = item.second;
     if (k == "index") {
       const std::string s = py::str(v);
-      if (s == "exact") o.index = IndexKind::kExactKdTree;
-      else if (s == "randomized") o.index = IndexKind::kRandomizedForest;
-      else throw Error("option index = '" + s + "'; use 'exact' or 'randomized'");
+      if (s == "exact")
+        o.index = IndexKind::kExactKdTree;
+      else if (s == "randomized")
+        o.index = IndexKind::kRandomizedForest;
+      else
+        throw Error("option index = '" + s + "'; use 'exact' or 'randomized'");
     } else if (k == "trees") {
       o.trees = v.cast<int>();
     } else if (k == "checks") {
@@ -52,9 +59,12 @@ TaskMapOptions makeOptions(const py::kwargs& kw) {
       o.bandwidth_factor = v.cast<double>();
     } else if (k == "quality_mode") {
       const std::string s = py::str(v);
-      if (s == "exact") o.quality_mode = QualityMode::kExact;
-      else if (s == "truncated") o.quality_mode = QualityMode::kTruncated;
-      else throw Error("option quality_mode = '" + s + "'; use 'exact' or 'truncated'");
+      if (s == "exact")
+        o.quality_mode = QualityMode::kExact;
+      else if (s == "truncated")
+        o.quality_mode = QualityMode::kTruncated;
+      else
+        throw Error("option quality_mode = '" + s + "'; use 'exact' or 'truncated'");
     } else if (k == "quality_tolerance") {
       o.quality_tolerance = v.cast<double>();
     } else if (k == "threads") {
@@ -142,7 +152,9 @@ TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
     std::vector<std::vector<Eigen::Quaterniond>> qs(c.clusters.size());
     for (std::size_t i = 0; i < n; ++i) {
       const int l = (*labels)[i];
-      if (l < -1) throw Error("labels[" + std::to_string(i) + "] = " + std::to_string(l) + "; use -1 (outlier) or 0..K-1");
+      if (l < -1)
+        throw Error("labels[" + std::to_string(i) + "] = " + std::to_string(l) +
+                    "; use -1 (outlier) or 0..K-1");
       if (l < 0) continue;
       ClusterSummary& s = c.clusters[static_cast<std::size_t>(l)];
       const Pose p = d.grasps.poseAt(i);
@@ -165,7 +177,9 @@ TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
     }
     for (std::size_t j = 0; j < c.clusters.size(); ++j) {
       ClusterSummary& s = c.clusters[j];
-      if (s.size == 0) throw Error("labels: cluster " + std::to_string(j) + " has no grasps; labels must be 0..K-1 without gaps");
+      if (s.size == 0)
+        throw Error("labels: cluster " + std::to_string(j) +
+                    " has no grasps; labels must be 0..K-1 without gaps");
       s.mean_pose.position /= s.size;
       s.mean_epsilon /= s.size;
       s.mean_pose.orientation = meanOrientation(qs[j]);
@@ -173,7 +187,8 @@ TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
     if (n >= 2) {
       PointMatrix pts(static_cast<Eigen::Index>(n), kEmbeddingDim);
       for (std::size_t i = 0; i < n; ++i)
-        pts.row(static_cast<Eigen::Index>(i)) = embedPose(d.grasps.poseAt(i), rotation_scale).transpose();
+        pts.row(static_cast<Eigen::Index>(i)) =
+            embedPose(d.grasps.poseAt(i), rotation_scale).transpose();
       c.linkage = computeLinkage(pts, Linkage::kSingle);
     }
     d.clustering = c;
@@ -196,133 +211,195 @@ PYBIND11_MODULE(taskmap, m) {
 
   py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
       .def_static(
-          "load", [](const std::string& path, const py::kwargs& kw) { return TaskMap::load(path, makeOptions(kw)); },
+          "load",
+          [](const std::string& path, const py::kwargs& kw) {
+            return TaskMap::load(path, makeOptions(kw));
+          },
           py::arg("path"), "Reads a map file; keyword options as TaskMapOptions.")
       .def_static("from_arrays", &fromArrays, py::arg("poses"), py::arg("epsilon"),
                   py::arg("labels") = py::none(), py::arg("rotation_scale") = kDefaultRotationScale,
                   "Map from N x 7 poses, N epsilons and optional cluster labels (-1 outlier).")
-      .def("save", [](const TaskMap& t, const std::string& path) { writeMap(path, t.data()); },
-           py::arg("path"), "Writes the map file (HDF5, atomically).")
+      .def(
+          "save", [](const TaskMap& t, const std::string& path) { writeMap(path, t.data()); },
+          py::arg("path"), "Writes the map file (HDF5, atomically).")
       .def("__len__", &TaskMap::size)
       .def_property_readonly("size", &TaskMap::size)
       .def_property_readonly("num_clusters", &TaskMap::numClusters)
       .def_property_readonly("rotation_scale", &TaskMap::rotationScale)
-      .def_property_readonly("position_sigma", [](const TaskMap& t) { return *t.options().position_sigma; })
-      .def_property_readonly("rotation_sigma", [](const TaskMap& t) { return *t.options().rotation_sigma; })
-      .def_property_readonly("linear_weight", [](const TaskMap& t) { return t.options().linear_weight; })
-      .def_property_readonly("angular_weight", [](const TaskMap& t) { return *t.options().angular_weight; })
+      .def_property_readonly("position_sigma",
+                             [](const TaskMap& t) { return *t.options().position_sigma; })
+      .def_property_readonly("rotation_sigma",
+                             [](const TaskMap& t) { return *t.options().rotation_sigma; })
+      .def_property_readonly("linear_weight",
+                             [](const TaskMap& t) { return t.options().linear_weight; })
+      .def_property_readonly("angular_weight",
+                             [](const TaskMap& t) { return *t.options().angular_weight; })
       .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius)
       .def_property_readonly("poses", [](const TaskMap& t) { return t.data().grasps.pose; })
       .def_property_readonly("epsilon", [](const TaskMap& t) { return t.data().grasps.epsilon; })
-      .def_property_readonly("labels", [](const TaskMap& t) -> py::object {
-        if (!t.data().clustering) return py::none();
-        return py::cast(t.data().clustering->labels);
-      })
-      .def("pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"))
-      .def("nearest", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
-             const Neighbor n = t.nearest(toPose(x), c);
-             return py::make_tuple(n.index, n.distance);
-           }, py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)")
-      .def("knn", [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
-             return neighbours(t.knn(toPose(x), k, c));
-           }, py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
-      .def("radius", [](const TaskMap& t, const Vec7& x, double r, std::optional<int> c) {
-             return neighbours(t.radius(toPose(x), r, c));
-           }, py::arg("pose"), py::arg("r"), py::arg("cluster") = py::none(), "(indices, distances)")
-      .def("proximity", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
-             return proximityDict(t.proximity(toPose(x), c));
-           }, py::arg("pose"), py::arg("cluster") = py::none())
-      .def("quality", [](const TaskMap& t, const Vec7& x, std::optional<int> c, std::optional<std::string> mode) {
-             return qualityDict(t.quality(toPose(x), c, modeOf(mode)));
-           }, py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none())
-      .def("evaluate", [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
-             const Evaluation e = t.evaluate(toPose(x), c);
-             py::dict d;
-             d["cost"] = e.cost();
-             d["gradient"] = Eigen::VectorXd(e.gradient());
-             d["proximity"] = e.proximity.value;
-             d["proximity_gradient"] = Eigen::VectorXd(e.proximity.gradient);
-             d["quality"] = e.quality.value;
-             d["quality_gradient"] = Eigen::VectorXd(e.quality.gradient);
-             d["quality_bound"] = e.quality.value_bound;
-             d["nearest"] = e.proximity.nearest.index;
-             d["nearest_distance"] = e.proximity.nearest.distance;
-             return d;
-           }, py::arg("pose"), py::arg("cluster") = py::none(),
-           "Proximity and quality with gradients (object frame) and the nearest grasp.")
-      .def("evaluate_batch", [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
-             BatchEvaluation b;
-             {
-               py::gil_scoped_release release;
-               b = t.evaluateBatch(xs, c);
-             }
-             py::dict d;
-             d["proximity"] = b.proximity;
-             d["proximity_gradient"] = b.proximity_gradient;
-             d["quality"] = b.quality;
-             d["quality_gradient"] = b.quality_gradient;
-             d["quality_bound"] = b.quality_bound;
-             d["nearest"] = b.nearest;
-             d["nearest_distance"] = b.nearest_distance;
-             return d;
-           }, py::arg("poses"), py::arg("cluster") = py::none())
-      .def("nearest_batch", [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
-             Eigen::VectorXd dist;
-             Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> idx;
-             {
-               py::gil_scoped_release release;
-               idx = t.nearestBatch(xs, &dist, c);
-             }
-             return py::make_tuple(idx, dist);
-           }, py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)")
-      .def("rank_clusters", [](const TaskMap& t, const Vec7& object, py::function ik, py::function comfort) {
-             IkFunction f = [&](const Pose& target) {
-               py::object r = ik(fromPose(target));
-               IkSolution s;
-               if (r.is_none()) {
-                 s.message = "inverse kinematics returned None";
-               } else {
-                 s.success = true;
-                 s.q = r.cast<Eigen::VectorXd>();
-               }
-               return s;
-             };
-             ComfortFunction g = [&](const Eigen::VectorXd& q) { return comfort(q).cast<double>(); };
-             py::list out;
-             for (const ClusterRank& r : rankClusters(t, toPose(object), f, g)) {
-               py::dict d;
-               d["cluster"] = r.cluster;
-               d["representative"] = r.representative;
-               d["target_object"] = fromPose(r.target_object);
-               d["target_world"] = fromPose(r.target_world);
-               d["reachable"] = r.reachable;
-               d["q"] = r.q;
-               d["comfort"] = r.comfort;
-               d["message"] = r.message;
-               out.append(d);
-             }
-             return out;
-           }, py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
-           "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
+      .def_property_readonly("labels",
+                             [](const TaskMap& t) -> py::object {
+                               if (!t.data().clustering) return py::none();
+                               return py::cast(t.data().clustering->labels);
+                             })
+      .def(
+          "pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"))
+      .def(
+          "nearest",
+          [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+            const Neighbor n = t.nearest(toPose(x), c);
+            return py::make_tuple(n.index, n.distance);
+          },
+          py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)")
+      .def(
+          "knn",
+          [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
+            return neighbours(t.knn(toPose(x), k, c));
+          },
+          py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def(
+          "radius",
+          [](const TaskMap& t, const Vec7& x, double r, std::optional<int> c) {
+            return neighbours(t.radius(toPose(x), r, c));
+          },
+          py::arg("pose"), py::arg("r"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def(
+          "proximity",
+          [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+            return proximityDict(t.proximity(toPose(x), c));
+          },
+          py::arg("pose"), py::arg("cluster") = py::none())
+      .def(
+          "quality",
+          [](const TaskMap& t, const Vec7& x, std::optional<int> c,
+             std::optional<std::string> mode) {
+            return qualityDict(t.quality(toPose(x), c, modeOf(mode)));
+          },
+          py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none())
+      .def(
+          "evaluate",
+          [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
+            const Evaluation e = t.evaluate(toPose(x), c);
+            py::dict d;
+            d["cost"] = e.cost();
+            d["gradient"] = Eigen::VectorXd(e.gradient());
+            d["proximity"] = e.proximity.value;
+            d["proximity_gradient"] = Eigen::VectorXd(e.proximity.gradient);
+            d["quality"] = e.quality.value;
+            d["quality_gradient"] = Eigen::VectorXd(e.quality.gradient);
+            d["quality_bound"] = e.quality.value_bound;
+            d["nearest"] = e.proximity.nearest.index;
+            d["nearest_distance"] = e.proximity.nearest.distance;
+            return d;
+          },
+          py::arg("pose"), py::arg("cluster") = py::none(),
+          "Proximity and quality with gradients (object frame) and the nearest grasp.")
+      .def(
+          "evaluate_batch",
+          [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
+            BatchEvaluation b;
+            {
+              py::gil_scoped_release release;
+              b = t.evaluateBatch(xs, c);
+            }
+            py::dict d;
+            d["proximity"] = b.proximity;
+            d["proximity_gradient"] = b.proximity_gradient;
+            d["quality"] = b.quality;
+            d["quality_gradient"] = b.quality_gradient;
+            d["quality_bound"] = b.quality_bound;
+            d["nearest"] = b.nearest;
+            d["nearest_distance"] = b.nearest_distance;
+            return d;
+          },
+          py::arg("poses"), py::arg("cluster") = py::none())
+      .def(
+          "nearest_batch",
+          [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
+            Eigen::VectorXd dist;
+            Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> idx;
+            {
+              py::gil_scoped_release release;
+              idx = t.nearestBatch(xs, &dist, c);
+            }
+            return py::make_tuple(idx, dist);
+          },
+          py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)")
+      .def(
+          "rank_clusters",
+          [](const TaskMap& t, const Vec7& object, py::function ik, py::function comfort) {
+            IkFunction f = [&](const Pose& target) {
+              py::object r = ik(fromPose(target));
+              IkSolution s;
+              if (r.is_none()) {
+                s.message = "inverse kinematics returned None";
+              } else {
+                s.success = true;
+                s.q = r.cast<Eigen::VectorXd>();
+              }
+              return s;
+            };
+            ComfortFunction g = [&](const Eigen::VectorXd& q) { return comfort(q).cast<double>(); };
+            py::list out;
+            for (const ClusterRank& r : rankClusters(t, toPose(object), f, g)) {
+              py::dict d;
+              d["cluster"] = r.cluster;
+              d["representative"] = r.representative;
+              d["target_object"] = fromPose(r.target_object);
+              d["target_world"] = fromPose(r.target_world);
+              d["reachable"] = r.reachable;
+              d["q"] = r.q;
+              d["comfort"] = r.comfort;
+              d["message"] = r.message;
+              out.append(d);
+            }
+            return out;
+          },
+          py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
+          "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
 
-  m.def("load", [](const std::string& path, const py::kwargs& kw) { return TaskMap::load(path, makeOptions(kw)); },
-        py::arg("path"), "Reads a map file: taskmap.load('basket.h5').evaluate(pose).");
-  m.def("hand_in_object", [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },
-        py::arg("hand_world"), py::arg("object_world"));
-  m.def("hand_gradient_to_world", [](const Twist& g, const Vec7& o) { return Eigen::VectorXd(handGradientToWorld(g, toPose(o))); },
-        py::arg("gradient"), py::arg("object_world"));
-  m.def("object_gradient_to_world", [](const Twist& g, const Vec7& h, const Vec7& o) {
-          return Eigen::VectorXd(objectGradientToWorld(g, toPose(h), toPose(o)));
-        }, py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"));
-  m.def("joint_gradient", [](const Twist& g, const Vec7& h, const Vec7& o, const Eigen::MatrixXd& jh,
-                             std::optional<Eigen::MatrixXd> jo) {
-          return jointGradient(g, toPose(h), toPose(o), jh, jo.value_or(Eigen::MatrixXd()));
-        }, py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"),
-        py::arg("hand_jacobian"), py::arg("object_jacobian") = py::none());
-  m.def("joint_limit_cost", [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-          return jointLimitCost(q, lo, hi);
-        }, py::arg("q"), py::arg("lower"), py::arg("upper"));
-  m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"), py::arg("scale") = 1.0);
-  m.def("pose_distance", [](const Vec7& a, const Vec7& b, double rho) { return poseDistance(toPose(a), toPose(b), rho); },
-        py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale);
+  m.def(
+      "load",
+      [](const std::string& path, const py::kwargs& kw) {
+        return TaskMap::load(path, makeOptions(kw));
+      },
+      py::arg("path"), "Reads a map file: taskmap.load('basket.h5').evaluate(pose).");
+  m.def(
+      "hand_in_object",
+      [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },
+      py::arg("hand_world"), py::arg("object_world"));
+  m.def(
+      "hand_gradient_to_world",
+      [](const Twist& g, const Vec7& o) {
+        return Eigen::VectorXd(handGradientToWorld(g, toPose(o)));
+      },
+      py::arg("gradient"), py::arg("object_world"));
+  m.def(
+      "object_gradient_to_world",
+      [](const Twist& g, const Vec7& h, const Vec7& o) {
+        return Eigen::VectorXd(objectGradientToWorld(g, toPose(h), toPose(o)));
+      },
+      py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"));
+  m.def(
+      "joint_gradient",
+      [](const Twist& g, const Vec7& h, const Vec7& o, const Eigen::MatrixXd& jh,
+         std::optional<Eigen::MatrixXd> jo) {
+        return jointGradient(g, toPose(h), toPose(o), jh, jo.value_or(Eigen::MatrixXd()));
+      },
+      py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"), py::arg("hand_jacobian"),
+      py::arg("object_jacobian") = py::none());
+  m.def(
+      "joint_limit_cost",
+      [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+        return jointLimitCost(q, lo, hi);
+      },
+      py::arg("q"), py::arg("lower"), py::arg("upper"));
+  m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"),
+        py::arg("scale") = 1.0);
+  m.def(
+      "pose_distance",
+      [](const Vec7& a, const Vec7& b, double rho) {
+        return poseDistance(toPose(a), toPose(b), rho);
+      },
+      py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale);
 }

@@ -9,7 +9,8 @@ namespace taskmap {
 Twist poseDifference(const Pose& x, const Pose& mu) {
   Twist e;
   e.head<3>() = x.position - mu.position;
-  e.tail<3>() = detail::relativeLog(mu.orientation.normalized().conjugate(), x.orientation.normalized());
+  e.tail<3>() =
+      detail::relativeLog(mu.orientation.normalized().conjugate(), x.orientation.normalized());
   return e;
 }
 

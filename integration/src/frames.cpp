@@ -45,7 +45,8 @@ Eigen::VectorXd chainToJoints(const Twist& gradient_world, const Eigen::MatrixXd
 Eigen::VectorXd jointGradient(const Twist& gradient_object, const Pose& hand_world,
                               const Pose& object_world, const Eigen::MatrixXd& hand_jacobian,
                               const Eigen::MatrixXd& object_jacobian) {
-  Eigen::VectorXd g = chainToJoints(handGradientToWorld(gradient_object, object_world), hand_jacobian);
+  Eigen::VectorXd g =
+      chainToJoints(handGradientToWorld(gradient_object, object_world), hand_jacobian);
   if (object_jacobian.cols() > 0) {
     if (object_jacobian.cols() != hand_jacobian.cols())
       throw Error("object Jacobian has " + std::to_string(object_jacobian.cols()) +

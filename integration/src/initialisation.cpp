@@ -15,8 +15,7 @@ void checkLimits(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper) {
                 std::to_string(upper.size()) + " upper values");
   for (Eigen::Index i = 0; i < lower.size(); ++i)
     if (!(std::isfinite(lower[i]) && std::isfinite(upper[i]) && upper[i] > lower[i]))
-      throw Error("joint limits of joint " + std::to_string(i) +
-                  ": need finite lower < upper");
+      throw Error("joint limits of joint " + std::to_string(i) + ": need finite lower < upper");
 }
 
 }  // namespace
@@ -76,8 +75,8 @@ std::vector<ClusterRank> rankClusters(const TaskMap& map, const Pose& object_wor
   for (int c = 0; c < map.numClusters(); ++c) {
     ClusterRank r;
     r.cluster = c;
-    r.representative =
-        static_cast<std::size_t>(map.data().clustering->clusters[static_cast<std::size_t>(c)].representative);
+    r.representative = static_cast<std::size_t>(
+        map.data().clustering->clusters[static_cast<std::size_t>(c)].representative);
     r.target_object = map.pose(r.representative);
     r.target_world.position = object_world.position + qo * r.target_object.position;
     r.target_world.orientation = (qo * r.target_object.orientation).normalized();

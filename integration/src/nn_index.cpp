@@ -18,7 +18,7 @@ namespace taskmap {
 namespace detail {
 namespace {
 
-using Dist = flann::L2<double>;  // returns SQUARED distances
+using Dist = flann::L2<double>;             // returns SQUARED distances
 constexpr unsigned kForestSeed = 20080922;  // fixed: same map, same forest
 
 // k nearest with a caller buffer; no allocation besides the output vector.
@@ -33,9 +33,10 @@ class KnnSet : public flann::ResultSet<double> {
     if (full() && dist >= out_.back().distance2) return;
     // Insertion keeps out_ sorted by (distance, index): deterministic ties.
     IndexHit h{index, dist};
-    auto pos = std::upper_bound(out_.begin(), out_.end(), h, [](const IndexHit& a, const IndexHit& b) {
-      return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
-    });
+    auto pos =
+        std::upper_bound(out_.begin(), out_.end(), h, [](const IndexHit& a, const IndexHit& b) {
+          return a.distance2 < b.distance2 || (a.distance2 == b.distance2 && a.index < b.index);
+        });
     if (full()) out_.pop_back();
     out_.insert(pos, h);
   }
@@ -53,7 +54,9 @@ class RadiusSet : public flann::ResultSet<double> {
   }
   bool full() const override { return true; }
   // FLANN tests dist < worstDist(): nudge up so dist == radius2 counts as inside.
-  double worstDist() const override { return std::nextafter(radius2_, std::numeric_limits<double>::max()); }
+  double worstDist() const override {
+    return std::nextafter(radius2_, std::numeric_limits<double>::max());
+  }
   void addPoint(double dist, size_t index) override {
     if (dist <= radius2_) out_.push_back(IndexHit{index, dist});
   }
@@ -67,13 +70,15 @@ class RadiusSet : public flann::ResultSet<double> {
 
 struct NnIndex::Flann {
   flann::Matrix<double> data;
-  std::unique_ptr<flann::NNIndex<Dist>> index;  // nearest / knn
+  std::unique_ptr<flann::NNIndex<Dist>> index;            // nearest / knn
   std::unique_ptr<flann::KDTreeSingleIndex<Dist>> exact;  // radius (and knn when exact)
 };
 
 NnIndex::NnIndex(const double* points, std::size_t n, int dim, bool randomized, int trees,
                  int checks)
-    : flann_(std::make_unique<Flann>()), n_(n), checks_(randomized ? checks : flann::FLANN_CHECKS_UNLIMITED) {
+    : flann_(std::make_unique<Flann>()),
+      n_(n),
+      checks_(randomized ? checks : flann::FLANN_CHECKS_UNLIMITED) {
   if (n == 0) return;
   flann_->data = flann::Matrix<double>(const_cast<double*>(points), n, static_cast<size_t>(dim));
   // The exact tree serves radius searches in both modes (FLANN's forest would search its

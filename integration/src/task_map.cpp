@@ -41,7 +41,8 @@ void TaskMapOptions::validate() const {
   if (!(quality_tolerance > 0 && quality_tolerance < 1))
     throw Error("task map option quality_tolerance = " + num(quality_tolerance) +
                 " is invalid; give a relative bound in (0, 1), for example 1e-3");
-  if (threads < 0) throw Error("task map option threads = " + num(threads) + " is invalid; give >= 0");
+  if (threads < 0)
+    throw Error("task map option threads = " + num(threads) + " is invalid; give >= 0");
 }
 
 std::vector<Pose> posesFromRows(const PoseRows& rows) {
@@ -74,12 +75,24 @@ TaskMap TaskMap::fromData(TaskMapData data, const TaskMapOptions& options) {
   return TaskMap(std::move(impl));
 }
 
-const TaskMapData& TaskMap::data() const { return impl_->data; }
-std::size_t TaskMap::size() const { return impl_->pos.size(); }
-int TaskMap::numClusters() const { return static_cast<int>(impl_->clusters.size()); }
-const TaskMapOptions& TaskMap::options() const { return impl_->options; }
-double TaskMap::rotationScale() const { return impl_->rho; }
-double TaskMap::cutoffRadius() const { return impl_->cutoff; }
+const TaskMapData& TaskMap::data() const {
+  return impl_->data;
+}
+std::size_t TaskMap::size() const {
+  return impl_->pos.size();
+}
+int TaskMap::numClusters() const {
+  return static_cast<int>(impl_->clusters.size());
+}
+const TaskMapOptions& TaskMap::options() const {
+  return impl_->options;
+}
+double TaskMap::rotationScale() const {
+  return impl_->rho;
+}
+double TaskMap::cutoffRadius() const {
+  return impl_->cutoff;
+}
 
 Pose TaskMap::pose(std::size_t i) const {
   if (i >= size())
@@ -181,8 +194,8 @@ const TaskMap::Impl::SampleSet& TaskMap::Impl::set(std::optional<int> cluster) c
     throw Error("cluster " + std::to_string(*cluster) +
                 " requested but the map has no clustering; cluster the map first");
   if (*cluster < 0 || *cluster >= static_cast<int>(clusters.size()))
-    throw Error("cluster " + std::to_string(*cluster) + " does not exist; the map has clusters 0.." +
-                std::to_string(clusters.size() - 1));
+    throw Error("cluster " + std::to_string(*cluster) +
+                " does not exist; the map has clusters 0.." + std::to_string(clusters.size() - 1));
   return clusters[static_cast<std::size_t>(*cluster)];
 }
 

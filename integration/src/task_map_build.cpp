@@ -14,7 +14,9 @@ namespace {
 /// Samples used to estimate the sampling density (deterministic stride).
 constexpr std::size_t kDensitySamples = 2000;
 
-std::string grasp(std::size_t i) { return "/grasps row " + std::to_string(i); }
+std::string grasp(std::size_t i) {
+  return "/grasps row " + std::to_string(i);
+}
 
 }  // namespace
 
@@ -32,9 +34,9 @@ void TaskMap::Impl::buildSet(SampleSet& s) const {
     std::copy(e.data(), e.data() + kEmbeddingDim, s.embedding.data() + k * kEmbeddingDim);
     s.total_weight += m.weight[i];
   }
-  s.index = std::make_unique<detail::NnIndex>(
-      s.embedding.data(), s.count, kEmbeddingDim,
-      m.options.index == IndexKind::kRandomizedForest, m.options.trees, m.options.checks);
+  s.index = std::make_unique<detail::NnIndex>(s.embedding.data(), s.count, kEmbeddingDim,
+                                              m.options.index == IndexKind::kRandomizedForest,
+                                              m.options.trees, m.options.checks);
 }
 
 void TaskMap::Impl::build() {
@@ -76,8 +78,8 @@ void TaskMap::Impl::build() {
     const ClusteringResult& c = *data.clustering;
     const int k = static_cast<int>(c.clusters.size());
     if (c.labels.size() != n)
-      throw Error("/grasps/cluster has " + std::to_string(c.labels.size()) +
-                  " labels; expected " + std::to_string(n) + " (one per grasp)");
+      throw Error("/grasps/cluster has " + std::to_string(c.labels.size()) + " labels; expected " +
+                  std::to_string(n) + " (one per grasp)");
     clusters.resize(static_cast<std::size_t>(k));
     for (std::size_t i = 0; i < n; ++i) {
       const int l = c.labels[i];
@@ -105,8 +107,9 @@ void TaskMap::Impl::build() {
   // over a deterministic subset of at most kDensitySamples samples), sigma_r = sigma_p / rho.
   if (!options.position_sigma) {
     if (n < 2)
-      throw Error("task map has a single grasp: the sampling density is undefined; set "
-                  "position_sigma (and rotation_sigma) explicitly");
+      throw Error(
+          "task map has a single grasp: the sampling density is undefined; set "
+          "position_sigma (and rotation_sigma) explicitly");
     const std::size_t stride = std::max<std::size_t>(1, n / kDensitySamples);
     std::vector<double> nn;
     std::vector<detail::IndexHit> hits;
@@ -121,8 +124,9 @@ void TaskMap::Impl::build() {
     std::nth_element(nn.begin(), nn.begin() + static_cast<std::ptrdiff_t>(nn.size() / 2), nn.end());
     const double median = nn[nn.size() / 2];
     if (!(median > 0))
-      throw Error("task map grasps are duplicated so densely that the median nearest-neighbour "
-                  "distance is 0; set position_sigma and rotation_sigma explicitly");
+      throw Error(
+          "task map grasps are duplicated so densely that the median nearest-neighbour "
+          "distance is 0; set position_sigma and rotation_sigma explicitly");
     options.position_sigma = options.bandwidth_factor * median;
   }
   sp = *options.position_sigma;

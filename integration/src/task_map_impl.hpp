@@ -19,13 +19,11 @@ struct TaskMap::Impl {
   struct SampleSet {
     std::vector<std::size_t> members;  ///< global grasp indices; empty = identity (whole map)
     std::size_t count = 0;
-    std::vector<double> embedding;     ///< count x 12, row-major (the index points into it)
+    std::vector<double> embedding;  ///< count x 12, row-major (the index points into it)
     std::unique_ptr<detail::NnIndex> index;
-    double total_weight = 0.0;         ///< sum of epsilon over the set
+    double total_weight = 0.0;  ///< sum of epsilon over the set
     std::size_t size() const { return count; }
-    std::size_t global(std::size_t local) const {
-      return members.empty() ? local : members[local];
-    }
+    std::size_t global(std::size_t local) const { return members.empty() ? local : members[local]; }
   };
 
   TaskMapData data;

@@ -173,7 +173,7 @@ int MeshBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centroids) 
 MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const {
   if (nodes_.empty()) return Parity::kOutside;
   const Eigen::Vector3d inv = d.cwiseInverse();
-  int crossings = 0;
+  int winding = 0;  // exits minus entries along the ray
   int stack[128];
   int top = 0;
   stack[top++] = 0;
@@ -212,10 +212,11 @@ MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector
       if (t < -eps_) continue;
       if (t <= eps_) return Parity::kOnSurface;
       if (u < kBaryTol || v < kBaryTol || u + v > 1 - kBaryTol) return Parity::kAmbiguous;
-      ++crossings;
+      // det = -d . (e1 x e2): negative when the ray leaves through an outward face.
+      winding += det < 0 ? 1 : -1;
     }
   }
-  return (crossings % 2 == 1) ? Parity::kInside : Parity::kOutside;
+  return winding > 0 ? Parity::kInside : Parity::kOutside;
 }
 
 bool MeshBvh::contains(const Eigen::Vector3d& p) const {
@@ -237,8 +238,7 @@ bool MeshBvh::contains(const Eigen::Vector3d& p) const {
   return windingNumber(p) > 0.5;
 }
 
-double MeshBvh::closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest,
-                             int* face) const {
+double MeshBvh::closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest, int* face) const {
   double best2 = std::numeric_limits<double>::infinity();
   Eigen::Vector3d best_point = p;
   int best_face = -1;

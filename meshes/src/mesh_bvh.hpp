@@ -22,11 +22,13 @@ class MeshBvh {
   /// Result of a ray parity query.
   enum class Parity { kInside, kOutside, kOnSurface, kAmbiguous };
 
-  /// Parity of the crossings of the ray p + t d (t > 0) with the surface. kAmbiguous when the
+  /// Winding number of the surface around p counted along the ray p + t d (t > 0): exits
+  /// minus entries; kInside when positive. For a closed surface without self-intersections
+  /// this is the crossing parity; overlapping closed shells are united. kAmbiguous when the
   /// ray grazes an edge or a vertex within a tolerance; kOnSurface when p lies on a triangle.
   Parity rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const;
 
-  /// True when p is strictly inside the closed mesh (ray parity over several fixed
+  /// True when p is strictly inside the closed mesh (ray winding over several fixed
   /// directions, generalized winding number as the fallback when all rays are ambiguous).
   bool contains(const Eigen::Vector3d& p) const;
 

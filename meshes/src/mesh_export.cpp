@@ -7,9 +7,9 @@
 
 #include <unistd.h>
 
-#include <assimp/Exporter.hpp>
 #include <assimp/material.h>
 #include <assimp/scene.h>
+#include <assimp/Exporter.hpp>
 
 #include "taskmap/meshes/error.hpp"
 
@@ -32,9 +32,13 @@ void appendBox(TriangleMesh& mesh, const Eigen::Vector3d& lo, const Eigen::Vecto
   }
 }
 
-bool finite(const Rgba& c) { return c.allFinite(); }
+bool finite(const Rgba& c) {
+  return c.allFinite();
+}
 
-aiColor4D toAi(const Rgba& c) { return aiColor4D(c[0], c[1], c[2], c[3]); }
+aiColor4D toAi(const Rgba& c) {
+  return aiColor4D(c[0], c[1], c[2], c[3]);
+}
 
 // A mesh owned by the scene being assembled: vertices, colours and faces of n indices.
 aiMesh* makeMesh(const char* name, const std::vector<Eigen::Vector3d>& vertices,
@@ -48,9 +52,9 @@ aiMesh* makeMesh(const char* name, const std::vector<Eigen::Vector3d>& vertices,
   mesh->mVertices = new aiVector3D[vertices.size()];
   mesh->mColors[0] = new aiColor4D[vertices.size()];
   for (std::size_t i = 0; i < vertices.size(); ++i) {
-    mesh->mVertices[i] = aiVector3D(static_cast<ai_real>(vertices[i].x()),
-                                    static_cast<ai_real>(vertices[i].y()),
-                                    static_cast<ai_real>(vertices[i].z()));
+    mesh->mVertices[i] =
+        aiVector3D(static_cast<ai_real>(vertices[i].x()), static_cast<ai_real>(vertices[i].y()),
+                   static_cast<ai_real>(vertices[i].z()));
     mesh->mColors[0][i] = toAi(colors[i]);
   }
   mesh->mNumFaces = static_cast<unsigned>(faces.size());
@@ -143,8 +147,8 @@ void exportScene(const std::string& path, const ExportScene& scene, SceneFormat 
     std::vector<std::vector<unsigned>> faces;
     faces.reserve(scene.object.faces.size());
     for (const auto& f : scene.object.faces) {
-      faces.push_back({static_cast<unsigned>(f[0]), static_cast<unsigned>(f[1]),
-                       static_cast<unsigned>(f[2])});
+      faces.push_back(
+          {static_cast<unsigned>(f[0]), static_cast<unsigned>(f[1]), static_cast<unsigned>(f[2])});
     }
     if (!faces.empty()) {
       materials.push_back(makeMaterial("object", scene.object_color));

@@ -9,10 +9,10 @@
 #include <system_error>
 #include <unordered_map>
 
-#include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "mesh_soup.hpp"
 #include "taskmap/meshes/error.hpp"
@@ -22,9 +22,7 @@ namespace {
 
 struct PointKey {
   double x, y, z;
-  bool operator==(const PointKey& o) const {
-    return std::memcmp(this, &o, sizeof(PointKey)) == 0;
-  }
+  bool operator==(const PointKey& o) const { return std::memcmp(this, &o, sizeof(PointKey)) == 0; }
 };
 
 struct PointKeyHash {
@@ -132,12 +130,13 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   if (size == 0) throw Error("mesh file '" + path + "' is empty");
 
   Assimp::Importer importer;  // no logger is created: assimp stays silent
-  importer.SetPropertyInteger(
-      AI_CONFIG_PP_RVC_FLAGS,
-      aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS | aiComponent_COLORS |
-          aiComponent_TEXCOORDS | aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-          aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS);
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                  aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                  aiComponent_TEXTURES | aiComponent_LIGHTS | aiComponent_CAMERAS);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   const unsigned int flags = aiProcess_Triangulate | aiProcess_RemoveComponent |
                              aiProcess_SortByPType | aiProcess_ValidateDataStructure;

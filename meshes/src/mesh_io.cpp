@@ -44,8 +44,8 @@ std::string num(double v, int precision) {
 }
 
 Eigen::Vector3d faceNormal(const TriangleMesh& mesh, const Eigen::Vector3i& f) {
-  const Eigen::Vector3d n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
-                                .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+  const Eigen::Vector3d n =
+      (mesh.vertices[f[1]] - mesh.vertices[f[0]]).cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
   const double len = n.norm();
   return len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::UnitZ();
 }

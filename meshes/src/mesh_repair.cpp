@@ -44,9 +44,9 @@ std::uint64_t edgeKey(int a, int b) {
 }
 
 struct EdgeStats {
-  std::size_t border = 0;       ///< undirected edges used by one face
-  std::size_t non_manifold = 0; ///< undirected edges used by more than two faces
-  std::size_t misoriented = 0;  ///< two-face edges traversed in the same direction by both
+  std::size_t border = 0;        ///< undirected edges used by one face
+  std::size_t non_manifold = 0;  ///< undirected edges used by more than two faces
+  std::size_t misoriented = 0;   ///< two-face edges traversed in the same direction by both
   std::vector<int> border_vertices;
 };
 
@@ -272,8 +272,7 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
     }
   }
   if (stats.border > 0) {
-    refuse("mesh has " + plural(stats.border, "border edge") +
-           (repair ? " after stitching" : "") +
+    refuse("mesh has " + plural(stats.border, "border edge") + (repair ? " after stitching" : "") +
            "; the object must be closed to sample its volume");
   }
   if (stats.non_manifold > 0) {
@@ -306,8 +305,8 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
       const auto a = canonicalCycle({int(polygons[i][0] < before ? polygons[i][0] : 0),
                                      int(polygons[i][1] < before ? polygons[i][1] : 0),
                                      int(polygons[i][2] < before ? polygons[i][2] : 0)});
-      const auto b = canonicalCycle({int(before_polygons[i][0]), int(before_polygons[i][1]),
-                                     int(before_polygons[i][2])});
+      const auto b = canonicalCycle(
+          {int(before_polygons[i][0]), int(before_polygons[i][1]), int(before_polygons[i][2])});
       if (a != b) ++flipped;
     }
     if (points.size() > before) {
@@ -333,7 +332,8 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
     if (PMP::is_degenerate_triangle_face(f, mesh)) ++zero_area;
   }
   if (zero_area > 0) {
-    if (!repair) refuse("mesh has " + plural(zero_area, "zero-area face") + " (repair is disabled)");
+    if (!repair)
+      refuse("mesh has " + plural(zero_area, "zero-area face") + " (repair is disabled)");
     const bool all_removed = PMP::remove_degenerate_faces(mesh);
     mesh.collect_garbage();
     if (!all_removed || mesh.is_empty() || !CGAL::is_closed(mesh) ||
@@ -347,7 +347,8 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
   const bool self_intersecting = PMP::does_self_intersect(mesh);
   if (self_intersecting) {
     result.warnings.push_back(
-        "the surface intersects itself; the solid is taken as the points of odd ray parity");
+        "the surface intersects itself: inside tests unite overlapping parts (positive winding "
+        "number), but volume, centre of mass and inertia count overlaps twice");
   }
   std::vector<std::array<int, 3>> before_orient;
   for (auto f : mesh.faces()) {

@@ -16,8 +16,8 @@ namespace taskmap::detail {
 
 /// Triangles indexing points; may be non-manifold, open, inconsistently oriented.
 struct MeshSoup {
-  std::vector<Eigen::Vector3d> points;       ///< metres (after scaling)
-  std::vector<std::array<int, 3>> faces;     ///< indices into points
+  std::vector<Eigen::Vector3d> points;    ///< metres (after scaling)
+  std::vector<std::array<int, 3>> faces;  ///< indices into points
 };
 
 /// Reads every mesh of the scene in `path` with assimp, applies node transforms and `scale`,

@@ -26,7 +26,7 @@ struct ObjectModel::Impl {
   MassProperties mass;
   MeshLoadReport report;
   std::unique_ptr<detail::MeshBvh> bvh;
-  std::vector<double> cumulative_area;  ///< prefix sums of face areas
+  std::vector<double> cumulative_area;   ///< prefix sums of face areas
   std::vector<Eigen::Vector3d> normals;  ///< unit outward face normals
 };
 
@@ -77,7 +77,7 @@ MassProperties computeMass(const TriangleMesh& mesh) {
 }
 
 std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::string& what,
-                                               const MeshLoadOptions& options) {
+                                              const MeshLoadOptions& options) {
   if (soup.faces.size() > options.max_faces) {
     throw Error(what + ": " + std::to_string(soup.faces.size()) + " faces exceed max_faces " +
                 std::to_string(options.max_faces) + "; simplify the mesh first");
@@ -110,8 +110,9 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
   impl->mesh = std::move(solid.mesh);
   impl->mass = computeMass(impl->mesh);
   if (!(impl->mass.volume > 0) || !impl->mass.center_of_mass.allFinite()) {
-    throw Error(what + ": mesh encloses zero volume (flat or collapsed); a solid needs positive "
-                       "volume");
+    throw Error(what +
+                ": mesh encloses zero volume (flat or collapsed); a solid needs positive "
+                "volume");
   }
   impl->bvh = std::make_unique<detail::MeshBvh>(impl->mesh);
   impl->cumulative_area.reserve(impl->mesh.faces.size());
@@ -172,14 +173,28 @@ ObjectModel ObjectModel::fromMesh(const TriangleMesh& mesh, const std::string& n
   return model;
 }
 
-const std::string& ObjectModel::name() const { return impl_->name; }
-const std::string& ObjectModel::sourceSha256() const { return impl_->sha256; }
-double ObjectModel::scale() const { return impl_->scale; }
-const TriangleMesh& ObjectModel::mesh() const { return impl_->mesh; }
-const MassProperties& ObjectModel::massProperties() const { return impl_->mass; }
-const MeshLoadReport& ObjectModel::report() const { return impl_->report; }
+const std::string& ObjectModel::name() const {
+  return impl_->name;
+}
+const std::string& ObjectModel::sourceSha256() const {
+  return impl_->sha256;
+}
+double ObjectModel::scale() const {
+  return impl_->scale;
+}
+const TriangleMesh& ObjectModel::mesh() const {
+  return impl_->mesh;
+}
+const MassProperties& ObjectModel::massProperties() const {
+  return impl_->mass;
+}
+const MeshLoadReport& ObjectModel::report() const {
+  return impl_->report;
+}
 
-bool ObjectModel::contains(const Eigen::Vector3d& p) const { return impl_->bvh->contains(p); }
+bool ObjectModel::contains(const Eigen::Vector3d& p) const {
+  return impl_->bvh->contains(p);
+}
 
 double ObjectModel::distanceToSurface(const Eigen::Vector3d& p) const {
   return impl_->bvh->closestPoint(p);

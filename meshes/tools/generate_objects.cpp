@@ -5,8 +5,8 @@
 // is ONE closed manifold solid. Dimensions are documented in meshes/objects/README.md.
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <exception>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -14,9 +14,9 @@
 
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/corefinement.h>
+#include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
@@ -150,8 +150,7 @@ TriangleMesh cleanUp(const TriangleMesh& in) {
     v.push_back(s.add_vertex(Inexact::Point_3(float(p.x()), float(p.y()), float(p.z()))));
   }
   for (const auto& f : in.faces) s.add_face(v[f[0]], v[f[1]], v[f[2]]);
-  PMP::experimental::remove_almost_degenerate_faces(s, std::cos(175.0 * M_PI / 180.0), 1e6,
-                                                    1e-5);
+  PMP::experimental::remove_almost_degenerate_faces(s, std::cos(175.0 * M_PI / 180.0), 1e6, 1e-5);
   s.collect_garbage();
   TriangleMesh m;
   for (auto vi : s.vertices()) {
@@ -173,8 +172,7 @@ TriangleMesh toMesh(const Surface& s) {
   for (auto v : s.vertices()) {
     index[v.idx()] = static_cast<int>(m.vertices.size());
     const auto& p = s.point(v);
-    m.vertices.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()),
-                            CGAL::to_double(p.z()));
+    m.vertices.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
   }
   for (auto f : s.faces()) {
     Eigen::Vector3i tri;
@@ -227,11 +225,13 @@ void check(const TriangleMesh& m, const std::string& name) {
 
 void emit(const TriangleMesh& raw, const std::string& dir, const std::string& name,
           const std::string& description) {
-  // Plain rounding to float32 first; the sliver clean-up only if rounding folded something.
+  // The file is read back as float32 (assimp): check the rounded mesh, and remove slivers
+  // only if rounding folded something. The final word is the ObjectModel::load check below.
+  TriangleMesh rounded = raw;
+  for (auto& v : rounded.vertices) v = v.cast<float>().cast<double>();
   TriangleMesh mesh = raw;
-  for (auto& v : mesh.vertices) v = v.cast<float>().cast<double>();
   try {
-    check(mesh, name);
+    check(rounded, name);
   } catch (const taskmap::Error& e) {
     std::fprintf(stderr, "%s; removing slivers\n", e.what());
     mesh = cleanUp(raw);

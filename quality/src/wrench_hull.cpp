@@ -68,9 +68,48 @@ class QhullRun {
   qhT qh_;
 };
 
+/// Runs qhull with `options` on the columns of `wrenches`; on success (returns 0) fills the
+/// facets and volume of `hull`. Returns qhull's exit code.
+int buildHull(const WrenchMatrix& wrenches, const char* options, FILE* sink, WrenchHull& hull) {
+  const Eigen::Index n = wrenches.cols();
+  // qhull takes a non-const pointer: copy (column-major 6 x n is qhull's point-major layout).
+  std::vector<coordT> points(wrenches.data(), wrenches.data() + kDim * n);
+  std::string flag_text(options);
+  QhullRun run(sink);
+  qhT* qh = run.get();
+  const int code = qh_new_qhull(qh, kDim, static_cast<int>(n), points.data(), False,
+                                flag_text.data(), nullptr, sink);
+  if (code != 0) return code;
+  int facets = 0;
+  for (facetT* f = qh->facet_list; f && f->next; f = f->next) ++facets;
+  hull.normals.resize(kDim, facets);
+  hull.offsets.resize(facets);
+  int i = 0;
+  for (facetT* f = qh->facet_list; f && f->next; f = f->next, ++i) {
+    for (int k = 0; k < kDim; ++k) hull.normals(k, i) = f->normal[k];
+    hull.offsets(i) = f->offset;
+  }
+  hull.volume = qh->hasAreaVolume ? qh->totvol : 0.0;
+  return 0;
+}
+
+/// Every facet must be a supporting hyperplane: no wrench farther than kClosureTolerance *
+/// scale beyond it, and at least one on it (within the same tolerance).
+bool facetsSupport(const WrenchMatrix& wrenches, const WrenchHull& hull) {
+  if (hull.offsets.size() == 0) return false;
+  const double tol = kClosureTolerance * hull.scale;
+  if (!hull.normals.allFinite() || !hull.offsets.allFinite()) return false;
+  for (Eigen::Index f = 0; f < hull.offsets.size(); ++f) {
+    const double highest =
+        (hull.normals.col(f).transpose() * wrenches).maxCoeff() + hull.offsets(f);
+    if (std::abs(highest) > tol) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
-WrenchHull wrenchHull(const WrenchMatrix& wrenches, bool check_rank) {
+WrenchHull wrenchHull(const WrenchMatrix& wrenches, const WrenchHullOptions& options) {
   WrenchHull hull;
   const Eigen::Index n = wrenches.cols();
   if (!wrenches.allFinite()) {
@@ -93,7 +132,7 @@ WrenchHull wrenchHull(const WrenchMatrix& wrenches, bool check_rank) {
   // Affine rank with Eigen before qhull: singular values of the centred wrench matrix from its
   // 6 x 6 Gram matrix (kDegenerateSpread = 1e-7 keeps the eigenvalue ratio at 1e-14, well
   // above the Gram matrix's round-off).
-  if (check_rank) {
+  if (options.check_rank) {
     const Eigen::Matrix<double, 6, 1> mean = wrenches.rowwise().mean();
     WrenchMatrix centred = wrenches.colwise() - mean;
     const double magnitude = centred.cwiseAbs().maxCoeff();
@@ -126,31 +165,21 @@ WrenchHull wrenchHull(const WrenchMatrix& wrenches, bool check_rank) {
     return hull;
   }
 
-  // qhull may reorder nothing in the input, but takes a non-const pointer: copy (column-major
-  // 6 x n is exactly qhull's point-major layout).
-  std::vector<coordT> points(wrenches.data(), wrenches.data() + kDim * n);
-  QhullRun run(sink);
-  qhT* qh = run.get();
-  // Qx: exact pre-merges (qhull's default in 5-D and up, stated explicitly); FA: total volume.
-  char flags[] = "qhull Qx FA";
-  const int code =
-      qh_new_qhull(qh, kDim, static_cast<int>(n), points.data(), False, flags, nullptr, sink);
+  // Fast pass without merging (Q0), verified; exact pre-merging (Qx) when it fails.
+  int code = -1;
+  if (options.fast_pass) code = buildHull(wrenches, "qhull Q0 FA", sink, hull);
+  if (code != 0 || !facetsSupport(wrenches, hull)) {
+    code = buildHull(wrenches, "qhull Qx FA", sink, hull);
+    hull.merged_pass = true;
+  }
   if (code != 0) {
+    hull.normals.resize(kDim, 0);
+    hull.offsets.resize(0);
+    hull.volume = 0.0;
     hull.status = code == qh_ERRsingular ? QualityStatus::kDegenerate : QualityStatus::kHullFailed;
     hull.message = std::string("qhull: ") + qhullExitName(code);
     return hull;
   }
-
-  int facets = 0;
-  for (facetT* f = qh->facet_list; f && f->next; f = f->next) ++facets;
-  hull.normals.resize(kDim, facets);
-  hull.offsets.resize(facets);
-  int i = 0;
-  for (facetT* f = qh->facet_list; f && f->next; f = f->next, ++i) {
-    for (int k = 0; k < kDim; ++k) hull.normals(k, i) = f->normal[k];
-    hull.offsets(i) = f->offset;
-  }
-  hull.volume = qh->hasAreaVolume ? qh->totvol : 0.0;
   hull.status = QualityStatus::kOk;
   return hull;
 }

@@ -35,7 +35,8 @@ ExportScene sceneOf(const TaskMapData& map, double glyph_size) {
   ExportScene s;
   s.name = map.object.name.empty() ? "taskmap" : map.object.name;
   const auto& v = map.object.vertices;
-  for (Eigen::Index i = 0; i < v.rows(); ++i) s.object.vertices.emplace_back(v(i, 0), v(i, 1), v(i, 2));
+  for (Eigen::Index i = 0; i < v.rows(); ++i)
+    s.object.vertices.emplace_back(v(i, 0), v(i, 1), v(i, 2));
   const auto& f = map.object.faces;
   for (Eigen::Index i = 0; i < f.rows(); ++i) {
     s.object.faces.emplace_back(static_cast<int>(f(i, 0)), static_cast<int>(f(i, 1)),

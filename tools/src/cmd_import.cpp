@@ -76,7 +76,8 @@ void runImport(const ImportArgs& args) {
   std::cout << "wrote " << args.output << ": " << map.grasps.size() << " grasps (" << successes
             << " successful) from " << args.acronym << ", object " << model.name() << " at scale "
             << load.scale << ", "
-            << (map.clustering ? std::to_string(map.clustering->clusters.size()) : std::string("no"))
+            << (map.clustering ? std::to_string(map.clustering->clusters.size())
+                               : std::string("no"))
             << " clusters; contacts absent\n";
 }
 
@@ -97,8 +98,7 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
   cmd->add_flag("--successful-only", args->successful_only,
                 "keep only grasps with object_in_gripper = 1");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the imported grasps");
-  cmd->add_option("--linkage", args->linkage, "single, average or complete")
-      ->capture_default_str();
+  cmd->add_option("--linkage", args->linkage, "single, average or complete")->capture_default_str();
   cmd->add_option("--rotation-scale", args->rotation_scale,
                   "rho of the pose metric in metres per radian")
       ->capture_default_str();

@@ -21,7 +21,9 @@ struct MeshInfoArgs {
   bool no_repair = false;
 };
 
-nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vec(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 std::string fmt(const Eigen::Vector3d& v) {
   char buf[128];

@@ -32,12 +32,24 @@ std::array<std::uint8_t, 3> hsvToRgb(double h, double s, double v) {
   const double p = v * (1 - s), q = v * (1 - s * f), t = v * (1 - s * (1 - f));
   double r = v, g = t, b = p;
   switch (sector) {
-    case 0: r = v, g = t, b = p; break;
-    case 1: r = q, g = v, b = p; break;
-    case 2: r = p, g = v, b = t; break;
-    case 3: r = p, g = q, b = v; break;
-    case 4: r = t, g = p, b = v; break;
-    default: r = v, g = p, b = q; break;
+    case 0:
+      r = v, g = t, b = p;
+      break;
+    case 1:
+      r = q, g = v, b = p;
+      break;
+    case 2:
+      r = p, g = v, b = t;
+      break;
+    case 3:
+      r = p, g = q, b = v;
+      break;
+    case 4:
+      r = t, g = p, b = v;
+      break;
+    default:
+      r = v, g = p, b = q;
+      break;
   }
   auto byte = [](double x) { return static_cast<std::uint8_t>(std::lround(255.0 * x)); };
   return {byte(r), byte(g), byte(b)};
@@ -60,7 +72,7 @@ EpsilonStats epsilonStats(std::vector<double> values) {
 std::array<std::uint8_t, 3> clusterColor(int k) {
   // Tableau 10 with its grey replaced by indigo: grey is reserved for outliers.
   static constexpr std::uint8_t kTableau[10][3] = {
-      {31, 119, 180}, {255, 127, 14}, {44, 160, 44},  {214, 39, 40},  {148, 103, 189},
+      {31, 119, 180}, {255, 127, 14},  {44, 160, 44},  {214, 39, 40},  {148, 103, 189},
       {140, 86, 75},  {227, 119, 194}, {188, 189, 34}, {23, 190, 207}, {57, 59, 121}};
   if (k < 0) return {150, 150, 150};
   if (k < 10) return {kTableau[k][0], kTableau[k][1], kTableau[k][2]};
@@ -165,8 +177,8 @@ std::string formatSummary(const MapSummary& s) {
     << fixed((s.bounds_max - s.bounds_min).y() * 100, 1) << " x "
     << fixed((s.bounds_max - s.bounds_min).z() * 100, 1) << " cm\n";
   o << "hand       " << s.hand_name << " (" << s.hand_joints << " joints)\n";
-  o << "sampling   " << (s.sampler.empty() ? "-" : s.sampler) << " sampler, seed " << s.seed
-    << ", " << s.trials << " trials\n";
+  o << "sampling   " << (s.sampler.empty() ? "-" : s.sampler) << " sampler, seed " << s.seed << ", "
+    << s.trials << " trials\n";
   if (!s.outcomes.empty()) {
     o << "outcomes   ";
     const char* sep = "";
@@ -176,8 +188,9 @@ std::string formatSummary(const MapSummary& s) {
     }
     o << "\n";
   }
-  o << "grasps     " << s.grasps << " stored, " << s.force_closure << " in force closure, valid rate "
-    << fixed(100.0 * s.valid_rate, 1) << "% of " << (s.trials > 0 ? "trials" : "grasps") << "\n";
+  o << "grasps     " << s.grasps << " stored, " << s.force_closure
+    << " in force closure, valid rate " << fixed(100.0 * s.valid_rate, 1) << "% of "
+    << (s.trials > 0 ? "trials" : "grasps") << "\n";
   o << "epsilon    min " << general(s.epsilon.min) << "  median " << general(s.epsilon.median)
     << "  max " << general(s.epsilon.max) << "  (over " << s.epsilon.count
     << " force-closure grasps)\n";
@@ -215,17 +228,12 @@ nlohmann::json summaryToJson(const MapSummary& s) {
   j["path"] = s.path;
   j["generator"] = s.generator;
   j["created_utc"] = s.created_utc;
-  j["object"] = {{"name", s.object_name},
-                 {"vertices", s.object_vertices},
-                 {"faces", s.object_faces},
-                 {"volume", s.object_volume},
-                 {"bounds_min", vec(s.bounds_min)},
-                 {"bounds_max", vec(s.bounds_max)}};
+  j["object"] = {{"name", s.object_name},           {"vertices", s.object_vertices},
+                 {"faces", s.object_faces},         {"volume", s.object_volume},
+                 {"bounds_min", vec(s.bounds_min)}, {"bounds_max", vec(s.bounds_max)}};
   j["hand"] = {{"name", s.hand_name}, {"joints", s.hand_joints}};
-  j["sampling"] = {{"sampler", s.sampler},
-                   {"seed", s.seed},
-                   {"trials", s.trials},
-                   {"outcomes", s.outcomes}};
+  j["sampling"] = {
+      {"sampler", s.sampler}, {"seed", s.seed}, {"trials", s.trials}, {"outcomes", s.outcomes}};
   j["grasps"] = {{"count", s.grasps},
                  {"force_closure", s.force_closure},
                  {"valid_rate", s.valid_rate},

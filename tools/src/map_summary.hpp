@@ -26,9 +26,9 @@ struct EpsilonStats {
 
 /// One row of the cluster table.
 struct ClusterRow {
-  int id = 0;                   ///< cluster label 0..K-1
-  int size = 0;                 ///< grasps in the cluster
-  int representative = -1;      ///< grasp index of the representative (best epsilon)
+  int id = 0;                        ///< cluster label 0..K-1
+  int size = 0;                      ///< grasps in the cluster
+  int representative = -1;           ///< grasp index of the representative (best epsilon)
   Eigen::Matrix<double, 7, 1> pose;  ///< representative pose x y z (m), qw qx qy qz, qw >= 0
   Eigen::Vector3d approach = Eigen::Vector3d::UnitZ();  ///< palm +z axis in the object frame
   double mean_epsilon = 0.0;
@@ -44,7 +44,7 @@ struct MapSummary {
   std::string object_name;
   std::size_t object_vertices = 0;
   std::size_t object_faces = 0;
-  double object_volume = 0.0;  ///< m^3
+  double object_volume = 0.0;                            ///< m^3
   Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();  ///< object vertex bounds, metres
   Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();
   std::string hand_name;
@@ -57,7 +57,7 @@ struct MapSummary {
   std::size_t force_closure = 0;                  ///< stored grasps in force closure
   /// Force-closure grasps per simulated trial (per stored grasp when trials == 0).
   double valid_rate = 0.0;
-  EpsilonStats epsilon;     ///< over force-closure grasps
+  EpsilonStats epsilon;  ///< over force-closure grasps
   bool contacts_available = true;
   double rotation_scale = 0.0;  ///< rho, metres per radian
   bool clustered = false;       ///< the map holds a clustering

@@ -4,13 +4,13 @@
 // are identical. Counters: fastcluster_over_ours (speed-up), max_rel_diff of distances.
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <string>
-#include <unistd.h>
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/meshes/random.hpp"
@@ -117,7 +117,11 @@ void BM_FastclusterSingle(benchmark::State& state) {
   state.counters["max_rel_diff"] = max_rel;
   std::system(("rm -rf " + base).c_str());
 }
-BENCHMARK(BM_FastclusterSingle)->Arg(20000)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FastclusterSingle)
+    ->Arg(20000)
+    ->Iterations(3)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

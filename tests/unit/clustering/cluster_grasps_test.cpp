@@ -31,7 +31,8 @@ Grasps blobGrasps(const std::vector<int>& blob_sizes, int outliers, std::uint64_
     centre.orientation = rng.rotation();
     for (int i = 0; i < blob_sizes[b]; ++i) {
       Pose p;
-      p.position = centre.position + 0.01 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
+      p.position =
+          centre.position + 0.01 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
       const Eigen::Vector3d w = 0.05 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
       p.orientation = Eigen::Quaterniond(centre.orientation.toRotationMatrix() * rotationExp(w));
       if (i % 2) p.orientation.coeffs() *= -1.0;  // q and -q are the same orientation
@@ -83,7 +84,8 @@ TEST(PoseMetric, HalfTurnTwinIsTwoRhoAway) {
   Pose a;
   a.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
   Pose b = a;
-  b.orientation = a.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
+  b.orientation =
+      a.orientation * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()));
   for (double rho : {0.1, 0.25}) {
     ClusteringOptions options;
     options.rotation_scale = rho;
@@ -231,13 +233,19 @@ TEST(ClusteringOptions, Validation) {
 
 TEST(ClusterGrasps, RejectsBadGrasps) {
   Pose p;
-  EXPECT_EQ(errorOf([&] { clusterGrasps({p, p}, {0.1}); }),
+  EXPECT_EQ(errorOf([&] {
+              clusterGrasps({p, p}, {0.1});
+            }),
             "clusterGrasps: 2 poses but 1 epsilon values; give one per grasp");
-  EXPECT_EQ(errorOf([&] { clusterGrasps({p, p}, {0.1, std::nan("")}); }),
+  EXPECT_EQ(errorOf([&] {
+              clusterGrasps({p, p}, {0.1, std::nan("")});
+            }),
             "clusterGrasps: epsilon of grasp 1 is not finite");
   Pose bad;
   bad.position.x() = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(errorOf([&] { clusterGrasps({p, bad}, {0.1, 0.1}); }),
+  EXPECT_EQ(errorOf([&] {
+              clusterGrasps({p, bad}, {0.1, 0.1});
+            }),
             "clusterGrasps: pose of grasp 1 is not finite or has a zero quaternion");
 }
 

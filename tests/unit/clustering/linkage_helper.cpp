@@ -85,8 +85,8 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> args(argv + 1, argv + argc);
     if (args.size() == 5 && args[0] == "poses") {
-      writeRows(args[4], clusteredPoses(std::stoi(args[1]), std::stoull(args[2]),
-                                        std::stod(args[3])));
+      writeRows(args[4],
+                clusteredPoses(std::stoi(args[1]), std::stoull(args[2]), std::stod(args[3])));
       return 0;
     }
     if (args.size() == 4 && args[0] == "linkage") {

@@ -63,7 +63,9 @@ std::vector<Edge> primMst(const PointMatrix& p) {
 std::vector<int> components(int n, const std::vector<Edge>& edges, double t) {
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
-  std::function<int(int)> find = [&](int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); };
+  std::function<int(int)> find = [&](int x) {
+    return parent[x] == x ? x : parent[x] = find(parent[x]);
+  };
   for (const Edge& e : edges) {
     if (e.d <= t) parent[find(e.a)] = find(e.b);
   }
@@ -154,6 +156,9 @@ TEST(SingleLinkage, MatchesPrimOnBlobs) {
   checkSingleAgainstPrim(blobs(700, 12, 9, 0.02, 1));
   checkSingleAgainstPrim(blobs(300, 3, 4, 0.05, 2));
   checkSingleAgainstPrim(blobs(257, 1, 3, 0.1, 3));
+  // Large enough for every phase of the EMST (neighbour lists, global tree rounds,
+  // per-component rounds).
+  checkSingleAgainstPrim(blobs(3000, 12, 60, 0.02, 7));
 }
 
 TEST(SingleLinkage, MatchesPrimWithDuplicatesAndTies) {
@@ -274,7 +279,8 @@ TEST(Cuts, LabelsByFirstAppearance) {
     cutToCount(z, 6);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
+    EXPECT_STREQ(e.what(),
+                 "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
   }
   LinkageMatrix bad = z;
   bad(2, 1) = 3;  // point 3 merged twice
@@ -290,7 +296,8 @@ TEST(Cuts, LabelsByFirstAppearance) {
     cutAtDistance(bad, 1.0);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "cutAtDistance: linkage row 1 has a smaller distance than the row before");
+    EXPECT_STREQ(e.what(),
+                 "cutAtDistance: linkage row 1 has a smaller distance than the row before");
   }
   bad = z;
   bad(3, 3) = 4;

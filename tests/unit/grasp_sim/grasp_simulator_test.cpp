@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -271,6 +272,58 @@ TEST(GraspSimulator, ParallelThreadsMatchSequentialRun) {
     ok += seq[i].status == GraspStatus::kOk;
   }
   EXPECT_GT(ok, 0);  // the set exercises the closing path
+}
+
+TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
+  const ObjectModel basket = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj");
+  for (const char* name : {"panda", "barrett", "humanoid"}) {
+    SCOPED_TRACE(name);
+    const HandModel hand = loadHand(name);
+    GraspSimOptions o;
+    o.require_palm_contact = false;  // more closing trials
+    GraspSimulator sim(basket, hand, o);
+    const Eigen::VectorXd lo = hand.lowerLimits(), hi = hand.upperLimits();
+    int ok = 0;
+    for (int i = 0; i < 40; ++i) {
+      Rng rng(11, static_cast<std::uint64_t>(i));
+      Pose p;
+      p.position = basket.sampleInside(rng);
+      p.orientation = rng.rotation();
+      const GraspResult r = sim.simulate(p);
+      ok += r.status == GraspStatus::kOk;
+      EXPECT_NEAR(r.pose.orientation.norm(), 1.0, 1e-12);
+      // The pose only moved along the approach axis.
+      const Eigen::Vector3d a = p.orientation * hand.approachAxis();
+      const Eigen::Vector3d moved = r.pose.position - p.position;
+      EXPECT_LT((moved - moved.dot(a) * a).norm(), 1e-9);
+      EXPECT_NEAR(moved.dot(a), -r.stats.retraction + (r.palm_contact ? hand.squeeze() : 0.0),
+                  r.palm_contact ? kTol : 1e-9);
+      for (Eigen::Index j = 0; j < r.joints.size(); ++j) {
+        EXPECT_GE(r.joints[j], lo[j]);
+        EXPECT_LE(r.joints[j], hi[j]);
+      }
+      std::set<std::string> fingers;
+      bool palm = false;
+      for (const Contact& c : r.contacts) {
+        EXPECT_LT(basket.distanceToSurface(c.point), 1e-7);
+        EXPECT_NEAR(c.normal.norm(), 1.0, 1e-12);
+        EXPECT_GT(c.depth, 0.0);
+        EXPECT_LE(c.depth, 4 * hand.squeeze());
+        // Just outside along the normal is outside the solid, just inside is inside.
+        const auto& link = hand.links()[static_cast<std::size_t>(c.link)];
+        if (link.finger >= 0)
+          fingers.insert(hand.fingerNames()[static_cast<std::size_t>(link.finger)]);
+        palm = palm || link.palm;
+      }
+      EXPECT_EQ(std::set<std::string>(r.fingers_in_contact.begin(), r.fingers_in_contact.end()),
+                fingers);
+      EXPECT_EQ(r.palm_contact, palm);
+      if (r.status == GraspStatus::kOk) {
+        EXPECT_FALSE(fingers.empty());
+      }
+    }
+    EXPECT_GT(ok, 0);
+  }
 }
 
 }  // namespace

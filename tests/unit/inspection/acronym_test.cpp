@@ -68,7 +68,8 @@ TEST(AcronymTest, ExportThenImportKeepsPosesFlagsAndEpsilon) {
   ASSERT_EQ(back.clustering->labels.size(), map.grasps.size());
   int clustered = 0;
   for (const auto& c : back.clustering->clusters) clustered += c.size;
-  const auto outliers = std::count(back.clustering->labels.begin(), back.clustering->labels.end(), -1);
+  const auto outliers =
+      std::count(back.clustering->labels.begin(), back.clustering->labels.end(), -1);
   EXPECT_EQ(clustered + outliers, static_cast<long>(map.grasps.size()));
   EXPECT_GE(back.clustering->clusters.size(), 2u);
   back.validate();
@@ -148,11 +149,11 @@ TEST(AcronymTest, ReadsOtherNumericAndStringTypes) {
     float t[32] = {};
     for (int g = 0; g < 2; ++g)
       for (int k = 0; k < 4; ++k) t[g * 16 + k * 5] = 1.0f;
-    t[3] = 0.5f;   // grasp 0 at x = 0.5
+    t[3] = 0.5f;         // grasp 0 at x = 0.5
     t[16 + 7] = -0.25f;  // grasp 1 at y = -0.25
     hid_t sp = H5Screate_simple(3, tdims, nullptr);
-    hid_t ds = H5Dcreate2(file, "grasps/transforms", H5T_IEEE_F32LE, sp, lcpl, H5P_DEFAULT,
-                          H5P_DEFAULT);
+    hid_t ds =
+        H5Dcreate2(file, "grasps/transforms", H5T_IEEE_F32LE, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
     H5Dwrite(ds, H5T_NATIVE_FLOAT, H5S_ALL, H5S_ALL, H5P_DEFAULT, t);
     H5Dclose(ds);
     H5Sclose(sp);
@@ -222,26 +223,29 @@ TEST(AcronymTest, BadInputGivesClearErrors) {
   a.transforms = {Eigen::Matrix4d::Identity(), Eigen::Matrix4d::Identity()};
   a.transforms[1](0, 0) = 2.0;
   a.success = {1, 1};
-  EXPECT_NE(errorOf([&] { acronymToMap(a, testing::basketObject()); })
-                .find("grasps/transforms[1] is not a rigid transform"),
+  EXPECT_NE(errorOf([&] {
+              acronymToMap(a, testing::basketObject());
+            }).find("grasps/transforms[1] is not a rigid transform"),
             std::string::npos);
   a.success = {0, 0};
   AcronymImportOptions only;
   only.successful_only = true;
-  EXPECT_NE(errorOf([&] { acronymToMap(a, testing::basketObject(), only); })
-                .find("no successful grasp"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { acronymToMap(a, testing::basketObject(), only); }).find("no successful grasp"),
+      std::string::npos);
   a.success = {1};
   EXPECT_NE(errorOf([&] { acronymToMap(a, testing::basketObject()); }).find("2 transforms but 1"),
             std::string::npos);
   // Unwritable target.
-  EXPECT_NE(errorOf([] { writeAcronym("/nonexistent/dir/x.h5", testing::syntheticMap(5, 0)); })
-                .find("cannot write '/nonexistent/dir/x.h5'"),
+  EXPECT_NE(errorOf([] {
+              writeAcronym("/nonexistent/dir/x.h5", testing::syntheticMap(5, 0));
+            }).find("cannot write '/nonexistent/dir/x.h5'"),
             std::string::npos);
   AcronymExportOptions bad;
   bad.density = -1;
-  EXPECT_NE(errorOf([&] { writeAcronym(tempPath("bad.h5"), testing::syntheticMap(5, 0), bad); })
-                .find("density"),
+  EXPECT_NE(errorOf([&] {
+              writeAcronym(tempPath("bad.h5"), testing::syntheticMap(5, 0), bad);
+            }).find("density"),
             std::string::npos);
 }
 

@@ -12,10 +12,10 @@
 #include <set>
 #include <string>
 
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <cairo.h>
 #include <gtest/gtest.h>
+#include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
 #include "synthetic_map.hpp"
@@ -224,6 +224,24 @@ TEST_F(InspectCliTest, ManyClustersKeepDistinctColours) {
   EXPECT_EQ(colors.count(0x969696), 0u);
 }
 
+TEST_F(InspectCliTest, UnclusteredMapInspectsAndDraws) {
+  TaskMapData m = map_;
+  m.clustering.reset();
+  const std::string file = path("plain.h5");
+  writeMap(file, m);
+  CliRun r = run("inspect " + file);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("clusters   none"), std::string::npos) << r.out;
+  r = run("inspect --json --png " + path("plain.png") + " " + file);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(nlohmann::json::parse(r.out)["clustering"].is_null());
+  const Png png = readPng(path("plain.png"));
+  EXPECT_EQ(png.width, 1600);
+  EXPECT_GT(png.count(0x969696), 0);  // every grasp drawn as an outlier
+  EXPECT_EQ(png.count(0x1f77b4), 0);  // no cluster colour
+  ASSERT_EQ(run("export " + file + " --format glb -o " + path("plain.glb")).code, 0);
+}
+
 int countFaces(const aiMesh& mesh, unsigned indices) {
   int n = 0;
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) n += mesh.mFaces[f].mNumIndices == indices;
@@ -258,8 +276,8 @@ TEST_F(InspectCliTest, PlyAndGlbReadBackWithObjectAndGraspCounts) {
   // for a repaired mesh; the synthetic basket's bars share a few corners).
   std::set<std::array<double, 3>> distinct;
   for (unsigned i = 0; i < nv; ++i) {
-    distinct.insert({map_.object.vertices(i, 0), map_.object.vertices(i, 1),
-                     map_.object.vertices(i, 2)});
+    distinct.insert(
+        {map_.object.vertices(i, 0), map_.object.vertices(i, 1), map_.object.vertices(i, 2)});
   }
   ASSERT_LT(distinct.size(), nv);
   EXPECT_EQ(meshes["object"]->mNumVertices, distinct.size());
@@ -312,8 +330,8 @@ TEST_F(InspectCliTest, BadInputGivesClearErrorsAndNonZeroExit) {
     bytes.resize(bytes.size() / 3);  // truncated
     std::ofstream(corrupt, std::ios::binary) << bytes;
   }
-  for (const std::string& cmd : {"inspect " + corrupt, "export " + corrupt + " --format ply -o " +
-                                                           path("x.ply")}) {
+  for (const std::string& cmd :
+       {"inspect " + corrupt, "export " + corrupt + " --format ply -o " + path("x.ply")}) {
     r = run(cmd);
     EXPECT_EQ(r.code, 1) << cmd << "\n" << r.out;
     EXPECT_NE(r.out.find("taskmap: error:"), std::string::npos) << r.out;

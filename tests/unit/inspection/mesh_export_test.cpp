@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <string>
 
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <gtest/gtest.h>
+#include <assimp/Importer.hpp>
 
 #include "taskmap/meshes/error.hpp"
 #include "taskmap/meshes/random.hpp"
@@ -133,8 +133,9 @@ TEST(MeshExportTest, GlbReadsBackAsNamedObjectGraspsAndGlyphs) {
 
 TEST(MeshExportTest, BadInputGivesClearErrors) {
   ExportScene scene = makeScene(3);
-  EXPECT_NE(errorOf([&] { exportScene("/nonexistent/dir/x.ply", scene, SceneFormat::kPly); })
-                .find("cannot export '/nonexistent/dir/x.ply'"),
+  EXPECT_NE(errorOf([&] {
+              exportScene("/nonexistent/dir/x.ply", scene, SceneFormat::kPly);
+            }).find("cannot export '/nonexistent/dir/x.ply'"),
             std::string::npos);
   scene.point_colors.pop_back();
   EXPECT_NE(errorOf([&] { scene.validate(); }).find("3 points but 2 point colours"),
@@ -146,8 +147,9 @@ TEST(MeshExportTest, BadInputGivesClearErrors) {
   EXPECT_NE(errorOf([] { sceneFormatFromString("stl"); }).find("unknown scene format 'stl'"),
             std::string::npos);
   EXPECT_EQ(sceneFormatFromString("glb"), SceneFormat::kGlb);
-  EXPECT_NE(errorOf([] { exportScene(tempPath("e.ply"), ExportScene{}, SceneFormat::kPly); })
-                .find("the scene is empty"),
+  EXPECT_NE(errorOf([] {
+              exportScene(tempPath("e.ply"), ExportScene{}, SceneFormat::kPly);
+            }).find("the scene is empty"),
             std::string::npos);
 }
 

@@ -20,8 +20,7 @@ inline void appendBox(std::vector<Eigen::Vector3d>& v, std::vector<Eigen::Vector
                       const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   const int base = static_cast<int>(v.size());
   for (int i = 0; i < 8; ++i)
-    v.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
-                   (i & 4) ? hi.z() : lo.z());
+    v.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(), (i & 4) ? hi.z() : lo.z());
   const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                            {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
@@ -54,7 +53,8 @@ inline MapObject basketObject() {
 
 // Orientation whose +z axis (approach) is dir, with a random twist about it.
 inline Eigen::Quaterniond approachOrientation(const Eigen::Vector3d& dir, Rng& rng) {
-  const Eigen::Quaterniond align = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), dir);
+  const Eigen::Quaterniond align =
+      Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), dir);
   const double twist = rng.uniform(-0.3, 0.3);
   return align * Eigen::Quaterniond(Eigen::AngleAxisd(twist, Eigen::Vector3d::UnitZ()));
 }
@@ -82,8 +82,7 @@ inline TaskMapData syntheticMap(int n_per_cluster = 40, int n_outliers = 6,
   for (int k = 0; k < 3; ++k) {
     const int size = std::max(1, n_per_cluster * (5 - k) / 5);
     for (int i = 0; i < size; ++i) {
-      const Eigen::Vector3d p = centres[k] + rng.uniform(-1, 1) * spread[k] -
-                                0.05 * approach[k] +
+      const Eigen::Vector3d p = centres[k] + rng.uniform(-1, 1) * spread[k] - 0.05 * approach[k] +
                                 0.004 * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
       Pose pose{p, approachOrientation(approach[k], rng)};
       rows.push_back(pose.toVector7());
@@ -101,7 +100,8 @@ inline TaskMapData syntheticMap(int n_per_cluster = 40, int n_outliers = 6,
   const auto n = static_cast<Eigen::Index>(rows.size());
   auto& g = m.grasps;
   g.pose.resize(n, 7);
-  for (Eigen::Index i = 0; i < n; ++i) g.pose.row(i) = rows[static_cast<std::size_t>(i)].transpose();
+  for (Eigen::Index i = 0; i < n; ++i)
+    g.pose.row(i) = rows[static_cast<std::size_t>(i)].transpose();
   g.joints = RowMatrixXd::Constant(n, 3, 0.4);
   g.epsilon = eps;
   g.force_closure.resize(rows.size());

@@ -40,7 +40,9 @@ Twist finiteDifference(F&& f, const Pose& x, double hl, double ha) {
   return g;
 }
 
-double relError(const Twist& a, const Twist& b) { return (a - b).norm() / b.norm(); }
+double relError(const Twist& a, const Twist& b) {
+  return (a - b).norm() / b.norm();
+}
 
 struct Fixture : ::testing::Test {
   static const TaskMap& map() {
@@ -59,8 +61,9 @@ struct Fixture : ::testing::Test {
     Pose x = m.pose(rng.below(m.size()));
     const double sp = *m.options().position_sigma, sr = *m.options().rotation_sigma;
     x.position += sp * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
-    x.orientation = Eigen::Quaterniond(rotationExp(sr * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal())) *
-                                       x.orientation.toRotationMatrix());
+    x.orientation = Eigen::Quaterniond(
+        rotationExp(sr * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal())) *
+        x.orientation.toRotationMatrix());
     if (rng.uniform() < 0.5) x.orientation.coeffs() *= -1.0;
     return x;
   }
@@ -96,7 +99,8 @@ TEST_F(Fixture, QualityGradientMatchesFiniteDifferences) {
     const Pose x = nearMap(rng);
     const QualityResult q = map().quality(x);
     ASSERT_LT(q.value, 0.0);
-    const Twist fd = finiteDifference([&](const Pose& y) { return map().quality(y).value; }, x, hl, ha);
+    const Twist fd =
+        finiteDifference([&](const Pose& y) { return map().quality(y).value; }, x, hl, ha);
     ASSERT_LT(relError(fd, q.gradient), 1e-6) << "trial " << trial;
   }
 }
@@ -106,7 +110,7 @@ TEST_F(Fixture, SingleSampleCriteriaMatchFiniteDifferences) {
   for (int trial = 0; trial < 200; ++trial) {
     const Pose mu = testing::randomPose(rng);
     Pose x = perturb(mu, Twist(0.02 * rng.normal(), 0.02 * rng.normal(), 0.02 * rng.normal(),
-                              0.5 * rng.normal(), 0.5 * rng.normal(), 0.5 * rng.normal()));
+                               0.5 * rng.normal(), 0.5 * rng.normal(), 0.5 * rng.normal()));
     if (poseDifference(x, mu).tail<3>().norm() > 3.0) continue;
     Twist g;
     proximityCost(x, mu, 2.0, 0.3, &g);
@@ -114,8 +118,8 @@ TEST_F(Fixture, SingleSampleCriteriaMatchFiniteDifferences) {
                                 1e-6, 1e-6);
     ASSERT_LT(relError(fd, g), 1e-6);
     gaussianDensity(x, mu, 0.02, 0.5, &g);
-    fd = finiteDifference([&](const Pose& y) { return gaussianDensity(y, mu, 0.02, 0.5); }, x,
-                          2e-6, 5e-5);
+    fd = finiteDifference([&](const Pose& y) { return gaussianDensity(y, mu, 0.02, 0.5); }, x, 2e-6,
+                          5e-5);
     ASSERT_LT(relError(fd, g), 1e-6);
   }
 }
@@ -139,8 +143,10 @@ TEST_F(Fixture, WorldFrameGradientsMatchFiniteDifferences) {
       same = same && ev.proximity.nearest.index == e.proximity.nearest.index;
       return ev.cost();
     };
-    const Twist fd_hand = finiteDifference([&](const Pose& h) { return cost(h, object); }, hand, hl, ha);
-    const Twist fd_obj = finiteDifference([&](const Pose& o) { return cost(hand, o); }, object, hl, ha);
+    const Twist fd_hand =
+        finiteDifference([&](const Pose& h) { return cost(h, object); }, hand, hl, ha);
+    const Twist fd_obj =
+        finiteDifference([&](const Pose& o) { return cost(hand, o); }, object, hl, ha);
     if (!same) continue;
     ++tested;
     ASSERT_LT(relError(fd_hand, handGradientToWorld(e.gradient(), object)), 1e-6);
@@ -158,7 +164,8 @@ TEST_F(Fixture, WorldFrameGradientsMatchFiniteDifferences) {
       const double h = 1e-4 * *map().options().position_sigma;
       const Twist th = h * jh.col(j), to = h * jo.col(j);
       const double d = (cost(perturb(hand, th), perturb(object, to)) -
-                        cost(perturb(hand, -th), perturb(object, -to))) / (2 * h);
+                        cost(perturb(hand, -th), perturb(object, -to))) /
+                       (2 * h);
       if (same) {
         ASSERT_NEAR(d, gq[j], 1e-6 * gq.norm());
       }

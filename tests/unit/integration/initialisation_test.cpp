@@ -57,13 +57,15 @@ TEST(RankClusters, BestComfortFirstUnreachableLast) {
   object.position = Eigen::Vector3d(0.5, 0, 0.8);
   object.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
   // A fake "arm": posture = target position; cluster 1's target is out of reach.
-  const Pose rep1 = map.pose(static_cast<std::size_t>(map.data().clustering->clusters[1].representative));
+  const Pose rep1 =
+      map.pose(static_cast<std::size_t>(map.data().clustering->clusters[1].representative));
   int calls = 0;
   IkFunction ik = [&](const Pose& target) {
     ++calls;
     IkSolution s;
-    const Pose in_object = Pose{object.orientation.conjugate() * (target.position - object.position),
-                                object.orientation.conjugate() * target.orientation};
+    const Pose in_object =
+        Pose{object.orientation.conjugate() * (target.position - object.position),
+             object.orientation.conjugate() * target.orientation};
     if (poseDistance(in_object, rep1, 0.1) < 1e-9) {
       s.message = "out of reach";
       return s;
@@ -86,7 +88,10 @@ TEST(RankClusters, BestComfortFirstUnreachableLast) {
   for (const auto& r : ranks) {
     if (!r.reachable) continue;
     EXPECT_DOUBLE_EQ(r.comfort, jointLimitCost(r.q, lo, hi));
-    EXPECT_LT((r.target_world.position - (object.position + object.orientation * r.target_object.position)).norm(), 1e-12);
+    EXPECT_LT((r.target_world.position -
+               (object.position + object.orientation * r.target_object.position))
+                  .norm(),
+              1e-12);
   }
   TaskMapData plain = testing::syntheticMap(30);
   plain.clustering.reset();

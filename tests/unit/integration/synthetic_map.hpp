@@ -89,7 +89,8 @@ inline TaskMapData syntheticMap(std::size_t n, std::uint64_t seed = 7, double rh
 /// A uniformly random pose in the box around the basket.
 inline Pose randomPose(Rng& rng) {
   Pose p;
-  p.position = Eigen::Vector3d(rng.uniform(-0.3, 0.3), rng.uniform(-0.2, 0.2), rng.uniform(0.0, 0.4));
+  p.position =
+      Eigen::Vector3d(rng.uniform(-0.3, 0.3), rng.uniform(-0.2, 0.2), rng.uniform(0.0, 0.4));
   p.orientation = rng.rotation();
   return p;
 }

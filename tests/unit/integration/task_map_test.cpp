@@ -44,7 +44,8 @@ std::vector<Pose> queries(const TaskMap& map, int n, std::uint64_t seed) {
       const double scale = rng.uniform(0.0, 3.0);
       x.position += scale * sp * Eigen::Vector3d(rng.normal(), rng.normal(), rng.normal());
       const Eigen::Vector3d w(rng.normal(), rng.normal(), rng.normal());
-      x.orientation = Eigen::Quaterniond(rotationExp(scale * sr * w) * x.orientation.toRotationMatrix());
+      x.orientation =
+          Eigen::Quaterniond(rotationExp(scale * sr * w) * x.orientation.toRotationMatrix());
     }
     if (i % 2 == 1) x.orientation.coeffs() *= -1.0;
     out.push_back(x);
@@ -79,7 +80,10 @@ std::vector<Hit> bruteForce(const TaskMap& map, const Pose& x, std::optional<int
   auto mid = std::partition(all.begin(), all.end(), [&](const Hit& h) { return h.distance <= r; });
   const std::size_t inside = static_cast<std::size_t>(mid - all.begin());
   if (inside < keep) {
-    std::partial_sort(mid, mid + static_cast<std::ptrdiff_t>(std::min(keep - inside, static_cast<std::size_t>(all.end() - mid))), all.end(), less);
+    std::partial_sort(mid,
+                      mid + static_cast<std::ptrdiff_t>(
+                                std::min(keep - inside, static_cast<std::size_t>(all.end() - mid))),
+                      all.end(), less);
   }
   std::sort(all.begin(), mid, less);
   all.resize(std::min(all.size(), std::max(keep, inside)));
@@ -172,10 +176,12 @@ TEST(TaskMap, DefaultSigmaFollowsSamplingDensity) {
   const TaskMap& map = sharedMap();
   // Median nearest-neighbour distance by brute force (every sample: 2000 < kDensitySamples).
   std::vector<double> nn;
-  for (std::size_t i = 0; i < map.size(); ++i) nn.push_back(bruteForce(map, map.pose(i), std::nullopt, 2)[1].distance);
+  for (std::size_t i = 0; i < map.size(); ++i)
+    nn.push_back(bruteForce(map, map.pose(i), std::nullopt, 2)[1].distance);
   std::nth_element(nn.begin(), nn.begin() + static_cast<std::ptrdiff_t>(nn.size() / 2), nn.end());
   EXPECT_NEAR(*map.options().position_sigma, nn[nn.size() / 2], 1e-12);
-  EXPECT_NEAR(*map.options().rotation_sigma, *map.options().position_sigma / map.rotationScale(), 1e-15);
+  EXPECT_NEAR(*map.options().rotation_sigma, *map.options().position_sigma / map.rotationScale(),
+              1e-15);
   EXPECT_NEAR(*map.options().angular_weight, map.rotationScale() * map.rotationScale(), 1e-15);
 }
 
@@ -183,9 +189,9 @@ TEST(TaskMap, TruncatedQualityWithinReportedBound) {
   for (double tol : {1e-3, 0.1, 0.6}) {
     TaskMapOptions o;
     o.quality_tolerance = tol;
-    const TaskMap map = TaskMap::fromData(syntheticMap(1000), o);
-    const double peak = 1.0 / gaussianNormaliser(*map.options().position_sigma,
-                                                 *map.options().rotation_sigma);
+    const TaskMap map = TaskMap::fromData(syntheticMap(600), o);
+    const double peak =
+        1.0 / gaussianNormaliser(*map.options().position_sigma, *map.options().rotation_sigma);
     const auto xs = queries(map, tol == 1e-3 ? kQueries : 1000, 23);
     double worst_ratio = 0.0;
     for (const Pose& x : xs) {
@@ -193,9 +199,11 @@ TEST(TaskMap, TruncatedQualityWithinReportedBound) {
       const QualityResult e = map.quality(x, std::nullopt, QualityMode::kExact);
       const double slack = 1e-12 * std::abs(e.value) + 1e-300;
       ASSERT_LE(std::abs(t.value - e.value), t.value_bound + slack);
-      ASSERT_LE((t.gradient - e.gradient).norm(), t.gradient_bound + 1e-12 * e.gradient.norm() + 1e-300);
+      ASSERT_LE((t.gradient - e.gradient).norm(),
+                t.gradient_bound + 1e-12 * e.gradient.norm() + 1e-300);
       ASSERT_LE(t.value_bound, tol * peak * (1 + 1e-12));
-      if (t.value_bound > 0) worst_ratio = std::max(worst_ratio, std::abs(t.value - e.value) / t.value_bound);
+      if (t.value_bound > 0)
+        worst_ratio = std::max(worst_ratio, std::abs(t.value - e.value) / t.value_bound);
       // evaluate() shares the search and gives the same quality.
       const Evaluation ev = map.evaluate(x);
       ASSERT_EQ(ev.quality.value, t.value);
@@ -300,7 +308,9 @@ TEST(TaskMap, InvalidDataAndOptionsGiveClearErrors) {
   };
   EXPECT_EQ(with([](TaskMapData& d) { d.grasps.pose(5, 1) = NAN; }),
             "/grasps row 5: pose has a non-finite value");
-  EXPECT_NE(with([](TaskMapData& d) { d.grasps.pose(7, 3) = 2.0; }).find("/grasps row 7: orientation is not a unit quaternion"),
+  EXPECT_NE(with([](TaskMapData& d) {
+              d.grasps.pose(7, 3) = 2.0;
+            }).find("/grasps row 7: orientation is not a unit quaternion"),
             std::string::npos);
   EXPECT_EQ(with([](TaskMapData& d) { d.grasps.epsilon.pop_back(); }),
             "/grasps/epsilon has 99 entries; expected 100 (one per grasp)");

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <assimp/scene.h>
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
-#include <assimp/scene.h>
 
 #include "taskmap/meshes/error.hpp"
 #include "taskmap/meshes/mesh_io.hpp"
@@ -35,9 +35,8 @@ class TempDir {
  public:
   TempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("taskmap_mesh_load_" + std::string(info->name()) + "_" +
-             std::to_string(reinterpret_cast<std::uintptr_t>(this)));
+    path_ = fs::temp_directory_path() / ("taskmap_mesh_load_" + std::string(info->name()) + "_" +
+                                         std::to_string(reinterpret_cast<std::uintptr_t>(this)));
     fs::create_directories(path_);
   }
   ~TempDir() {
@@ -102,8 +101,10 @@ TEST(MeshLoadTest, UnitCubeIsExact) {
 TEST(MeshLoadTest, EveryFormatGivesTheSameVolume) {
   TempDir dir;
   const std::vector<std::pair<MeshFormat, std::string>> formats = {
-      {MeshFormat::kObj, "obj"},      {MeshFormat::kStlAscii, "ascii.stl"},
-      {MeshFormat::kStlBinary, "stl"}, {MeshFormat::kPly, "ply"},
+      {MeshFormat::kObj, "obj"},
+      {MeshFormat::kStlAscii, "ascii.stl"},
+      {MeshFormat::kStlBinary, "stl"},
+      {MeshFormat::kPly, "ply"},
       {MeshFormat::kOff, "off"}};
   for (const auto& name : kObjects) {
     const ObjectModel reference = ObjectModel::load(object(name));
@@ -115,9 +116,9 @@ TEST(MeshLoadTest, EveryFormatGivesTheSameVolume) {
       const ObjectModel copy = ObjectModel::load(path);
       // Files store float32 or 17 digits; assimp reads float32: 1e-6 relative is plenty.
       EXPECT_NEAR(copy.massProperties().volume, volume, 1e-6 * volume);
-      EXPECT_LT((copy.massProperties().center_of_mass -
-                 reference.massProperties().center_of_mass).norm(),
-                1e-6);
+      EXPECT_LT(
+          (copy.massProperties().center_of_mass - reference.massProperties().center_of_mass).norm(),
+          1e-6);
       EXPECT_TRUE(copy.report().repairs.empty()) << copy.report().repairs.front();
       EXPECT_EQ(copy.mesh().faces.size(), reference.mesh().faces.size());
     }
@@ -143,9 +144,9 @@ TEST(MeshLoadTest, AssimpExportedFormatsGiveTheSameVolume) {
       EXPECT_EQ(copy.report().format, ext);
       EXPECT_NEAR(copy.massProperties().volume, reference.massProperties().volume,
                   1e-6 * reference.massProperties().volume);
-      EXPECT_LT((copy.massProperties().center_of_mass -
-                 reference.massProperties().center_of_mass).norm(),
-                1e-6);
+      EXPECT_LT(
+          (copy.massProperties().center_of_mass - reference.massProperties().center_of_mass).norm(),
+          1e-6);
     }
   }
 }
@@ -157,8 +158,9 @@ TEST(MeshLoadTest, ScaleMultipliesCoordinates) {
               1e-6 * 1e6 * m.massProperties().volume);
   EXPECT_DOUBLE_EQ(big.scale(), 100.0);
   EXPECT_NE(errorOf([] { ObjectModel::load(object("box"), MeshLoadOptions{-1.0}); }), "");
-  EXPECT_NE(errorOf([] { ObjectModel::load(object("box"), MeshLoadOptions{0.0}); })
-                .find("scale must be a positive finite number"),
+  EXPECT_NE(errorOf([] {
+              ObjectModel::load(object("box"), MeshLoadOptions{0.0});
+            }).find("scale must be a positive finite number"),
             std::string::npos);
 }
 
@@ -194,8 +196,7 @@ TEST(MeshLoadTest, NanVertex) {
   TriangleMesh cube = unitCube();
   cube.vertices[3].y() = std::nan("");
   const std::string mem = errorOf([&] { ObjectModel::fromMesh(cube, "nan cube"); });
-  EXPECT_NE(mem.find("mesh 'nan cube': vertex 3 has a non-finite coordinate"),
-            std::string::npos)
+  EXPECT_NE(mem.find("mesh 'nan cube': vertex 3 has a non-finite coordinate"), std::string::npos)
       << mem;
 }
 
@@ -256,8 +257,8 @@ TEST(MeshLoadTest, InconsistentOrientationIsRepaired) {
 
 TEST(MeshLoadTest, DegenerateAndDuplicateFacesAreDropped) {
   TriangleMesh cube = unitCube();
-  cube.faces.emplace_back(0, 0, 1);                 // repeated vertex
-  cube.faces.push_back(cube.faces[0]);              // duplicate face
+  cube.faces.emplace_back(0, 0, 1);     // repeated vertex
+  cube.faces.push_back(cube.faces[0]);  // duplicate face
   const ObjectModel model = ObjectModel::fromMesh(cube, "dirty");
   ASSERT_EQ(model.report().repairs.size(), 2u);
   EXPECT_EQ(model.report().repairs[0], "dropped 1 degenerate face with a repeated vertex");
@@ -279,6 +280,24 @@ TEST(MeshLoadTest, NonManifoldEdgeIsRefused) {
       << msg;
 }
 
+TEST(MeshLoadTest, OverlappingShellsLoadWithAWarningAndUniteForInsideTests) {
+  TriangleMesh two = unitCube();
+  const TriangleMesh second = unitCube();
+  const int base = static_cast<int>(two.vertices.size());
+  for (const auto& v : second.vertices) {
+    two.vertices.push_back(v + Eigen::Vector3d(0.5, 0.25, 0.125));
+  }
+  for (const auto& f : second.faces) two.faces.push_back(f + Eigen::Vector3i::Constant(base));
+  const ObjectModel model = ObjectModel::fromMesh(two, "overlap");
+  ASSERT_EQ(model.report().warnings.size(), 1u);
+  EXPECT_NE(model.report().warnings[0].find("the surface intersects itself"), std::string::npos);
+  EXPECT_TRUE(model.contains(Eigen::Vector3d(0.75, 0.6, 0.6)));  // in both cubes
+  EXPECT_TRUE(model.contains(Eigen::Vector3d(0.2, 0.2, 0.2)));   // first only
+  EXPECT_TRUE(model.contains(Eigen::Vector3d(1.3, 1.1, 1.0)));   // second only
+  EXPECT_FALSE(model.contains(Eigen::Vector3d(1.3, 0.1, 0.5)));  // neither
+  EXPECT_DOUBLE_EQ(model.massProperties().volume, 2.0);          // overlap counted twice
+}
+
 TEST(MeshLoadTest, FlatMeshIsRefused) {
   const std::string msg = errorOf([] { ObjectModel::load(data("flat.obj")); });
   EXPECT_NE(msg.find("flat.obj': mesh encloses zero volume"), std::string::npos) << msg;
@@ -298,8 +317,7 @@ TEST(MeshLoadTest, EmptyInMemoryMeshIsRefused) {
   TriangleMesh bad = unitCube();
   bad.faces[0][1] = 99;
   const std::string idx = errorOf([&] { ObjectModel::fromMesh(bad, "bad index"); });
-  EXPECT_NE(idx.find("face 0 references vertex 99 but the mesh has 8 vertices"),
-            std::string::npos)
+  EXPECT_NE(idx.find("face 0 references vertex 99 but the mesh has 8 vertices"), std::string::npos)
       << idx;
 }
 

@@ -65,10 +65,10 @@ TEST(ObjectModelTest, BoxInertiaAndTorqueScaleAreExact) {
   const ObjectModel model = ObjectModel::load(object("box"));
   const MassProperties& m = model.massProperties();
   const double a = 0.06, b = 0.08, c = 0.12, mass = a * b * c;
-  Eigen::Matrix3d expected = Eigen::Vector3d(mass / 12 * (b * b + c * c),
-                                             mass / 12 * (a * a + c * c),
-                                             mass / 12 * (a * a + b * b))
-                                 .asDiagonal();
+  Eigen::Matrix3d expected =
+      Eigen::Vector3d(mass / 12 * (b * b + c * c), mass / 12 * (a * a + c * c),
+                      mass / 12 * (a * a + b * b))
+          .asDiagonal();
   EXPECT_LT((m.inertia - expected).norm(), 1e-5 * expected.norm());
   EXPECT_NEAR(m.torque_scale, 0.5 * std::sqrt(a * a + b * b + c * c), 1e-7);
   EXPECT_NEAR(m.bounds_min.x(), -0.03, 1e-7);
@@ -83,8 +83,8 @@ TEST(ObjectModelTest, InertiaOfAnOffsetBoxIsAboutItsCentreOfMass) {
   const ObjectModel original = ObjectModel::load(object("box"));
   EXPECT_LT((moved.massProperties().inertia - original.massProperties().inertia).norm(),
             1e-6 * original.massProperties().inertia.norm());
-  EXPECT_LT((moved.massProperties().center_of_mass -
-             original.massProperties().center_of_mass - Eigen::Vector3d(3, -2, 5))
+  EXPECT_LT((moved.massProperties().center_of_mass - original.massProperties().center_of_mass -
+             Eigen::Vector3d(3, -2, 5))
                 .norm(),
             1e-9);
 }
@@ -200,8 +200,8 @@ TEST(ObjectModelTest, DistanceToSurfaceMatchesBruteForceOnTheBox) {
   for (int i = 0; i < 200; ++i) {
     const Eigen::Vector3d p(rng.uniform(-0.03, 0.03), rng.uniform(-0.04, 0.04),
                             rng.uniform(0.0, 0.12));
-    const double expected = std::min({p.x() + 0.03, 0.03 - p.x(), p.y() + 0.04, 0.04 - p.y(),
-                                      p.z(), 0.12 - p.z()});
+    const double expected =
+        std::min({p.x() + 0.03, 0.03 - p.x(), p.y() + 0.04, 0.04 - p.y(), p.z(), 0.12 - p.z()});
     EXPECT_NEAR(model.distanceToSurface(p), expected, 1e-7);
   }
   // Outside, along the z axis above the top face.

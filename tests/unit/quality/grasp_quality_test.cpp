@@ -456,6 +456,35 @@ TEST(WrenchHullTest, FlatAndTooSmallSetsAreDegenerate) {
   EXPECT_EQ(wrenchHull(bad).status, QualityStatus::kInvalidInput);
 }
 
+TEST(WrenchHullTest, FastPassAgreesWithMergingPass) {
+  // The unmerged "Q0" pass is accepted only after verification; it must give the same epsilon
+  // and volume as qhull's merging "Qx" pass.
+  Rng rng(81, 0);
+  int closures = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    QualityOptions o;
+    o.friction = rng.uniform(0.2, 1.0);
+    o.cone_edges = 4 + trial % 5;
+    const auto w =
+        contactWrenches(randomContacts(rng, 3 + trial % 3, 0.2), Eigen::Vector3d::Zero(), 0.05, o);
+    const WrenchHull fast = wrenchHull(w);
+    WrenchHullOptions merged_only;
+    merged_only.fast_pass = false;
+    const WrenchHull merged = wrenchHull(w, merged_only);
+    ASSERT_EQ(fast.status, QualityStatus::kOk);
+    ASSERT_EQ(merged.status, QualityStatus::kOk);
+    EXPECT_TRUE(merged.merged_pass);
+    QualityResult a, b;
+    summarizeHull(fast, a);
+    summarizeHull(merged, b);
+    EXPECT_EQ(a.force_closure, b.force_closure);
+    EXPECT_NEAR(a.epsilon, b.epsilon, 1e-10 * std::max(b.epsilon, 1e-3));
+    EXPECT_NEAR(a.volume, b.volume, 1e-9 * b.volume);
+    closures += a.force_closure;
+  }
+  EXPECT_GT(closures, 0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Invariances
 
@@ -561,8 +590,8 @@ TEST(EvaluateGraspTest, QhullNeverPrints) {
   ::testing::internal::CaptureStderr();
   for (const auto& s : sets) evaluateGrasp(s, Eigen::Vector3d::Zero(), 0.05);
   const WrenchHull a = wrenchHull(nearly_flat);
-  const WrenchHull b = wrenchHull(flatWrenches(), /*check_rank=*/false);  // qhull error path
-  const WrenchHull c = wrenchHull(huge, /*check_rank=*/false);            // qhull error path
+  const WrenchHull b = wrenchHull(flatWrenches(), {/*check_rank=*/false});  // qhull error path
+  const WrenchHull c = wrenchHull(huge, {/*check_rank=*/false});            // qhull error path
   const WrenchHull d = wrenchHull(huge);
   const std::string out = ::testing::internal::GetCapturedStdout();
   const std::string err = ::testing::internal::GetCapturedStderr();

@@ -28,10 +28,10 @@ int main(int argc, char** argv) {
     const Eigen::Vector3d com(0.002, -0.001, 0.0);
     const auto w = taskmap::contactWrenches(contacts, com, 0.05, o);
     const auto r = taskmap::evaluateGrasp(contacts, com, 0.05, o);
-    std::printf("{\"set\": %d, \"status\": \"%s\", \"force_closure\": %s, \"epsilon\": %.17g, "
-                "\"volume\": %.17g, \"wrenches\": [",
-                s, taskmap::toString(r.status), r.force_closure ? "true" : "false", r.epsilon,
-                r.volume);
+    std::printf(
+        "{\"set\": %d, \"status\": \"%s\", \"force_closure\": %s, \"epsilon\": %.17g, "
+        "\"volume\": %.17g, \"wrenches\": [",
+        s, taskmap::toString(r.status), r.force_closure ? "true" : "false", r.epsilon, r.volume);
     for (Eigen::Index j = 0; j < w.cols(); ++j) {
       std::printf("%s[", j ? ", " : "");
       for (int i = 0; i < 6; ++i) std::printf("%s%.17g", i ? ", " : "", w(i, j));

@@ -71,10 +71,10 @@ double defaultThreshold(const LinkageMatrix& linkage, int min_size);
 struct ClusteringOptions {
   Linkage method = Linkage::kSingle;
   double rotation_scale = kDefaultRotationScale;  ///< rho, metres per radian, > 0
-  std::optional<double> threshold;   ///< cut distance (metres); neither set: defaultThreshold
-  std::optional<int> num_clusters;   ///< cut to this many clusters (exclusive with threshold)
-  double min_size_fraction = 0.02;   ///< clusters smaller than this share of grasps are outliers
-  int min_size = 0;                  ///< absolute minimum size; 0 uses min_size_fraction
+  std::optional<double> threshold;  ///< cut distance (metres); neither set: defaultThreshold
+  std::optional<int> num_clusters;  ///< cut to this many clusters (exclusive with threshold)
+  double min_size_fraction = 0.02;  ///< clusters smaller than this share of grasps are outliers
+  int min_size = 0;                 ///< absolute minimum size; 0 uses min_size_fraction
   /// Throws Error naming the option when a value is out of range or both cuts are set.
   void validate() const;
 };
@@ -85,9 +85,9 @@ int resolveMinSize(const ClusteringOptions& options, int n);
 
 /// Summary of one cluster.
 struct ClusterSummary {
-  int size = 0;                 ///< number of grasps
-  int representative = -1;      ///< grasp index with the best epsilon
-  Pose mean_pose;               ///< mean position, chordal mean orientation
+  int size = 0;             ///< number of grasps
+  int representative = -1;  ///< grasp index with the best epsilon
+  Pose mean_pose;           ///< mean position, chordal mean orientation
   double mean_epsilon = 0.0;
   double best_epsilon = 0.0;
   Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();  ///< position bounds, metres
@@ -101,8 +101,8 @@ struct ClusteringResult {
   LinkageMatrix linkage;                 ///< full dendrogram over the embedded poses
   Linkage method = Linkage::kSingle;
   double rotation_scale = kDefaultRotationScale;
-  double threshold = 0.0;                ///< the cut distance used
-  int min_size = 0;                      ///< the absolute minimum size used
+  double threshold = 0.0;  ///< the cut distance used
+  int min_size = 0;        ///< the absolute minimum size used
 };
 
 /// Clusters grasps by pose. Deterministic. @param epsilon per-grasp quality (same length).
@@ -112,7 +112,6 @@ ClusteringResult clusterGrasps(const std::vector<Pose>& poses, const std::vector
 /// Relabels and summarises an existing dendrogram (for re-cutting a stored map).
 ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
                                     const std::vector<double>& epsilon,
-                                    const LinkageMatrix& linkage,
-                                    const ClusteringOptions& options);
+                                    const LinkageMatrix& linkage, const ClusteringOptions& options);
 
 }  // namespace taskmap

@@ -31,8 +31,8 @@ double proximityCost(const Pose& x, const Pose& mu, double linear_weight, double
 /// f = exp(-d/2) / ((2 pi)^3 sp^3 sr^3), d = |dp|^2/sp^2 + |w|^2/sr^2. If gradient is not null
 /// it receives df/dx in the object frame. @param position_sigma sp, metres (> 0).
 /// @param rotation_sigma sr, radians (> 0).
-double gaussianDensity(const Pose& x, const Pose& mu, double position_sigma,
-                       double rotation_sigma, Twist* gradient = nullptr);
+double gaussianDensity(const Pose& x, const Pose& mu, double position_sigma, double rotation_sigma,
+                       Twist* gradient = nullptr);
 
 /// The normaliser (2 pi)^3 sp^3 sr^3 of gaussianDensity; 1 / it is the density's peak value.
 double gaussianNormaliser(double position_sigma, double rotation_sigma);

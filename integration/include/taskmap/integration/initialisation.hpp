@@ -45,10 +45,10 @@ using ComfortFunction = std::function<double(const Eigen::VectorXd& q)>;
 
 /// Comfort = joint-limit cost + collision_weight * collisionCost(distances(q), zone, scale);
 /// distances may be empty (joint limits only). Throws Error on invalid limits or zone <= 0.
-ComfortFunction makeComfort(const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
-                            std::function<std::vector<double>(const Eigen::VectorXd&)> distances =
-                                nullptr,
-                            double zone = 0.05, double scale = 1.0, double collision_weight = 1.0);
+ComfortFunction makeComfort(
+    const Eigen::VectorXd& lower, const Eigen::VectorXd& upper,
+    std::function<std::vector<double>(const Eigen::VectorXd&)> distances = nullptr,
+    double zone = 0.05, double scale = 1.0, double collision_weight = 1.0);
 
 /// One ranked cluster.
 struct ClusterRank {

@@ -38,8 +38,8 @@ enum class QualityMode {
 /// Options of TaskMap; unset optionals take documented defaults derived from the map.
 struct TaskMapOptions {
   IndexKind index = IndexKind::kExactKdTree;
-  int trees = 4;      ///< randomized forest: number of trees (>= 1)
-  int checks = 256;   ///< randomized forest: leaves checked per nearest/knn query (>= 1)
+  int trees = 4;     ///< randomized forest: number of trees (>= 1)
+  int checks = 256;  ///< randomized forest: leaves checked per nearest/knn query (>= 1)
   /// w_p of W_map in 1/m^2 (> 0).
   double linear_weight = 1.0;
   /// w_r of W_map in 1/rad^2 (> 0); default rho^2 * w_p (TASKMAPS.md §4).
@@ -105,13 +105,13 @@ using TwistRows = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor>;
 
 /// Batch results of evaluate over N poses (row i belongs to pose i).
 struct BatchEvaluation {
-  Eigen::VectorXd proximity;                                   ///< g_p
-  TwistRows proximity_gradient;                                ///< dg_p/dx
-  Eigen::VectorXd quality;                                     ///< g_q
-  TwistRows quality_gradient;                                  ///< dg_q/dx
-  Eigen::VectorXd quality_bound;                               ///< QualityResult::value_bound
-  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> nearest;      ///< grasp index of x_map
-  Eigen::VectorXd nearest_distance;                            ///< metres
+  Eigen::VectorXd proximity;                               ///< g_p
+  TwistRows proximity_gradient;                            ///< dg_p/dx
+  Eigen::VectorXd quality;                                 ///< g_q
+  TwistRows quality_gradient;                              ///< dg_q/dx
+  Eigen::VectorXd quality_bound;                           ///< QualityResult::value_bound
+  Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> nearest;  ///< grasp index of x_map
+  Eigen::VectorXd nearest_distance;                        ///< metres
 };
 
 /// A loaded, indexed task map.

@@ -43,9 +43,9 @@ struct AcronymExportOptions {
 
 /// The content of an ACRONYM grasp file.
 struct AcronymGrasps {
-  std::string path;                          ///< the file read ("" when built in memory)
-  std::vector<Eigen::Matrix4d> transforms;   ///< N homogeneous transforms, metres
-  std::vector<std::uint8_t> success;         ///< N, object_in_gripper as 0 / 1
+  std::string path;                            ///< the file read ("" when built in memory)
+  std::vector<Eigen::Matrix4d> transforms;     ///< N homogeneous transforms, metres
+  std::vector<std::uint8_t> success;           ///< N, object_in_gripper as 0 / 1
   std::optional<std::vector<double>> epsilon;  ///< N, only in files written by taskmap
   std::string object_file;
   double object_scale = 1.0;
@@ -71,9 +71,9 @@ AcronymGrasps readAcronym(const std::string& path);
 
 /// Options of acronymToMap.
 struct AcronymImportOptions {
-  bool successful_only = false;   ///< keep only grasps with object_in_gripper = 1
-  bool cluster = true;            ///< run clusterGrasps on the imported poses (needs >= 2)
-  ClusteringOptions clustering;   ///< options of that clustering
+  bool successful_only = false;  ///< keep only grasps with object_in_gripper = 1
+  bool cluster = true;           ///< run clusterGrasps on the imported poses (needs >= 2)
+  ClusteringOptions clustering;  ///< options of that clustering
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -89,8 +89,9 @@ TaskMapData acronymToMap(const AcronymGrasps& grasps, const MapObject& object,
 
 /// Inertia about the centre of mass of a closed mesh (vertices V x 3 in metres, outward
 /// faces) at uniform density (kg/m^3), kg m^2.
-Eigen::Matrix3d meshInertia(const RowMatrixXd& vertices,
-                            const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
-                            const Eigen::Vector3d& center_of_mass, double density);
+Eigen::Matrix3d meshInertia(
+    const RowMatrixXd& vertices,
+    const Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor>& faces,
+    const Eigen::Vector3d& center_of_mass, double density);
 
 }  // namespace taskmap

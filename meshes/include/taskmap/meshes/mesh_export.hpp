@@ -35,13 +35,13 @@ struct SceneGlyph {
 
 /// What exportScene writes. Coordinates in metres, object frame.
 struct ExportScene {
-  std::string name = "taskmap";                       ///< scene / root node name
-  TriangleMesh object;                                ///< the object surface
+  std::string name = "taskmap";  ///< scene / root node name
+  TriangleMesh object;           ///< the object surface
   Rgba object_color = Rgba(0.75f, 0.75f, 0.75f, 1.0f);
-  std::vector<Eigen::Vector3d> points;                ///< e.g. palm positions of the grasps
-  std::vector<Rgba> point_colors;                     ///< one per point
-  std::vector<SceneGlyph> glyphs;                     ///< e.g. cluster representatives
-  double glyph_size = 0.03;  ///< metres, length of a glyph's fingers; > 0
+  std::vector<Eigen::Vector3d> points;  ///< e.g. palm positions of the grasps
+  std::vector<Rgba> point_colors;       ///< one per point
+  std::vector<SceneGlyph> glyphs;       ///< e.g. cluster representatives
+  double glyph_size = 0.03;             ///< metres, length of a glyph's fingers; > 0
   /// Throws Error naming the field when sizes disagree, an index is out of range, or a value
   /// is not finite.
   void validate() const;

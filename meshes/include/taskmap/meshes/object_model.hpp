@@ -26,22 +26,22 @@ struct MeshLoadOptions {
 
 /// What loading found and did.
 struct MeshLoadReport {
-  std::string path;                  ///< the file read ("" for an in-memory mesh)
-  std::string format;                ///< assimp's format id or file extension, e.g. "obj"
-  std::size_t input_vertices = 0;    ///< vertex count as read, all meshes of the scene merged
-  std::size_t input_faces = 0;       ///< triangle count as read
-  std::vector<std::string> repairs;  ///< human-readable repairs done, empty if none
-  bool closed = false;               ///< closed, manifold, outward solid after repair
+  std::string path;                   ///< the file read ("" for an in-memory mesh)
+  std::string format;                 ///< assimp's format id or file extension, e.g. "obj"
+  std::size_t input_vertices = 0;     ///< vertex count as read, all meshes of the scene merged
+  std::size_t input_faces = 0;        ///< triangle count as read
+  std::vector<std::string> repairs;   ///< human-readable repairs done, empty if none
+  bool closed = false;                ///< closed, manifold, outward solid after repair
   std::vector<std::string> warnings;  ///< accepted defects, e.g. self-intersections
 };
 
 /// Mass properties at uniform density 1 kg/m^3 (scale inertia by the real density).
 struct MassProperties {
-  double volume = 0.0;                                    ///< m^3, > 0 for a valid solid
+  double volume = 0.0;                                       ///< m^3, > 0 for a valid solid
   Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  ///< metres, object frame
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();      ///< about the centre of mass, kg m^2
-  Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();   ///< axis-aligned bounds, metres
-  Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();   ///< axis-aligned bounds, metres
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();         ///< about the centre of mass, kg m^2
+  Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();      ///< axis-aligned bounds, metres
+  Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();      ///< axis-aligned bounds, metres
   double torque_scale = 0.0;  ///< largest distance from the centre of mass to a vertex, metres
 };
 

@@ -1,0 +1,195 @@
+// The fast link-versus-mesh queries (BVH culling, box-triangle separating axes, GJK/EPA)
+// against a brute-force oracle: exact box-triangle distances from feature pairs over every
+// triangle of the mesh.
+#include "../../../grasp_sim/src/collision_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "taskmap/meshes/random.hpp"
+#include "test_meshes.hpp"
+
+namespace taskmap {
+namespace {
+
+using V = Eigen::Vector3d;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+V closestOnTriangle(const V& p, const V& a, const V& b, const V& c) {
+  const V ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const V bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + d1 / (d1 - d3) * ab;
+  const V cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + d2 / (d2 - d6) * ac;
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+/// Distance between segments p1q1 and p2q2 (Ericson 5.1.9).
+double segmentDistance(const V& p1, const V& q1, const V& p2, const V& q2) {
+  const V d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0, t = 0;
+  const double c = d1.dot(r), b = d1.dot(d2), denom = a * e - b * b;
+  s = denom > 1e-20 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+  t = (b * s + f) / e;
+  if (t < 0) {
+    t = 0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1) {
+    t = 1;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return ((p1 + d1 * s) - (p2 + d2 * t)).norm();
+}
+
+/// Whether segment pq meets the solid axis-aligned box [-h, h] (slab clipping).
+bool segmentHitsBox(const V& p, const V& q, const V& h) {
+  double t0 = 0, t1 = 1;
+  const V d = q - p;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) < 1e-15) {
+      if (std::abs(p[k]) > h[k]) return false;
+      continue;
+    }
+    double a = (-h[k] - p[k]) / d[k], b = (h[k] - p[k]) / d[k];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+/// Whether segment pq meets triangle abc (distance-based, exact up to rounding).
+bool segmentHitsTriangle(const V& p, const V& q, const V& a, const V& b, const V& c) {
+  const V n = (b - a).cross(c - a);
+  const double dp = n.dot(p - a), dq = n.dot(q - a);
+  if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) return false;
+  if (dp == dq) return false;  // parallel: edges are handled by the other tests
+  const V x = p + (q - p) * (dp / (dp - dq));
+  return (closestOnTriangle(x, a, b, c) - x).norm() < 1e-12;
+}
+
+/// Exact distance between a box (local frame: centred, half extents h) and a triangle given
+/// in the box frame; 0 when they intersect.
+double boxTriangleDistance(const V& h, const std::array<V, 3>& tri) {
+  std::array<V, 8> corners;
+  for (int i = 0; i < 8; ++i)
+    corners[i] = V(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+  std::vector<std::pair<int, int>> edges;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k)
+      if (!(i & (1 << k))) edges.emplace_back(i, i | (1 << k));
+  for (int e = 0; e < 3; ++e)
+    if (segmentHitsBox(tri[e], tri[(e + 1) % 3], h)) return 0.0;
+  for (const auto& [i, j] : edges)
+    if (segmentHitsTriangle(corners[i], corners[j], tri[0], tri[1], tri[2])) return 0.0;
+  double d = kInf;
+  for (const V& c : corners)
+    d = std::min(d, (closestOnTriangle(c, tri[0], tri[1], tri[2]) - c).norm());
+  for (const V& t : tri) d = std::min(d, (t - t.cwiseMax(-h).cwiseMin(h)).norm());
+  for (const auto& [i, j] : edges)
+    for (int e = 0; e < 3; ++e)
+      d = std::min(d, segmentDistance(corners[i], corners[j], tri[e], tri[(e + 1) % 3]));
+  return d;
+}
+
+TEST(CollisionScene, BoxLinkDistancesMatchBruteForce) {
+  const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
+  const int link = hand.linkIndex("panda_leftfinger");
+  const CollisionShape& shape = hand.links()[static_cast<std::size_t>(link)].shapes.front();
+  ASSERT_EQ(shape.type, ShapeType::kBox);
+  const V h = 0.5 * shape.box_size;
+  const TriangleMesh mesh = testing::makeCylinder(0.03, 0.08, 12, 2);
+  const CollisionScene scene(mesh, hand);
+  const double threshold = 0.004;
+  int separated = 0, overlapping = 0, far = 0;
+  for (int i = 0; i < 600; ++i) {
+    Rng rng(5, static_cast<std::uint64_t>(i));
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = rng.rotation().toRotationMatrix();
+    t.translation() =
+        V(rng.uniform(-0.06, 0.06), rng.uniform(-0.06, 0.06), rng.uniform(-0.07, 0.07));
+    // Oracle: exact distance over every triangle, in the box frame.
+    const Eigen::Isometry3d box = t * shape.origin;
+    const Eigen::Isometry3d inv = box.inverse();
+    double oracle = kInf;
+    for (const auto& f : mesh.faces) {
+      const std::array<V, 3> tri = {inv * mesh.vertices[static_cast<std::size_t>(f[0])],
+                                    inv * mesh.vertices[static_cast<std::size_t>(f[1])],
+                                    inv * mesh.vertices[static_cast<std::size_t>(f[2])]};
+      oracle = std::min(oracle, boxTriangleDistance(h, tri));
+    }
+    const double fast = scene.linkDistance(link, t, threshold);
+    std::vector<TriangleHit> hits;
+    const double exact = scene.linkHits(link, t, threshold, &hits);
+    SCOPED_TRACE("pose " + std::to_string(i) + " oracle " + std::to_string(oracle));
+    if (oracle == 0.0) {
+      ++overlapping;
+      EXPECT_LT(fast, 0.0);
+      EXPECT_LT(exact, 0.0);
+      EXPECT_GE(fast, exact - 1e-9);  // the fast depth is a lower bound of the deepest overlap
+      EXPECT_FALSE(hits.empty());
+    } else if (oracle <= threshold - 1e-9) {
+      ++separated;
+      EXPECT_NEAR(fast, oracle, 1e-9);
+      EXPECT_NEAR(exact, oracle, 1e-9);
+      for (const auto& hit : hits) {
+        EXPECT_GE(hit.distance, oracle - 1e-9);
+        EXPECT_LE(hit.distance, threshold);
+      }
+    } else if (oracle > threshold + 1e-9) {
+      ++far;
+      EXPECT_EQ(fast, kInf);
+      EXPECT_EQ(exact, kInf);
+      EXPECT_TRUE(hits.empty());
+    }
+  }
+  // The pose set exercises all three regimes.
+  EXPECT_GT(overlapping, 50);
+  EXPECT_GT(separated, 10);
+  EXPECT_GT(far, 50);
+}
+
+TEST(CollisionScene, InsideTestAndFaceNormals) {
+  const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
+  const int link = hand.linkIndex("panda_leftfinger");
+  const TriangleMesh mesh = testing::makeBox(0.2, 0.2, 0.2);
+  const CollisionScene scene(mesh, hand);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  // Finger wholly inside: no triangle within reach, but inside.
+  EXPECT_EQ(scene.linkDistance(link, t, 1e-3), kInf);
+  EXPECT_TRUE(scene.linkInside(link, t));
+  t.translation() = V(0.3, 0, 0);
+  EXPECT_FALSE(scene.linkInside(link, t));
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+    const V n = scene.faceNormal(static_cast<int>(f));
+    const V c = (mesh.vertices[static_cast<std::size_t>(mesh.faces[f][0])] +
+                 mesh.vertices[static_cast<std::size_t>(mesh.faces[f][1])] +
+                 mesh.vertices[static_cast<std::size_t>(mesh.faces[f][2])]) /
+                3.0;
+    EXPECT_GT(n.dot(c), 0.0);  // outward for a box centred at the origin
+    EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace taskmap

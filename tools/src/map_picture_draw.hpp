@@ -1,0 +1,65 @@
+#pragma once
+// Private drawing helpers of map_picture.cpp (cairo): colours, text, arrows, markers, and the
+// histogram and legend panels. Included only when the tool is built with cairo.
+
+#include <string>
+#include <vector>
+
+#include <cairo.h>
+#include <Eigen/Core>
+
+#include "map_summary.hpp"
+#include "taskmap/mapstore/task_map_data.hpp"
+
+namespace taskmap::cli::draw {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// RGB colour, components in [0, 1].
+struct Rgb {
+  double r, g, b;
+};
+
+constexpr Rgb kInk{0.12, 0.12, 0.12};         ///< text and outlines
+constexpr Rgb kSilhouette{0.80, 0.80, 0.80};  ///< object silhouette (0xcccccc)
+constexpr Rgb kFrame{0.55, 0.55, 0.55};       ///< panel frames
+
+/// Axis-aligned rectangle in pixels.
+struct Box {
+  double x, y, w, h;
+};
+
+/// What the panels draw.
+struct Scene {
+  const TaskMapData* map;
+  const MapSummary* summary;
+  std::vector<int> labels;  ///< per grasp, -1 outlier (all -1 when not clustered)
+  Eigen::Vector3d lo, hi;   ///< bounds of object and palm positions, metres
+  double arrow_length;      ///< metres
+};
+
+/// Colour of a cluster (clusterColor), grey for outliers (k < 0).
+Rgb rgbOf(int cluster);
+/// Sets the source colour.
+void setColor(cairo_t* cr, const Rgb& c, double alpha = 1.0);
+/// Text at (x, y) baseline; align 0 left, 0.5 centred, 1 right.
+void text(cairo_t* cr, double x, double y, const std::string& s, double size, bool bold = false,
+          double align = 0.0, const Rgb& color = kInk);
+/// printf of one number.
+std::string format(const char* fmt, double v);
+/// A "nice" number (1, 2 or 5 times a power of ten) not above x.
+double niceBelow(double x);
+/// "5 cm", "2 mm", "1 m".
+std::string lengthLabel(double metres);
+/// Arrow from (x0, y0) to (x1, y1) in colour c with a dark outline.
+void drawArrow(cairo_t* cr, double x0, double y0, double x1, double y1, const Rgb& c, double width);
+/// Representative marker: disc in the cluster colour with a dark rim; when axial (approach
+/// mostly perpendicular to the view), a dot if it points at the viewer, a cross if away.
+void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double toward_viewer,
+                        bool axial);
+/// Stacked histogram of epsilon per cluster (outliers grey on top).
+void drawHistogram(cairo_t* cr, const Scene& s, const Box& cell);
+/// Legend: cluster colours and sizes, marker meanings, map facts.
+void drawLegend(cairo_t* cr, const Scene& s, const Box& box);
+
+}  // namespace taskmap::cli::draw
