@@ -19,6 +19,10 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Contacts of one link closer than this are merged (the deepest is kept), metres.
 constexpr double kMergeRadius = 1e-3;
+/// Deepest penetration the squeeze may cause, in multiples of the squeeze distance.
+constexpr double kMaxSqueezeFactor = 2.0;
+/// Bisection steps when the squeeze has to be scaled back.
+constexpr int kSqueezeBisections = 6;
 /// Minimum cosine between a triangle's normal and the separation direction for a contact.
 constexpr double kMinNormalAgreement = 0.5;
 
@@ -435,7 +439,41 @@ GraspResult GraspSimulator::Impl::run(const Pose& initial) const {
       sc.target = closing[c].target;
       pressing.push_back(sc);
     }
+    const Eigen::VectorXd q_contact = q;
     applySqueeze(hand, palm, lp, pressing, squeeze, &q);
+    // The squeeze is first order and moves whole chains: a link farther out on a squeezed chain
+    // may press much deeper than its own contact. Scale the squeeze back (bisection) until no
+    // link moved by it presses deeper than kMaxSqueezeFactor * squeeze + tolerance.
+    std::vector<int> squeezed;
+    for (int l : shaped)
+      for (int j : drivers[static_cast<std::size_t>(l)])
+        if (q[j] != q_contact[j]) {
+          squeezed.push_back(l);
+          break;
+        }
+    const double limit = kMaxSqueezeFactor * squeeze + tol;
+    auto deepest = [&](const Eigen::VectorXd& qq) {
+      const auto poses = hand.linkPoses(qq);
+      double deep = 0.0;
+      for (int l : squeezed) {
+        std::vector<TriangleHit> hits;
+        scene->linkHits(l, palm * poses[static_cast<std::size_t>(l)], tol, &hits);
+        ++st.queries;
+        for (const auto& hh : hits)
+          if (hh.normal.dot(scene->faceNormal(hh.triangle)) >= kMinNormalAgreement)
+            deep = std::max(deep, -hh.distance);
+      }
+      return deep;
+    };
+    if (!squeezed.empty() && deepest(q) > limit) {
+      const Eigen::VectorXd full = q - q_contact;
+      double lo = 0.0, hi = 1.0;
+      for (int it = 0; it < kSqueezeBisections; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (deepest(q_contact + mid * full) > limit ? hi : lo) = mid;
+      }
+      q = q_contact + lo * full;
+    }
     lp = hand.linkPoses(q);
   }
   if (prof) {

@@ -25,6 +25,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// CPU time of the calling thread: stage shares stay meaningful on a loaded machine.
+double threadCpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -144,18 +151,18 @@ struct Worker {
 
   Trial runTrial(std::uint64_t index) {
     Trial t;
-    auto t0 = Clock::now();
+    const double t0 = threadCpuSeconds();
     const Pose initial = sampler.sample(options.seed, index);
-    auto t1 = Clock::now();
+    const double t1 = threadCpuSeconds();
     GraspResult g = simulator.simulate(initial);
-    auto t2 = Clock::now();
-    times.sampling += std::chrono::duration<double>(t1 - t0).count();
-    times.simulation += std::chrono::duration<double>(t2 - t1).count();
+    const double t2 = threadCpuSeconds();
+    times.sampling += t1 - t0;
+    times.simulation += t2 - t1;
     ++times.trials;
     t.status = g.status;
     if (g.status != GraspStatus::kOk) return t;
     const QualityResult q = evaluateGrasp(g.contacts, com, torque_scale, options.quality);
-    times.quality += secondsSince(t2);
+    times.quality += threadCpuSeconds() - t2;
     t.force_closure = q.force_closure;
     t.epsilon = q.epsilon;
     t.volume = q.volume;
@@ -314,17 +321,25 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   std::mutex finished_mutex;
   std::condition_variable finished_cv;
   int running = threads;
-  for (int w = 0; w < threads; ++w)
-    pool.emplace_back([&, w] {
-      try {
-        workers[static_cast<std::size_t>(w)].run();
-      } catch (...) {
-        scheduler.abort(std::current_exception());
-      }
+  for (int w = 0; w < threads; ++w) {
+    try {
+      pool.emplace_back([&, w] {
+        try {
+          workers[static_cast<std::size_t>(w)].run();
+        } catch (...) {
+          scheduler.abort(std::current_exception());
+        }
+        std::lock_guard<std::mutex> lock(finished_mutex);
+        --running;
+        finished_cv.notify_all();
+      });
+    } catch (...) {  // could not start a thread: stop the others, report after joining
+      scheduler.abort(std::current_exception());
       std::lock_guard<std::mutex> lock(finished_mutex);
-      --running;
-      finished_cv.notify_all();
-    });
+      running -= threads - w;
+      break;
+    }
+  }
   const auto interval = std::chrono::duration<double>(progress_interval_seconds);
   auto report = [&] {
     if (!progress) return;
@@ -333,7 +348,11 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
     p.valid_target = options.valid_target;
     p.max_trials = options.max_trials;
     p.elapsed_seconds = secondsSince(t_trials);
-    progress(p);
+    try {
+      progress(p);
+    } catch (...) {  // the workers must be joined before the exception leaves
+      scheduler.abort(std::current_exception());
+    }
   };
   {
     std::unique_lock<std::mutex> lock(finished_mutex);
@@ -354,8 +373,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   }
   const bool interrupted = stop != nullptr && stop->load() && !scheduler.done();
 
-  // ---- assemble: first valid_target force-closure grasps of the completed
-  // prefix
+  // ---- assemble: first valid_target force-closure grasps of the completed prefix
   TaskMapData& map = result.map;
   map.generator = std::string("taskmap ") + TASKMAP_VERSION;
   map.created_utc = utcNow();

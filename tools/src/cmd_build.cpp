@@ -202,7 +202,7 @@ void runBuild(const BuildArgs& args) {
   std::snprintf(line, sizeof line,
                 "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
                 "trials/s), clustering %.2f s, writing %.2f s\n"
-                "  work      sampling %s, simulation %s, quality %s (thread-seconds %.2f)\n",
+                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
                 t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
                 static_cast<unsigned long long>(t.trials_simulated),
                 trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,

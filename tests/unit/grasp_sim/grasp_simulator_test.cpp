@@ -296,8 +296,9 @@ TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
       const Eigen::Vector3d a = p.orientation * hand.approachAxis();
       const Eigen::Vector3d moved = r.pose.position - p.position;
       EXPECT_LT((moved - moved.dot(a) * a).norm(), 1e-9);
-      EXPECT_NEAR(moved.dot(a), -r.stats.retraction + (r.palm_contact ? hand.squeeze() : 0.0),
-                  r.palm_contact ? kTol : 1e-9);
+      // Retracted, then pressed by at most the squeeze plus the tolerance when the palm touched.
+      EXPECT_GE(moved.dot(a), -r.stats.retraction - 1e-9);
+      EXPECT_LE(moved.dot(a), -r.stats.retraction + hand.squeeze() + kTol + 1e-9);
       for (Eigen::Index j = 0; j < r.joints.size(); ++j) {
         EXPECT_GE(r.joints[j], lo[j]);
         EXPECT_LE(r.joints[j], hi[j]);
@@ -308,7 +309,7 @@ TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
         EXPECT_LT(basket.distanceToSurface(c.point), 1e-7);
         EXPECT_NEAR(c.normal.norm(), 1.0, 1e-12);
         EXPECT_GT(c.depth, 0.0);
-        EXPECT_LE(c.depth, 4 * hand.squeeze());
+        EXPECT_LE(c.depth, 2 * hand.squeeze() + kTol + 1e-9);
         // Just outside along the normal is outside the solid, just inside is inside.
         const auto& link = hand.links()[static_cast<std::size_t>(c.link)];
         if (link.finger >= 0)

@@ -189,7 +189,6 @@ void expectReadError(const std::string& path, const std::vector<std::string>& pa
   }
 }
 
-
 // ---- HDF5 edits for corrupt files (the test links HDF5 itself) ----
 struct File {
   explicit File(const std::string& path) : id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {

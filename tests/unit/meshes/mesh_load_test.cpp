@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -187,6 +188,22 @@ TEST(MeshLoadTest, UnknownFormat) {
   std::ofstream(path) << "this is not a mesh\n";
   const std::string msg = errorOf([&] { ObjectModel::load(path); });
   EXPECT_NE(msg.find("cannot read mesh file '" + path + "'"), std::string::npos) << msg;
+}
+
+TEST(MeshLoadTest, TruncatedFilesAreRefused) {
+  TempDir dir;
+  const ObjectModel box = ObjectModel::load(object("box"));
+  for (const auto& [format, ext] : std::vector<std::pair<MeshFormat, std::string>>{
+           {MeshFormat::kStlBinary, "stl"}, {MeshFormat::kPly, "ply"}, {MeshFormat::kOff, "off"}}) {
+    SCOPED_TRACE(ext);
+    const std::string full = dir.file("full." + ext), cut = dir.file("cut." + ext);
+    writeMesh(box.mesh(), full, format);
+    std::ifstream in(full, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+    const std::string msg = errorOf([&] { ObjectModel::load(cut); });
+    EXPECT_NE(msg.find("cut." + ext), std::string::npos) << msg;
+  }
 }
 
 TEST(MeshLoadTest, NanVertex) {

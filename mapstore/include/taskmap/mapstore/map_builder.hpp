@@ -26,17 +26,17 @@ namespace taskmap {
 
 /// Options of a build. The sampler's approach axis is taken from the hand.
 struct BuildOptions {
-  SamplerOptions sampler;            ///< sampler kind and standoff (approach_axis is overridden)
-  GraspSimOptions simulation;        ///< simulator knobs
-  QualityOptions quality;            ///< friction, cone edges, contact model
-  ClusteringOptions clustering;      ///< rotation_scale is overridden by the hand's
-  std::uint64_t seed = 1;            ///< run seed
+  SamplerOptions sampler;             ///< sampler kind and standoff (approach_axis is overridden)
+  GraspSimOptions simulation;         ///< simulator knobs
+  QualityOptions quality;             ///< friction, cone edges, contact model
+  ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
+  std::uint64_t seed = 1;             ///< run seed
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
   std::uint64_t max_trials = 200000;  ///< trial budget (>= 1)
-  int threads = 0;                   ///< worker threads; 0 = all cores
-  bool keep_invalid = false;         ///< store every completed (status ok) trial, not only FC
-  bool cluster = true;               ///< cluster the stored grasps (needs >= 2 of them)
-  std::uint64_t block_size = 16;     ///< trials per work block (>= 1); does not change results
+  int threads = 0;                    ///< worker threads; 0 = all cores
+  bool keep_invalid = false;          ///< store every completed (status ok) trial, not only FC
+  bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)
+  std::uint64_t block_size = 16;      ///< trials per work block (>= 1); does not change results
   /// Extra entries for /sampling params_json (a JSON object, e.g. file paths), merged in.
   std::string extra_params_json = "{}";
   /// Throws Error naming the option when a value is out of range.
@@ -45,23 +45,23 @@ struct BuildOptions {
 
 /// How a build ended.
 enum class BuildStatus {
-  kComplete,               ///< valid_target force-closure grasps found
-  kTrialBudgetExhausted,   ///< max_trials spent with fewer found; the map holds what was found
-  kInterrupted,            ///< the stop flag was raised; the map holds a partial prefix
+  kComplete,              ///< valid_target force-closure grasps found
+  kTrialBudgetExhausted,  ///< max_trials spent with fewer found; the map holds what was found
+  kInterrupted,           ///< the stop flag was raised; the map holds a partial prefix
 };
 
 /// "complete", "trial_budget_exhausted", "interrupted".
 const char* toString(BuildStatus status);
 
-/// Where the time went. Stage times are summed over worker threads (thread-seconds), so their
-/// shares of their sum are the shares of the work.
+/// Where the time went. Stage times are CPU seconds of the worker threads, summed over threads,
+/// so their shares of their sum are the shares of the work even on a loaded machine.
 struct BuildTiming {
   double wall_seconds = 0.0;        ///< whole buildMap call
-  double sampling_seconds = 0.0;    ///< Sampler::sample, summed over threads
-  double simulation_seconds = 0.0;  ///< GraspSimulator::simulate, summed over threads
-  double quality_seconds = 0.0;     ///< evaluateGrasp, summed over threads
-  double clustering_seconds = 0.0;  ///< clusterGrasps (one thread)
-  double setup_seconds = 0.0;       ///< building the simulator (BVH) before the trials
+  double sampling_seconds = 0.0;    ///< Sampler::sample, CPU seconds summed over threads
+  double simulation_seconds = 0.0;  ///< GraspSimulator::simulate, CPU seconds summed over threads
+  double quality_seconds = 0.0;     ///< evaluateGrasp, CPU seconds summed over threads
+  double clustering_seconds = 0.0;  ///< clusterGrasps, wall seconds (one thread)
+  double setup_seconds = 0.0;       ///< building sampler and simulator before the trials, wall
   std::uint64_t trials_simulated = 0;  ///< trials actually run, including discarded ones
 };
 
@@ -88,8 +88,7 @@ struct BuildResult {
 /// Runs the pipeline. Throws Error on invalid options. Returns kInterrupted soon after *stop
 /// becomes true (workers finish their current trial). progress_interval_seconds > 0.
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                     const ProgressCallback& progress = {},
-                     const std::atomic<bool>* stop = nullptr,
+                     const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr,
                      double progress_interval_seconds = 0.25);
 
 /// Current UTC time as ISO 8601 ("2026-11-21T12:00:00Z").
