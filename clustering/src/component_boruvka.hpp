@@ -1,14 +1,12 @@
 #pragma once
 /// @file component_boruvka.hpp
-/// Private to emst.cpp: the last Borůvka rounds, once components are few and large.
+/// Private to emst.cpp: the end of the EMST, once components are few and large.
 ///
 /// In the global kd-tree, leaves that straddle two components have boxes spanning the gap
 /// between them, so proving "no foreign point nearer than the component's best edge" visits
 /// many leaves in vain. Here every component gets its own kd-tree (tight boxes), and the
 /// shortest edge between two components is a bichromatic closest pair found by a dual-tree
-/// search between their trees, bounded by the best edges found so far. Component pairs are
-/// visited in order of their root-box distance and skipped when that bound exceeds both
-/// components' best edges.
+/// search between their trees, computed lazily by Kruskal (completeByComponents).
 
 #include <algorithm>
 #include <utility>
@@ -28,15 +26,17 @@ class ClosestPair {
               const std::vector<int>& rows_b)
       : a_(a), b_(b), rows_a_(rows_a), rows_b_(rows_b) {}
 
-  void run(EdgeKey& best) {
+  /// @param roots_distance the box distance of the two roots.
+  void run(EdgeKey& best, double roots_distance) {
     best_ = best;
-    visit(0, 0);
+    visit(0, 0, roots_distance);
     best = best_;
   }
 
  private:
-  void visit(int na, int nb) {
-    if (boxBoxDistance2(a_, na, b_, nb) > best_.d2) return;
+  /// @param lower the box distance of (na, nb), computed by the caller.
+  void visit(int na, int nb, double lower) {
+    if (lower > best_.d2) return;
     const auto& node_a = a_.nodes()[na];
     const auto& node_b = b_.nodes()[nb];
     const bool leaf_a = node_a.left < 0;
@@ -59,21 +59,25 @@ class ClosestPair {
     const bool split_a =
         leaf_b || (!leaf_a && node_a.end - node_a.begin >= node_b.end - node_b.begin);
     if (split_a) {
-      int first = node_a.left;
-      int second = node_a.right;
-      if (boxBoxDistance2(a_, second, b_, nb) < boxBoxDistance2(a_, first, b_, nb)) {
-        std::swap(first, second);
+      const double d_left = boxBoxDistance2(a_, node_a.left, b_, nb);
+      const double d_right = boxBoxDistance2(a_, node_a.right, b_, nb);
+      if (d_right < d_left) {
+        visit(node_a.right, nb, d_right);
+        visit(node_a.left, nb, d_left);
+      } else {
+        visit(node_a.left, nb, d_left);
+        visit(node_a.right, nb, d_right);
       }
-      visit(first, nb);
-      visit(second, nb);
     } else {
-      int first = node_b.left;
-      int second = node_b.right;
-      if (boxBoxDistance2(a_, na, b_, second) < boxBoxDistance2(a_, na, b_, first)) {
-        std::swap(first, second);
+      const double d_left = boxBoxDistance2(a_, na, b_, node_b.left);
+      const double d_right = boxBoxDistance2(a_, na, b_, node_b.right);
+      if (d_right < d_left) {
+        visit(na, node_b.right, d_right);
+        visit(na, node_b.left, d_left);
+      } else {
+        visit(na, node_b.left, d_left);
+        visit(na, node_b.right, d_right);
       }
-      visit(na, first);
-      visit(na, second);
     }
   }
 
@@ -85,63 +89,82 @@ class ClosestPair {
 };
 
 /// Completes a spanning forest (edges with squared lengths, endpoints as rows of points)
-/// to the minimum spanning tree by Borůvka rounds over per-component kd-trees.
+/// to the minimum spanning tree: Kruskal on the graph of the forest's components, whose
+/// edge between two components is their closest pair. Pairs enter a queue keyed by the
+/// distance of their root boxes (a lower bound); a pair popped with its lower bound is
+/// dropped if its components are joined already (its exact edge, not shorter, would be
+/// rejected then too), else its closest pair is computed and queued with the exact key. An
+/// exact key popped is the shortest remaining edge: Kruskal takes it if it joins two
+/// components. Each closest pair is computed at most once.
 template <int D>
 void completeByComponents(const PointMatrix& points, std::vector<EdgeKey>& edges) {
   const int n = static_cast<int>(points.rows());
   UnionFind uf(n);
   for (const EdgeKey& e : edges) uf.unite(e.lo, e.hi);
   int components = n - static_cast<int>(edges.size());
-  std::vector<int> comp_of(n);
+  if (components <= 1) return;
+  // Components in order of their smallest row; members in row order.
+  std::vector<int> id_of_root(n, -1);
+  std::vector<std::vector<int>> members;
+  for (int i = 0; i < n; ++i) {
+    int& id = id_of_root[uf.find(i)];
+    if (id < 0) {
+      id = static_cast<int>(members.size());
+      members.emplace_back();
+    }
+    members[id].push_back(i);
+  }
+  const int m = static_cast<int>(members.size());
+  std::vector<KdTree<D>> trees;
+  trees.reserve(m);
+  for (int c = 0; c < m; ++c) {
+    PointMatrix sub(static_cast<Eigen::Index>(members[c].size()), points.cols());
+    for (std::size_t t = 0; t < members[c].size(); ++t) sub.row(t) = points.row(members[c][t]);
+    trees.emplace_back(sub);
+  }
+  // Queue entry: key, the two components, and whether the key is exact. A lower bound sorts
+  // before an exact key of the same length (lo = hi = -1).
+  struct Entry {
+    EdgeKey key;
+    int a;
+    int b;
+    bool exact;
+  };
+  auto later = [](const Entry& x, const Entry& y) {
+    if (x.key.d2 != y.key.d2) return x.key.d2 > y.key.d2;
+    if (x.key.lo != y.key.lo) return x.key.lo > y.key.lo;
+    return x.key.hi > y.key.hi;
+  };
+  std::vector<Entry> heap;
+  heap.reserve(static_cast<std::size_t>(m) * (m - 1) / 2);
+  for (int a = 0; a < m; ++a) {
+    for (int b = a + 1; b < m; ++b) {
+      heap.push_back(
+          Entry{EdgeKey{boxBoxDistance2(trees[a], 0, trees[b], 0), -1, -1}, a, b, false});
+    }
+  }
+  std::make_heap(heap.begin(), heap.end(), later);
   while (components > 1) {
-    // Components in order of their smallest row; members in row order.
-    std::vector<int> id_of_root(n, -1);
-    std::vector<std::vector<int>> members;
-    for (int i = 0; i < n; ++i) {
-      int& id = id_of_root[uf.find(i)];
-      if (id < 0) {
-        id = static_cast<int>(members.size());
-        members.emplace_back();
-      }
-      comp_of[i] = id;
-      members[id].push_back(i);
+    assert(!heap.empty());
+    std::pop_heap(heap.begin(), heap.end(), later);
+    Entry e = heap.back();
+    heap.pop_back();
+    const int ra = members[e.a].front();
+    const int rb = members[e.b].front();
+    if (uf.find(ra) == uf.find(rb)) continue;
+    if (e.exact) {
+      uf.unite(ra, rb);
+      edges.push_back(e.key);
+      --components;
+      continue;
     }
-    const int m = static_cast<int>(members.size());
-    std::vector<KdTree<D>> trees;
-    trees.reserve(m);
-    for (int c = 0; c < m; ++c) {
-      PointMatrix sub(static_cast<Eigen::Index>(members[c].size()), points.cols());
-      for (std::size_t t = 0; t < members[c].size(); ++t) sub.row(t) = points.row(members[c][t]);
-      trees.emplace_back(sub);
-    }
-    // Component pairs by the distance of their root boxes.
-    std::vector<std::pair<double, std::pair<int, int>>> pairs;
-    pairs.reserve(static_cast<std::size_t>(m) * (m - 1) / 2);
-    for (int a = 0; a < m; ++a) {
-      for (int b = a + 1; b < m; ++b) {
-        pairs.push_back({boxBoxDistance2(trees[a], 0, trees[b], 0), {a, b}});
-      }
-    }
-    std::sort(pairs.begin(), pairs.end());
-    std::vector<EdgeKey> best(m);
-    for (const auto& entry : pairs) {
-      const int a = entry.second.first;
-      const int b = entry.second.second;
-      // Only a pair that can beat one of the two components' best edges is searched.
-      EdgeKey bound = best[a] < best[b] ? best[b] : best[a];
-      if (entry.first > bound.d2) continue;
-      ClosestPair<D> search(trees[a], members[a], trees[b], members[b]);
-      search.run(bound);
-      if (bound < best[a]) best[a] = bound;
-      if (bound < best[b]) best[b] = bound;
-    }
-    for (int c = 0; c < m; ++c) {
-      assert(best[c].lo != kNoPoint);
-      if (uf.unite(best[c].lo, best[c].hi)) {
-        edges.push_back(best[c]);
-        --components;
-      }
-    }
+    const double lower = e.key.d2;
+    e.key = EdgeKey{};
+    ClosestPair<D> search(trees[e.a], members[e.a], trees[e.b], members[e.b]);
+    search.run(e.key, lower);
+    e.exact = true;
+    heap.push_back(e);
+    std::push_heap(heap.begin(), heap.end(), later);
   }
 }
 

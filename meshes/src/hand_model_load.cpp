@@ -148,6 +148,38 @@ double number(const json& j, const std::string& where) {
   return v;
 }
 
+/// Largest distance from the origin to a point of shape `s` placed at pose `t`, metres.
+double farthestPoint(const CollisionShape& s, const Eigen::Isometry3d& t) {
+  double r = 0.0;
+  switch (s.type) {
+    case ShapeType::kBox:
+      for (int i = 0; i < 8; ++i) {
+        const Eigen::Vector3d c((i & 1 ? 0.5 : -0.5) * s.box_size.x(),
+                                (i & 2 ? 0.5 : -0.5) * s.box_size.y(),
+                                (i & 4 ? 0.5 : -0.5) * s.box_size.z());
+        r = std::max(r, (t * c).norm());
+      }
+      break;
+    case ShapeType::kCylinder:
+      // Farthest point of each end disc: axial offset and radial offset plus the radius.
+      for (double side : {-0.5, 0.5}) {
+        const Eigen::Vector3d c = t * Eigen::Vector3d(0, 0, side * s.length);
+        const Eigen::Vector3d n = t.linear().col(2);
+        const double axial = c.dot(n);
+        const double radial = (c - axial * n).norm() + s.radius;
+        r = std::max(r, std::hypot(axial, radial));
+      }
+      break;
+    case ShapeType::kSphere:
+      r = t.translation().norm() + s.radius;
+      break;
+    case ShapeType::kConvex:
+      for (const auto& p : s.points) r = std::max(r, (t * p).norm());
+      break;
+  }
+  return r;
+}
+
 }  // namespace
 
 struct HandModelBuilder {
@@ -517,12 +549,13 @@ HandModel HandModelBuilder::build(const std::string& urdf_path, const std::strin
     l = std::max(l, std::abs(j.multiplier) * lever);
   }
 
-  // Reach and rotation scale from the open hand.
+  // Reach and rotation scale from the open hand: the farthest point of any (finger) shape
+  // from the palm origin.
   const auto poses = h.linkPoses(h.preshape_);
   double reach = 0.0, finger_reach = 0.0;
   for (std::size_t li = 0; li < h.links_.size(); ++li)
     for (const auto& s : h.links_[li].shapes) {
-      const double r = (poses[li] * s.origin).translation().norm() + s.boundingRadius();
+      const double r = farthestPoint(s, poses[li] * s.origin);
       reach = std::max(reach, r);
       if (h.links_[li].finger >= 0) finger_reach = std::max(finger_reach, r);
     }

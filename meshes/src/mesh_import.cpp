@@ -138,11 +138,42 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const unsigned int flags = aiProcess_Triangulate | aiProcess_RemoveComponent |
-                             aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+  // Two passes: read and validate, then (after making each mesh's primitive-type flags agree
+  // with its faces: Debian's assimp aborts on an ai_assert when a truncated file leaves them
+  // inconsistent) triangulate and strip what a solid does not need.
   const aiScene* scene = nullptr;
   try {
-    scene = importer.ReadFile(path, flags);
+    scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+    if (scene != nullptr) {
+      auto* writable = const_cast<aiScene*>(scene);
+      for (unsigned int m = 0; m < writable->mNumMeshes; ++m) {
+        aiMesh* mesh = writable->mMeshes[m];
+        if (mesh == nullptr) continue;
+        unsigned int types = 0;
+        for (unsigned int f = 0; f < mesh->mNumFaces; ++f) {
+          const unsigned int n = mesh->mFaces[f].mNumIndices;
+          if (n == 0 || mesh->mFaces[f].mIndices == nullptr) {
+            throw Error("cannot read mesh file '" + path + "': face " + std::to_string(f) +
+                        " has no vertices (truncated or corrupt file)");
+          }
+          types |= n == 1   ? aiPrimitiveType_POINT
+                   : n == 2 ? aiPrimitiveType_LINE
+                   : n == 3 ? aiPrimitiveType_TRIANGLE
+                            : aiPrimitiveType_POLYGON;
+          for (unsigned int k = 0; k < n; ++k) {
+            if (mesh->mFaces[f].mIndices[k] >= mesh->mNumVertices) {
+              throw Error("cannot read mesh file '" + path + "': face " + std::to_string(f) +
+                          " references a missing vertex (truncated or corrupt file)");
+            }
+          }
+        }
+        mesh->mPrimitiveTypes = types;
+      }
+      scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_RemoveComponent |
+                                           aiProcess_SortByPType);
+    }
+  } catch (const Error&) {
+    throw;
   } catch (const std::exception& e) {
     throw Error("cannot read mesh file '" + path + "': " + e.what());
   } catch (...) {

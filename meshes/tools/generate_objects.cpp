@@ -3,11 +3,14 @@
 // Primitives are built as closed, outward-oriented triangle meshes; the mug and the basket are
 // real unions/differences computed with CGAL corefinement on an exact kernel, so every object
 // is ONE closed manifold solid. Dimensions are documented in meshes/objects/README.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iterator>
+#include <numeric>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -223,8 +226,36 @@ void check(const TriangleMesh& m, const std::string& name) {
   }
 }
 
-void emit(const TriangleMesh& raw, const std::string& dir, const std::string& name,
+/// Vertices sorted by coordinates, faces rotated to start at their smallest index and sorted:
+/// the file does not depend on the order in which corefinement created elements.
+TriangleMesh canonical(const TriangleMesh& in) {
+  std::vector<int> order(in.vertices.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const auto& p = in.vertices[a];
+    const auto& q = in.vertices[b];
+    return std::make_tuple(p.x(), p.y(), p.z(), a) < std::make_tuple(q.x(), q.y(), q.z(), b);
+  });
+  std::vector<int> index(in.vertices.size());
+  TriangleMesh out;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    index[order[i]] = static_cast<int>(i);
+    out.vertices.push_back(in.vertices[order[i]]);
+  }
+  for (const auto& f : in.faces) {
+    Eigen::Vector3i g(index[f[0]], index[f[1]], index[f[2]]);
+    while (g[0] > g[1] || g[0] > g[2]) g = Eigen::Vector3i(g[1], g[2], g[0]);
+    out.faces.push_back(g);
+  }
+  std::sort(out.faces.begin(), out.faces.end(), [](const auto& a, const auto& b) {
+    return std::make_tuple(a[0], a[1], a[2]) < std::make_tuple(b[0], b[1], b[2]);
+  });
+  return out;
+}
+
+void emit(const TriangleMesh& unordered, const std::string& dir, const std::string& name,
           const std::string& description) {
+  const TriangleMesh raw = canonical(unordered);
   // The file is read back as float32 (assimp): check the rounded mesh, and remove slivers
   // only if rounding folded something. The final word is the ObjectModel::load check below.
   TriangleMesh rounded = raw;

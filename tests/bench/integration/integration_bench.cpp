@@ -235,6 +235,23 @@ void BM_EvaluateTaskMapFlann(benchmark::State& s) {
   });
   s.counters["terms"] = static_cast<double>(terms) / static_cast<double>(calls);
 }
+// The same map with a looser truncation tolerance (fewer mixture terms, larger reported bound).
+void BM_EvaluateTaskMapFlannTol5e2(benchmark::State& s) {
+  Fixture& f = fx();
+  static const TaskMap loose = [] {
+    TaskMapOptions o;
+    o.quality_tolerance = 5e-2;
+    return TaskMap::fromData(testing::syntheticMap(kSamples, 99), o);
+  }();
+  std::size_t terms = 0, calls = 0;
+  timed(s, "evaluate/taskmap(flann,tol=5e-2)", [&](std::size_t i) {
+    Evaluation e = loose.evaluate(f.queries[i]);
+    terms += e.quality.terms;
+    ++calls;
+    return e.cost();
+  });
+  s.counters["terms"] = static_cast<double>(terms) / static_cast<double>(calls);
+}
 void BM_EvaluateNanoflann(benchmark::State& s) {
   Fixture& f = fx();
   timed(s, "evaluate/nanoflann", [&](std::size_t i) { return f.nanoEvaluate(i).cost(); });
@@ -269,6 +286,7 @@ void BM_NearestBruteForce(benchmark::State& s) {
 
 // Argument: 0 = mixed query set, 1 = near query set.
 BENCHMARK(BM_EvaluateTaskMapFlann)->Arg(0)->Arg(1)->Iterations(20000);
+BENCHMARK(BM_EvaluateTaskMapFlannTol5e2)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_EvaluateNanoflann)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_EvaluateBruteForce)->Arg(0)->Iterations(200);
 BENCHMARK(BM_NearestTaskMapFlann)->Arg(0)->Arg(1)->Iterations(20000);
@@ -316,7 +334,8 @@ int main(int argc, char** argv) {
   for (const char* kind : {"evaluate", "nearest"}) {
     for (const char* set : {"[mixed]", "[near]"}) {
       const std::string base = std::string(kind) + "/taskmap(flann)" + set;
-      for (const char* impl : {"/taskmap(flann)", "/nanoflann", "/brute"})
+      for (const char* impl :
+           {"/taskmap(flann)", "/taskmap(flann,tol=5e-2)", "/nanoflann", "/brute"})
         ratio((std::string(kind) + impl + set).c_str(), base.c_str());
     }
     // Brute force is independent of the query set: also against the near-set TaskMap.

@@ -84,6 +84,10 @@ TEST(HandModel, PandaKinematicsAndDimensions) {
   EXPECT_NEAR(clamped[static_cast<std::size_t>(right)].translation().y(), 0.0, 1e-12);
   EXPECT_THROW(h.linkPoses(Eigen::VectorXd::Zero(3)), Error);
   EXPECT_DOUBLE_EQ(h.squeeze(), 0.001);
+  // Farthest finger point in the open preshape: pad corner (0.01, 0.052, 0.045).
+  EXPECT_NEAR(h.rotationScale(), std::sqrt(0.01 * 0.01 + 0.052 * 0.052 + 0.045 * 0.045), 1e-12);
+  // Farthest hand point: a corner of the 0.06 x 0.20 x 0.0584 body, 0.0584 below the palm.
+  EXPECT_NEAR(h.reach(), std::sqrt(0.03 * 0.03 + 0.1 * 0.1 + 0.0584 * 0.0584), 1e-12);
 }
 
 TEST(HandModel, BarrettMimicSpreadAndFingerLength) {

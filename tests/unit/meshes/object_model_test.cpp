@@ -94,7 +94,7 @@ TEST(ObjectModelTest, InsideSamplesAreInsideByTheWindingNumberOracle) {
     SCOPED_TRACE(name);
     const ObjectModel model = ObjectModel::load(object(name));
     Rng rng(7, 1);
-    for (int i = 0; i < 150; ++i) {
+    for (int i = 0; i < 400; ++i) {
       const Eigen::Vector3d p = model.sampleInside(rng);
       ASSERT_GT(windingNumber(model.mesh(), p), 0.5) << p.transpose();
     }
@@ -111,7 +111,7 @@ TEST(ObjectModelTest, ContainsAgreesWithTheWindingNumberOracle) {
     const Eigen::Vector3d lo = m.bounds_min.array() - 0.01, hi = m.bounds_max.array() + 0.01;
     Rng rng(11, 2);
     int inside = 0;
-    for (int i = 0; i < 600; ++i) {
+    for (int i = 0; i < 1500; ++i) {
       const Eigen::Vector3d p(rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()),
                               rng.uniform(lo.z(), hi.z()));
       const double w = windingNumber(model.mesh(), p);

@@ -39,10 +39,12 @@ TEST(PoseTest, EmbeddingDistanceEqualsPoseDistance) {
     Pose a{rng.direction() * rng.uniform(), rng.rotation()};
     Pose b{rng.direction() * rng.uniform(), rng.rotation()};
     // Brute-force oracle: geodesic angle from the relative rotation matrix.
-    const Eigen::Matrix3d rel = a.orientation.toRotationMatrix().transpose() * b.orientation.toRotationMatrix();
+    const Eigen::Matrix3d rel =
+        a.orientation.toRotationMatrix().transpose() * b.orientation.toRotationMatrix();
     const double theta = std::acos(std::clamp((rel.trace() - 1.0) / 2.0, -1.0, 1.0));
     const double chord = 2.0 * std::sin(theta / 2.0);
-    const double expected = std::sqrt((a.position - b.position).squaredNorm() + rho * rho * chord * chord);
+    const double expected =
+        std::sqrt((a.position - b.position).squaredNorm() + rho * rho * chord * chord);
     EXPECT_NEAR(poseDistance(a, b, rho), expected, 1e-7);
     EXPECT_NEAR((embedPose(a, rho) - embedPose(b, rho)).norm(), expected, 1e-7);
     EXPECT_NEAR(rotationAngle(a.orientation, b.orientation), theta, 1e-6);
@@ -70,7 +72,8 @@ TEST(PoseTest, LogExpRoundTripAndJacobian) {
     for (int k = 0; k < 3; ++k) {
       Eigen::Vector3d e = Eigen::Vector3d::Zero();
       e[k] = h;
-      const Eigen::Vector3d fd = (rotationLog(r * rotationExp(e)) - rotationLog(r * rotationExp(-e))) / (2 * h);
+      const Eigen::Vector3d fd =
+          (rotationLog(r * rotationExp(e)) - rotationLog(r * rotationExp(-e))) / (2 * h);
       EXPECT_NEAR((fd - jinv.col(k)).norm(), 0.0, 1e-6);
     }
   }

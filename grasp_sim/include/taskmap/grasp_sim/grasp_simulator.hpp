@@ -19,12 +19,18 @@
 /// Closing (GraspIt!'s autoGrasp): every closing joint moves toward its closed limit at its
 /// relative speed; coarse steps move no point of the hand by more than half the thinnest moving
 /// link, a step that ends in penetration is bisected until the touching link is within
-/// contact_tolerance; a touching link stops every joint that moves it, distal joints keep
-/// closing; joints stop at their limits. Each joint stopped by a contact is then advanced so
-/// that its contact point presses the squeeze distance into the object.
+/// contact_tolerance; a link touching the object (or another hand link it can collide with)
+/// stops every joint that moves it, distal joints keep closing; joints stop at their limits.
+/// Squeeze: each joint stopped by an object contact is advanced so that its contact point is
+/// pressed the squeeze distance into the object (first order, proximal joints first, a distal
+/// joint adding only what its ancestors did not press); when that presses some link of a
+/// squeezed chain deeper than twice the squeeze plus the tolerance, the whole squeeze is scaled
+/// back (bisection) to that bound.
 ///
-/// Contacts: every triangle a link penetrates after the squeeze (depth > 0), merged per link
-/// within 1 mm; point on the object surface, the triangle's outward normal.
+/// Contacts: every triangle a link penetrates after the squeeze (depth > 0) whose outward normal
+/// is within 60 degrees of the separation direction (a side face under a palm lying on the top
+/// face is no contact), merged per link within 1 mm keeping the deepest; point on the object
+/// surface, the triangle's outward normal, depth = the EPA penetration depth.
 
 #include <memory>
 #include <string>
@@ -66,7 +72,9 @@ struct GraspSimOptions {
   double squeeze = -1.0;
   /// When false, a hand whose fingers touch first still closes (finger-first contact).
   bool require_palm_contact = true;
-  /// Check hand self-collision in the final state.
+  /// Self-collision: hand links that touch each other while closing stop like object contacts,
+  /// and a final state with links penetrating each other is kSelfCollision. Pairs fixed to the
+  /// palm together, parent/child pairs and pairs already touching in the preshape are exempt.
   bool check_self_collision = true;
   /// Upper bound on closing steps (coarse steps plus bisections) per trial.
   int max_closing_steps = 4000;

@@ -80,10 +80,13 @@ class HandModel {
   const std::string& sidecarPath() const;       ///< the sidecar file read
   std::vector<std::string> jointNames() const;  ///< actuated joints: order of every joint vector
   Eigen::VectorXd preshape() const;             ///< open preshape, one value per joint name
-  Eigen::Vector3d approachAxis()
-      const;                     ///< unit, palm frame: direction the hand moves toward the object
-  double rotationScale() const;  ///< palm-to-fingertip length in metres (rho hint)
-  double reach() const;          ///< bounding radius of the open hand about the palm origin, metres
+  /// Unit, palm frame: direction the hand moves toward the object.
+  Eigen::Vector3d approachAxis() const;
+  /// Palm-to-fingertip length in metres (rho hint): the sidecar's rotation_scale, else the
+  /// largest distance from the palm origin to a point of a finger link in the preshape.
+  double rotationScale() const;
+  /// Radius of the sphere about the palm origin that contains the open hand (preshape), metres.
+  double reach() const;
 
   /// Lower limits of the actuated joints (jointNames() order), radians or metres.
   Eigen::VectorXd lowerLimits() const;
