@@ -1,23 +1,29 @@
-// Euclidean minimum spanning tree by Borůvka's algorithm over a kd-tree.
+// Euclidean minimum spanning tree: dual-tree Borůvka over a kd-tree, finished by Kruskal
+// over per-component kd-trees (component_boruvka.hpp).
 //
 // Why our own kd-tree and not FLANN's: every Borůvka round asks, for each point, "nearest
 // neighbour NOT in my component". FLANN's exact kd-tree (KDTreeSingleIndex) only answers
 // plain k-NN / radius queries; filtering by component would need k to grow until a foreign
 // point shows up, which degenerates to O(n) per query once components are large. Here each
-// node knows whether all its points lie in one component, so whole subtrees of the query's
-// own component are pruned, and the search is bounded by the best edge found so far for the
-// component. Both prunings need access to the tree's nodes, which FLANN does not expose.
+// node knows whether all its points lie in one component, so pairs of nodes inside one
+// component are pruned, and each query is bounded by its component's best edge so far (the
+// dual-tree bound of March, Ram and Gray, "Fast Euclidean minimum spanning tree", KDD 2010).
+// Both prunings need the tree's nodes, which FLANN does not expose. The brute-force O(n^2)
+// Prim oracle in tests/unit/clustering/linkage_test.cpp checks the result.
 //
-// Two facts keep later rounds cheap:
-//  * a point's nearest foreign neighbour, once found exactly, stays its nearest foreign
-//    neighbour while that neighbour remains foreign (the own component only grows, so the
-//    candidate set only shrinks) -- it is cached across rounds;
-//  * a query is bounded by its component's best edge so far; a bounded query that finds
-//    something has found the exact nearest foreign neighbour (anything nearer would have
-//    been inside the bound), so it may be cached too.
+// Phases:
+//  1. k nearest neighbours of every point (kNeighbours): the first foreign entry of a
+//     point's list is its exact nearest foreign point, which answers the first rounds
+//     without tree searches; an exhausted list gives a lower bound.
+//  2. Dual-tree Borůvka rounds. A point's exact nearest foreign point stays exact while that
+//     point stays foreign (the own component only grows), so it is cached across rounds;
+//     a bounded search that finds nothing raises the point's lower bound, and a point whose
+//     lower bound exceeds its component's best edge is not searched.
+//  3. Once few components remain (kComponentPhase), Kruskal over closest pairs between
+//     per-component trees (component_boruvka.hpp), whose boxes are tight.
 // Ties are broken by a strict total order on edges (d^2, min index, max index), which makes
 // the MST unique and Borůvka's simultaneous merges cycle-free. The result depends neither on
-// the processing order nor on the cached state, only on the points.
+// the processing order, the cached state nor the thread count, only on the points.
 
 #include <algorithm>
 #include <cassert>

