@@ -33,6 +33,10 @@ void ClusteringOptions::validate() const {
     throw Error("clustering option min_size_fraction must be in [0, 1], got " +
                 std::to_string(min_size_fraction));
   }
+  if (!(outlier_budget >= 0.0 && outlier_budget <= 1.0)) {
+    throw Error("clustering option outlier_budget must be a share in [0, 1], got " +
+                std::to_string(outlier_budget));
+  }
   if (min_size < 0) {
     throw Error("clustering option min_size must be >= 0 (0: use min_size_fraction), got " +
                 std::to_string(min_size));
@@ -88,6 +92,36 @@ double defaultThreshold(const LinkageMatrix& linkage, int min_size) {
   const double root_core = core[rows - 1];
   if (root_core > 0.0 && top >= kMinGapRatio * root_core) return std::sqrt(root_core * top);
   return top;
+}
+
+double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outlier_budget) {
+  detail::validateLinkage(linkage, "coverageThreshold");
+  if (!(outlier_budget >= 0.0 && outlier_budget <= 1.0)) {
+    throw Error("coverageThreshold: outlier_budget must be a share in [0, 1], got " +
+                std::to_string(outlier_budget));
+  }
+  const Eigen::Index rows = linkage.rows();
+  if (rows == 0) return 0.0;
+  const Eigen::Index n = rows + 1;
+  const double m = std::max(1, min_size);
+  // Points needed in clusters of >= m; the small epsilon keeps 0.9 * 1000 at 900.
+  const double needed = std::ceil((1.0 - outlier_budget) * static_cast<double>(n) - 1e-9);
+  double covered = m <= 1.0 ? static_cast<double>(n) : 0.0;
+  if (covered >= needed) return 0.0;
+  auto size_of = [&](Eigen::Index id) { return id < n ? 1.0 : linkage(id - n, 3); };
+  for (Eigen::Index k = 0; k < rows; ++k) {
+    const double a = size_of(static_cast<Eigen::Index>(linkage(k, 0)));
+    const double b = size_of(static_cast<Eigen::Index>(linkage(k, 1)));
+    if (a + b >= m) covered += (a < m ? a : 0.0) + (b < m ? b : 0.0);
+    if (covered >= needed) return linkage(k, 2);
+  }
+  assert(false && "the root cluster covers every point");
+  return linkage(rows - 1, 2);
+}
+
+double defaultCut(const LinkageMatrix& linkage, int min_size, double outlier_budget) {
+  return std::max(defaultThreshold(linkage, min_size),
+                  coverageThreshold(linkage, min_size, outlier_budget));
 }
 
 namespace {
@@ -181,8 +215,9 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
     // The distance of the last merge applied (0 when none is).
     result.threshold = n - k > 0 ? linkage(n - k - 1, 2) : 0.0;
   } else {
-    result.threshold =
-        options.threshold ? *options.threshold : defaultThreshold(linkage, result.min_size);
+    result.threshold = options.threshold
+                           ? *options.threshold
+                           : defaultCut(linkage, result.min_size, options.outlier_budget);
     raw = cutAtDistance(linkage, result.threshold);
   }
 
@@ -206,12 +241,21 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
   return result;
 }
 
+Linkage resolveMethod(const ClusteringOptions& options, int n) {
+  if (options.method != Linkage::kSingle && options.fallback_to_single &&
+      n > kMaxPairwiseLinkagePoints) {
+    return Linkage::kSingle;
+  }
+  return options.method;
+}
+
 ClusteringResult clusterGrasps(const std::vector<Pose>& poses, const std::vector<double>& epsilon,
                                const ClusteringOptions& options) {
   options.validate();
   checkInputs(poses, epsilon, "clusterGrasps");
   const auto n = static_cast<Eigen::Index>(poses.size());
   LinkageMatrix linkage(n > 0 ? n - 1 : 0, 4);
+  const Linkage method = resolveMethod(options, static_cast<int>(n));
   if (n >= 2) {
     PointMatrix points(n, kEmbeddingDim);
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -219,9 +263,11 @@ ClusteringResult clusterGrasps(const std::vector<Pose>& poses, const std::vector
       p.orientation.normalize();
       points.row(i) = embedPose(p, options.rotation_scale).transpose();
     }
-    linkage = computeLinkage(points, options.method);
+    linkage = computeLinkage(points, method);
   }
-  return clusterFromLinkage(poses, epsilon, linkage, options);
+  ClusteringOptions used = options;
+  used.method = method;
+  return clusterFromLinkage(poses, epsilon, linkage, used);
 }
 
 }  // namespace taskmap

@@ -19,7 +19,7 @@ namespace {
 
 /// Largest point count for the O(n^2)-memory methods (a condensed matrix of 2e4 points
 /// takes 1.6 GB).
-constexpr int kMaxChainPoints = 20000;
+constexpr int kMaxChainPoints = kMaxPairwiseLinkagePoints;
 
 }  // namespace
 

@@ -225,7 +225,9 @@ std::string paramsJson(const BuildOptions& o, int threads, const HandModel& hand
   j["require_palm_contact"] = o.simulation.require_palm_contact;
   j["check_self_collision"] = o.simulation.check_self_collision;
   j["max_closing_steps"] = o.simulation.max_closing_steps;
-  j["cluster_method"] = toString(o.clustering.method);
+  j["cluster_method"] = toString(o.clustering.method);  // requested; /clustering has the one used
+  j["cluster_fallback_to_single"] = o.clustering.fallback_to_single;
+  j["cluster_outlier_budget"] = o.clustering.outlier_budget;
   j["cluster_min_size_fraction"] = o.clustering.min_size_fraction;
   j["cluster_min_size"] = o.clustering.min_size;
   if (o.clustering.threshold) j["cluster_threshold"] = *o.clustering.threshold;

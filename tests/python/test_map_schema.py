@@ -185,7 +185,7 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(lk.shape, (n - 1, 4))
             self.assertEqual(lk[-1, 3], n)
             a = f["clustering"].attrs
-            self.assertEqual(a["method"], "single")
+            self.assertEqual(a["method"], "average")
             self.assertEqual(a["rotation_scale"], f["grasps"].attrs["rotation_scale"])
             self.assertGreater(a["threshold"], 0)
             self.assertGreaterEqual(int(a["min_size"]), 0)

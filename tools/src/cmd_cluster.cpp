@@ -20,7 +20,8 @@ struct ClusterArgs {
   std::optional<double> threshold;
   std::optional<int> clusters;
   std::optional<int> min_size;
-  std::optional<std::string> method;  ///< default: the stored method, else single
+  std::optional<std::string> method;  ///< default: the library default (ClusteringOptions)
+  std::optional<double> outlier_budget;
   bool quiet = false;
 };
 
@@ -55,18 +56,20 @@ std::string formatSummary(const std::string& path, const ClusteringResult& c, bo
 void runCluster(const ClusterArgs& args) {
   TaskMapData map = readMap(args.map);
   ClusteringOptions options;
+  const std::size_t n = map.grasps.size();
   if (args.method) {
     options.method = linkageFromString(*args.method);
-  } else if (map.clustering) {
-    options.method = map.clustering->method;
+    options.fallback_to_single = false;  // an explicit method is used or refused
+  } else {
+    options.method = resolveMethod(options, static_cast<int>(n));
   }
+  if (args.outlier_budget) options.outlier_budget = *args.outlier_budget;
   options.threshold = args.threshold;
   options.num_clusters = args.clusters;
   if (args.min_size) options.min_size = *args.min_size;
   options.rotation_scale = map.grasps.rotation_scale;
   options.validate();
 
-  const std::size_t n = map.grasps.size();
   std::vector<Pose> poses;
   poses.reserve(n);
   for (std::size_t i = 0; i < n; ++i) poses.push_back(map.grasps.poseAt(i));
@@ -89,7 +92,9 @@ const CommandRegistrar kRegistrar("cluster", [](CLI::App& app) {
       "Re-cluster the grasps of a task map and write the labels, cluster table and dendrogram "
       "back into it. Hierarchical clustering in the pose metric of the map (its rho); the "
       "stored dendrogram is reused when the method is unchanged. Without --threshold or "
-      "--clusters the cut is at the largest relative gap of the dendrogram.");
+      "--clusters the cut is at the largest relative gap of the dendrogram between clusters of "
+      "at least the minimum size, but never below the lowest cut that leaves at most the "
+      "outlier budget of the grasps in clusters below the minimum size.");
   cmd->add_option("map", args->map, "task map (.h5), rewritten in place (atomically)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -109,8 +114,12 @@ const CommandRegistrar kRegistrar("cluster", [](CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--method", args->method,
                   "linkage: single (any size), average or complete (up to 20000 grasps). "
-                  "Default: the map's current method, else single")
+                  "Default: average, single beyond 20000 grasps")
       ->check(CLI::IsMember({"single", "average", "complete"}));
+  cmd->add_option("--outlier-budget", args->outlier_budget,
+                  "share of the grasps the default cut may leave as outliers, in [0, 1] "
+                  "(ignored with --threshold or --clusters). Default: 0.1")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args]() { runCluster(*args); });
 });

@@ -22,7 +22,7 @@ struct ImportArgs {
   double scale = 0.0;  // 0: object/scale of the file
   bool successful_only = false;
   bool no_cluster = false;
-  std::string linkage = "single";
+  std::string linkage = toString(ClusteringOptions{}.method);  // the library default
   double rotation_scale = kDefaultRotationScale;
   std::optional<double> threshold;
   std::optional<int> clusters;

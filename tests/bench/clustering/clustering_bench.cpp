@@ -82,6 +82,20 @@ void BM_SingleLinkage(benchmark::State& state) {
 BENCHMARK(BM_SingleLinkage)->Arg(10000)->Arg(20000)->Arg(100000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SingleLinkage)->Arg(1000000)->Iterations(1)->Unit(benchmark::kMillisecond);
 
+// The default method up to 20000 grasps (ClusteringOptions): average linkage, O(n^2) memory
+// and time; compare with BM_SingleLinkage at the same n in the same run.
+void BM_AverageLinkage(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const taskmap::PointMatrix points = clusteredPoses(n, 300, 1);
+  for (auto _ : state) {
+    taskmap::LinkageMatrix z = taskmap::computeLinkage(points, taskmap::Linkage::kAverage);
+    benchmark::DoNotOptimize(z.data());
+  }
+  state.counters["points"] = n;
+}
+BENCHMARK(BM_AverageLinkage)->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AverageLinkage)->Arg(20000)->Iterations(1)->Unit(benchmark::kMillisecond);
+
 void writeText(const std::string& path, const Eigen::Ref<const Eigen::MatrixXd>& m) {
   std::ofstream out(path);
   char buf[32];

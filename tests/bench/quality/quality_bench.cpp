@@ -55,14 +55,29 @@ void runGrasps(benchmark::State& state, bool global_lock) {
                          benchmark::Counter::kAvgThreads);
 }
 
-void BM_EvaluateGrasp(benchmark::State& state) { runGrasps(state, false); }
-void BM_EvaluateGraspGlobalMutex(benchmark::State& state) { runGrasps(state, true); }
+void BM_EvaluateGrasp(benchmark::State& state) {
+  runGrasps(state, false);
+}
+void BM_EvaluateGraspGlobalMutex(benchmark::State& state) {
+  runGrasps(state, true);
+}
 
 BENCHMARK(BM_EvaluateGrasp)
-    ->Arg(2)->Arg(3)->Arg(4)->Arg(6)->Arg(10)
-    ->Unit(benchmark::kMicrosecond)->UseRealTime()->Threads(1)->Threads(2);
+    ->Arg(2)
+    ->Arg(3)
+    ->Arg(4)
+    ->Arg(6)
+    ->Arg(10)
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime()
+    ->Threads(1)
+    ->Threads(2);
 BENCHMARK(BM_EvaluateGraspGlobalMutex)
-    ->Arg(4)->Unit(benchmark::kMicrosecond)->UseRealTime()->Threads(1)->Threads(2);
+    ->Arg(4)
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime()
+    ->Threads(1)
+    ->Threads(2);
 
 }  // namespace
 

@@ -155,10 +155,17 @@ TEST(ClusterGrasps, CutsByCountAndThresholdAndMinSize) {
   for (int i = 0; i < 130; ++i) EXPECT_EQ(singles.labels[i], i);  // equal sizes: index order
   ClusteringOptions big;
   big.min_size = 45;
+  big.outlier_budget = 1.0;  // gap rule alone: the two blobs below 45 become outliers
   const ClusteringResult only_big = clusterGrasps(g.poses, g.epsilon, big);
   ASSERT_EQ(only_big.clusters.size(), 1u);
   EXPECT_EQ(only_big.clusters[0].size, 60);
   for (int i = 0; i < 130; ++i) EXPECT_EQ(only_big.labels[i], g.blob[i] == 0 ? 0 : -1);
+  // Default budget (10 %): 70 of 130 outliers is too many, the cut rises until the two small
+  // blobs join a cluster of >= 45 (here all three blobs merge).
+  big.outlier_budget = kDefaultOutlierBudget;
+  const ClusteringResult budgeted = clusterGrasps(g.poses, g.epsilon, big);
+  ASSERT_EQ(budgeted.clusters.size(), 1u);
+  EXPECT_EQ(budgeted.clusters[0].size, 130);
 }
 
 TEST(ClusterGrasps, FromLinkageReproducesAndRecuts) {
@@ -229,6 +236,99 @@ TEST(ClusteringOptions, Validation) {
   EXPECT_EQ(resolveMinSize(o, 10), 1);
   o.min_size = 7;
   EXPECT_EQ(resolveMinSize(o, 1000), 7);
+}
+
+/// Points in clusters of >= min_size after cutting at t (brute force).
+int coveredAt(const LinkageMatrix& z, double t, int min_size) {
+  const std::vector<int> labels = cutAtDistance(z, t);
+  std::map<int, int> size;
+  for (int l : labels) ++size[l];
+  int covered = 0;
+  for (int l : labels) covered += size[l] >= min_size;
+  return covered;
+}
+
+TEST(DefaultCut, CoverageThresholdMatchesBruteForce) {
+  for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+    Rng rng(seed, 7);
+    const int n = 60 + 20 * static_cast<int>(seed);
+    PointMatrix pts(n, 3);
+    for (int i = 0; i < n; ++i) {
+      // A few blobs of varied spread plus uniform scatter.
+      const double s = i % 4 == 3 ? 1.0 : 0.05 * (1 + i % 3);
+      pts.row(i) << (i % 3) + s * rng.normal(), s * rng.normal(), s * rng.normal();
+    }
+    for (Linkage method : {Linkage::kSingle, Linkage::kAverage, Linkage::kComplete}) {
+      const LinkageMatrix z = computeLinkage(pts, method);
+      for (int m : {1, 2, 5, 12, n}) {
+        for (double budget : {0.0, 0.1, 0.37, 1.0}) {
+          const int needed = static_cast<int>(std::ceil((1.0 - budget) * n - 1e-9));
+          // Oracle: the lowest candidate cut (0 or a merge distance) reaching the coverage.
+          std::vector<double> candidates = {0.0};
+          for (Eigen::Index k = 0; k < z.rows(); ++k) candidates.push_back(z(k, 2));
+          double expected = -1.0;
+          for (double t : candidates) {
+            if (coveredAt(z, t, m) >= needed) {
+              expected = t;
+              break;
+            }
+          }
+          const double t = coverageThreshold(z, m, budget);
+          EXPECT_EQ(t, expected) << toString(method) << " m " << m << " budget " << budget;
+          EXPECT_GE(coveredAt(z, t, m), needed);
+          EXPECT_EQ(defaultCut(z, m, budget), std::max(defaultThreshold(z, m), t));
+        }
+      }
+    }
+  }
+  EXPECT_EQ(coverageThreshold(LinkageMatrix(0, 4), 3, 0.1), 0.0);
+  EXPECT_EQ(errorOf([] { coverageThreshold(LinkageMatrix(0, 4), 3, 1.5); }),
+            "coverageThreshold: outlier_budget must be a share in [0, 1], got 1.500000");
+}
+
+// The default cut on a map where the gap rule alone drops more than the outlier budget: 40
+// scattered stragglers next to two blobs of 60. Gap rule: two clusters, 40 outliers (25 %).
+// Default (budget 10 %): the cut rises until at most 16 grasps are outliers.
+TEST(DefaultCut, OutlierBudgetBoundsTheGapRule) {
+  const Grasps g = blobGrasps({60, 60}, 40, 24);
+  const int n = static_cast<int>(g.poses.size());
+  ClusteringOptions gap_only;
+  gap_only.outlier_budget = 1.0;
+  const ClusteringResult gap = clusterGrasps(g.poses, g.epsilon, gap_only);
+  EXPECT_EQ(gap.method, Linkage::kAverage);
+  EXPECT_EQ(gap.threshold, defaultThreshold(gap.linkage, gap.min_size));
+  ASSERT_EQ(gap.clusters.size(), 2u);
+  for (int i = 0; i < n; ++i) EXPECT_EQ(gap.labels[i], g.blob[i]) << "grasp " << i;
+
+  const ClusteringResult r = clusterGrasps(g.poses, g.epsilon);
+  EXPECT_EQ(r.linkage, gap.linkage);
+  EXPECT_EQ(r.min_size, gap.min_size);
+  EXPECT_EQ(r.threshold, defaultCut(r.linkage, r.min_size, kDefaultOutlierBudget));
+  EXPECT_EQ(r.threshold, coverageThreshold(r.linkage, r.min_size, kDefaultOutlierBudget));
+  EXPECT_GT(r.threshold, gap.threshold);
+  const int outliers = static_cast<int>(std::count(r.labels.begin(), r.labels.end(), -1));
+  EXPECT_LE(outliers, n / 10);
+  // The cut is the lowest with that coverage: one merge lower leaves more outliers.
+  const int k = static_cast<int>(
+      std::find(&r.linkage(0, 2), &r.linkage(0, 2) + n - 1, r.threshold) - &r.linkage(0, 2));
+  ASSERT_GT(k, 0);
+  EXPECT_LT(coveredAt(r.linkage, r.linkage(k - 1, 2), r.min_size), n - n / 10);
+}
+
+TEST(ClusteringOptions, DefaultMethodIsAverageUpToTheLimit) {
+  ClusteringOptions o;
+  EXPECT_EQ(o.method, Linkage::kAverage);
+  EXPECT_EQ(o.outlier_budget, 0.1);
+  EXPECT_EQ(resolveMethod(o, kMaxPairwiseLinkagePoints), Linkage::kAverage);
+  EXPECT_EQ(resolveMethod(o, kMaxPairwiseLinkagePoints + 1), Linkage::kSingle);
+  o.fallback_to_single = false;
+  EXPECT_EQ(resolveMethod(o, kMaxPairwiseLinkagePoints + 1), Linkage::kAverage);
+  o.method = Linkage::kComplete;
+  o.fallback_to_single = true;
+  EXPECT_EQ(resolveMethod(o, kMaxPairwiseLinkagePoints + 1), Linkage::kSingle);
+  o.outlier_budget = -0.5;
+  EXPECT_EQ(errorOf([&] { o.validate(); }),
+            "clustering option outlier_budget must be a share in [0, 1], got -0.500000");
 }
 
 TEST(ClusterGrasps, RejectsBadGrasps) {
