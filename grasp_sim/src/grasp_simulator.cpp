@@ -1,6 +1,7 @@
 // GraspSimulator: retraction, autoGrasp closing, squeeze and contact extraction on top of the
 // private CollisionScene (Bullet). Semantics are documented in grasp_simulator.hpp.
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/grasp_sim/contact_manifold.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -74,6 +75,9 @@ void GraspSimOptions::validate() const {
   if (max_closing_steps < 10)
     throw Error("GraspSimOptions.max_closing_steps must be at least 10, got " +
                 std::to_string(max_closing_steps));
+  if (max_contacts_per_link < 0)
+    throw Error("GraspSimOptions.max_contacts_per_link must be >= 0 (0 = unlimited), got " +
+                std::to_string(max_contacts_per_link));
 }
 
 struct GraspSimulator::Impl {
@@ -491,22 +495,24 @@ GraspResult GraspSimulator::Impl::run(const Pose& initial) const {
     std::stable_sort(hits.begin(), hits.end(), [](const TriangleHit& x, const TriangleHit& y) {
       return x.distance < y.distance || (x.distance == y.distance && x.triangle < y.triangle);
     });
-    std::vector<Eigen::Vector3d> kept;
+    std::vector<Contact> candidates;  // deepest first
     for (const auto& hh : hits) {
       if (!(hh.distance < 0.0)) break;
       // A triangle the link presses from the side (its separation direction far from the
       // face normal, e.g. a side face under a palm lying on the top face) is no contact.
       if (hh.normal.dot(scene->faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
       bool near = false;
-      for (const auto& k : kept)
-        if ((k - hh.point).norm() < kMergeRadius) near = true;
+      for (const auto& k : candidates)
+        if ((k.point - hh.point).norm() < kMergeRadius) near = true;
       if (near) continue;
-      kept.push_back(hh.point);
       Contact ct;
       ct.point = hh.point;
       ct.normal = scene->faceNormal(hh.triangle);
       ct.depth = -hh.distance;
       ct.link = l;
+      candidates.push_back(ct);
+    }
+    for (const auto& ct : contactManifold(candidates, opt.max_contacts_per_link)) {
       res.contacts.push_back(ct);
       if (links[u].palm) res.palm_contact = true;
       if (links[u].finger >= 0) finger_touch[static_cast<std::size_t>(links[u].finger)] = 1;

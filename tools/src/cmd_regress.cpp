@@ -38,11 +38,11 @@ void writeAtomically(const fs::path& path, const std::string& text) {
 
 void printTable(const std::vector<ComparisonRow>& rows, const std::string& object,
                 const std::string& hand) {
-  std::cout << std::left << std::setw(10) << "object" << std::setw(10) << "hand" << std::setw(30)
+  std::cout << std::left << std::setw(10) << "object" << std::setw(17) << "hand" << std::setw(30)
             << "statistic" << std::setw(34) << "golden" << std::setw(34) << "now"
             << "verdict\n";
   for (const auto& r : rows) {
-    std::cout << std::left << std::setw(10) << object << std::setw(10) << hand << std::setw(30)
+    std::cout << std::left << std::setw(10) << object << std::setw(17) << hand << std::setw(30)
               << r.statistic << std::setw(34) << r.golden << std::setw(34) << r.now
               << (r.pass ? "ok" : "FAIL") << "\n";
   }

@@ -78,6 +78,13 @@ struct GraspSimOptions {
   bool check_self_collision = true;
   /// Upper bound on closing steps (coarse steps plus bisections) per trial.
   int max_closing_steps = 4000;
+  /// Contact manifold size: at most this many contacts per link (0 = every pressed triangle).
+  /// Like Bullet's persistent manifold (4 points), the deepest contact is kept, then the ones
+  /// that span the largest patch (farthest point, largest triangle, then the point farthest
+  /// from those three). A link pressed into a finely tessellated curve otherwise yields one
+  /// contact per triangle (dozens), which adds nothing to the grasp but makes the 6-D wrench
+  /// hull of the quality stage cost seconds.
+  int max_contacts_per_link = 4;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;
   /// Throws Error naming the option when a value is out of range.
