@@ -13,7 +13,7 @@ JOBS="${TASKMAP_JOBS:-$(nproc)}"
 
 # Debian packages the project needs (one list: the set-up stays one step).
 PACKAGES=(
-  build-essential cmake ninja-build pkg-config ccache git
+  build-essential cmake ninja-build pkg-config ccache git clang-format
   libeigen3-dev libbullet-dev libflann-dev liblz4-dev libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
   libhdf5-dev libqhull-dev liburdfdom-dev libssl-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev

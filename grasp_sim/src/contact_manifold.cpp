@@ -36,7 +36,8 @@ std::vector<Contact> contactManifold(const std::vector<Contact>& candidates, int
   while (picks.size() < static_cast<std::size_t>(max_points)) {
     pickBest([&](const Eigen::Vector3d& p) {
       double nearest = std::numeric_limits<double>::infinity();
-      for (std::size_t k : picks) nearest = std::min(nearest, (p - candidates[k].point).squaredNorm());
+      for (std::size_t k : picks)
+        nearest = std::min(nearest, (p - candidates[k].point).squaredNorm());
       return nearest;
     });
   }

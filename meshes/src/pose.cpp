@@ -20,7 +20,8 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }  // namespace
 
 Pose Pose::fromVector7(const Eigen::Matrix<double, 7, 1>& v) {
-  if (!v.allFinite()) throw Error("pose has a non-finite value; give x y z qw qx qy qz as finite numbers");
+  if (!v.allFinite())
+    throw Error("pose has a non-finite value; give x y z qw qx qy qz as finite numbers");
   Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
   const double n = q.norm();
   if (n < 1e-9) throw Error("pose quaternion has zero norm; give a unit quaternion (qw qx qy qz)");
@@ -77,7 +78,8 @@ PoseEmbedding embedPose(const Pose& pose, double rho) {
 }
 
 Pose unembedPose(const PoseEmbedding& e, double rho) {
-  Eigen::Matrix3d m = Eigen::Map<const Eigen::Matrix3d>(e.tail<9>().data()) * (std::sqrt(2.0) / rho);
+  Eigen::Matrix3d m =
+      Eigen::Map<const Eigen::Matrix3d>(e.tail<9>().data()) * (std::sqrt(2.0) / rho);
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(m, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d r = svd.matrixU() * svd.matrixV().transpose();
   if (r.determinant() < 0) {

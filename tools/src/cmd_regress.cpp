@@ -55,7 +55,8 @@ int run(const RegressArgs& args) {
   const auto cases = readCases(cases_path.string());
   int failures = 0, ran = 0;
   for (const auto& c : cases) {
-    if (!args.only.empty() && std::find(args.only.begin(), args.only.end(), c.name) == args.only.end()) {
+    if (!args.only.empty() &&
+        std::find(args.only.begin(), args.only.end(), c.name) == args.only.end()) {
       continue;
     }
     ++ran;
@@ -77,8 +78,11 @@ int run(const RegressArgs& args) {
     if (args.update) {
       fs::create_directories(golden_dir);
       nlohmann::json j = toJson(now);
-      j["case"] = {{"object", c.object}, {"hand", c.hand}, {"sampler", c.sampler},
-                   {"seed", c.seed}, {"trials", c.trials}};
+      j["case"] = {{"object", c.object},
+                   {"hand", c.hand},
+                   {"sampler", c.sampler},
+                   {"seed", c.seed},
+                   {"trials", c.trials}};
       writeAtomically(golden_path, j.dump(2) + "\n");
       std::cout << "updated " << golden_path.string() << "\n";
       continue;
@@ -101,7 +105,8 @@ int run(const RegressArgs& args) {
   }
   if (ran == 0) throw Error("no regression case matched; see " + cases_path.string());
   if (args.update) {
-    std::cout << "\nregress: golden files updated for " << ran << " case(s); review `git diff " << golden_dir.string() << "`\n";
+    std::cout << "\nregress: golden files updated for " << ran << " case(s); review `git diff "
+              << golden_dir.string() << "`\n";
     return 0;
   }
   std::cout << "\nregress: " << ran << " case(s), " << failures << " statistic(s) failed\n";
@@ -110,13 +115,17 @@ int run(const RegressArgs& args) {
 
 const CommandRegistrar kRegistrar("regress", [](CLI::App& app) {
   auto args = std::make_shared<RegressArgs>();
-  auto* cmd = app.add_subcommand("regress", "Build the reference maps and compare them with golden statistics");
-  cmd->add_option("--cases", args->cases, "Case list (JSON); paths in it are relative to its folder")
+  auto* cmd = app.add_subcommand(
+      "regress", "Build the reference maps and compare them with golden statistics");
+  cmd->add_option("--cases", args->cases,
+                  "Case list (JSON); paths in it are relative to its folder")
       ->capture_default_str();
-  cmd->add_option("--golden", args->golden_dir, "Folder of golden files (default: <cases folder>/golden)");
+  cmd->add_option("--golden", args->golden_dir,
+                  "Folder of golden files (default: <cases folder>/golden)");
   cmd->add_option("--only", args->only, "Run only these cases (by name)");
   cmd->add_flag("--update", args->update, "Rewrite the golden files from this build");
-  cmd->add_option("--threads", args->threads, "Worker threads (0: all cores); results do not depend on it");
+  cmd->add_option("--threads", args->threads,
+                  "Worker threads (0: all cores); results do not depend on it");
   cmd->add_option("--friction", args->friction,
                   "Override the friction coefficient (to see the suite catch a change)");
   cmd->callback([args]() { exitCode() = run(*args); });

@@ -129,7 +129,8 @@ MapStatistics statisticsFromJson(const nlohmann::json& j, const std::string& sou
 std::vector<ComparisonRow> compareStatistics(const std::string& c, const MapStatistics& g,
                                              const MapStatistics& n) {
   std::vector<ComparisonRow> rows;
-  rows.push_back(row(c, "trials", std::to_string(g.trials), std::to_string(n.trials), g.trials == n.trials));
+  rows.push_back(
+      row(c, "trials", std::to_string(g.trials), std::to_string(n.trials), g.trials == n.trials));
   std::map<std::string, std::uint64_t> all = g.outcomes;
   for (const auto& [k, v] : n.outcomes) all.emplace(k, 0);
   for (const auto& kv : all) {
@@ -138,7 +139,8 @@ std::vector<ComparisonRow> compareStatistics(const std::string& c, const MapStat
     const auto ni = n.outcomes.count(k) ? n.outcomes.at(k) : 0;
     rows.push_back(row(c, "outcome " + k, std::to_string(gi), std::to_string(ni), gi == ni));
   }
-  rows.push_back(row(c, "valid", std::to_string(g.valid), std::to_string(n.valid), g.valid == n.valid));
+  rows.push_back(
+      row(c, "valid", std::to_string(g.valid), std::to_string(n.valid), g.valid == n.valid));
   rows.push_back(row(c, "valid rate", fmt(g.valid_rate), fmt(n.valid_rate),
                      std::abs(g.valid_rate - n.valid_rate) <= 1e-12));
   const std::pair<const char*, std::pair<double, double>> qs[] = {
@@ -161,8 +163,9 @@ std::vector<ComparisonRow> compareStatistics(const std::string& c, const MapStat
   for (std::size_t i = 0; i < k; ++i) {
     const std::string stat = "cluster " + std::to_string(i) + " representative";
     if (i >= g.representatives.size() || i >= n.representatives.size()) {
-      rows.push_back(row(c, stat, i < g.representatives.size() ? fmtPose(g.representatives[i]) : "-",
-                         i < n.representatives.size() ? fmtPose(n.representatives[i]) : "-", false));
+      rows.push_back(
+          row(c, stat, i < g.representatives.size() ? fmtPose(g.representatives[i]) : "-",
+              i < n.representatives.size() ? fmtPose(n.representatives[i]) : "-", false));
       continue;
     }
     const auto& a = g.representatives[i];
@@ -195,7 +198,8 @@ std::vector<RegressionCase> readCases(const std::string& path) {
       c.sampler = e.value("sampler", std::string("mixed"));
       c.seed = e.value("seed", std::uint64_t{1});
       c.trials = e.at("trials").get<std::uint64_t>();
-      if (c.trials == 0) throw Error(path + ": case " + c.name + " has trials = 0; give at least 1");
+      if (c.trials == 0)
+        throw Error(path + ": case " + c.name + " has trials = 0; give at least 1");
       cases.push_back(c);
     }
   } catch (const nlohmann::json::exception& e) {

@@ -28,12 +28,12 @@ struct RegressionCase {
 /// Statistics that say what a map says; what the golden files hold.
 struct MapStatistics {
   std::uint64_t trials = 0;
-  std::map<std::string, std::uint64_t> outcomes;  ///< trials per outcome status
-  std::uint64_t valid = 0;                        ///< force-closure grasps
-  double valid_rate = 0.0;                        ///< valid / trials
+  std::map<std::string, std::uint64_t> outcomes;                   ///< trials per outcome status
+  std::uint64_t valid = 0;                                         ///< force-closure grasps
+  double valid_rate = 0.0;                                         ///< valid / trials
   double epsilon_q10 = 0.0, epsilon_q50 = 0.0, epsilon_q90 = 0.0;  ///< of valid grasps
-  std::vector<int> cluster_sizes;                 ///< largest first
-  int outliers = 0;                               ///< grasps labelled -1
+  std::vector<int> cluster_sizes;                                  ///< largest first
+  int outliers = 0;                                                ///< grasps labelled -1
   std::vector<std::vector<double>> representatives;  ///< per cluster: x y z qw qx qy qz
 };
 
@@ -50,8 +50,8 @@ nlohmann::json toJson(const MapStatistics& s);
 MapStatistics statisticsFromJson(const nlohmann::json& j, const std::string& source);
 
 /// Compares now against golden with the suite's stated tolerances (see regression.cpp).
-std::vector<ComparisonRow> compareStatistics(const std::string& case_name, const MapStatistics& golden,
-                                             const MapStatistics& now);
+std::vector<ComparisonRow> compareStatistics(const std::string& case_name,
+                                             const MapStatistics& golden, const MapStatistics& now);
 
 /// Reads the case list; throws Error naming the file on a bad entry.
 std::vector<RegressionCase> readCases(const std::string& path);

@@ -33,8 +33,10 @@ TEST(ContactManifoldTest, KeepsDeepestAndSpansThePatch) {
   // 5 x 5 grid, deepest at the centre; depths fall off with the distance to it.
   std::vector<Contact> cs;
   for (int i = -2; i <= 2; ++i)
-    for (int j = -2; j <= 2; ++j) cs.push_back(at(0.01 * i, 0.01 * j, 2e-3 - 1e-4 * (i * i + j * j)));
-  std::stable_sort(cs.begin(), cs.end(), [](const Contact& a, const Contact& b) { return a.depth > b.depth; });
+    for (int j = -2; j <= 2; ++j)
+      cs.push_back(at(0.01 * i, 0.01 * j, 2e-3 - 1e-4 * (i * i + j * j)));
+  std::stable_sort(cs.begin(), cs.end(),
+                   [](const Contact& a, const Contact& b) { return a.depth > b.depth; });
   const auto m = contactManifold(cs, 4);
   ASSERT_EQ(m.size(), 4u);
   EXPECT_EQ(m[0].point, Eigen::Vector3d::Zero());  // the deepest stays, first
@@ -45,13 +47,15 @@ TEST(ContactManifoldTest, KeepsDeepestAndSpansThePatch) {
   for (const auto& c : m) has_corner |= std::abs(c.point.norm() - far) < 1e-12;
   EXPECT_TRUE(has_corner);
   // The picks span the patch: the chosen points are not collinear.
-  const Eigen::Vector3d a = m[1].point - m[0].point, b = m[2].point - m[0].point, c = m[3].point - m[0].point;
+  const Eigen::Vector3d a = m[1].point - m[0].point, b = m[2].point - m[0].point,
+                        c = m[3].point - m[0].point;
   EXPECT_GT(std::max(a.cross(b).norm(), a.cross(c).norm()), 1e-4);
 }
 
 TEST(ContactManifoldTest, SimulatorKeepsAtMostFourContactsPerLink) {
   const ObjectModel sphere = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/sphere.obj");
-  const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf");
+  const HandModel hand =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf");
   GraspSimOptions unlimited;
   unlimited.max_contacts_per_link = 0;
   const GraspSimulator sim(sphere, hand);

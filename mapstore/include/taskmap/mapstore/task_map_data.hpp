@@ -28,9 +28,9 @@ struct MapObject {
   std::string source_sha256;  ///< SHA-256 of the source mesh file ("" if none)
   double scale = 1.0;         ///< scale applied to the source file
   double volume = 0.0;        ///< m^3
-  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();  ///< metres, object frame
-  double torque_scale = 0.0;  ///< metres
-  RowMatrixXd vertices;       ///< V x 3, metres
+  Eigen::Vector3d center_of_mass = Eigen::Vector3d::Zero();               ///< metres, object frame
+  double torque_scale = 0.0;                                              ///< metres
+  RowMatrixXd vertices;                                                   ///< V x 3, metres
   Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor> faces;  ///< F x 3
 };
 
@@ -43,11 +43,11 @@ struct MapHand {
 
 /// How trials were sampled (/sampling).
 struct MapSampling {
-  std::string sampler;   ///< "volume" or "surface"
+  std::string sampler;  ///< "volume" or "surface"
   std::uint64_t seed = 0;
-  std::uint64_t trials = 0;                        ///< trials simulated
-  std::map<std::string, std::uint64_t> outcomes;   ///< trials per outcome status name
-  std::string params_json = "{}";                  ///< every build parameter, JSON object
+  std::uint64_t trials = 0;                       ///< trials simulated
+  std::map<std::string, std::uint64_t> outcomes;  ///< trials per outcome status name
+  std::string params_json = "{}";                 ///< every build parameter, JSON object
 };
 
 /// How grasps were scored (/quality).
@@ -60,17 +60,17 @@ struct MapQuality {
 /// The grasps (/grasps), one row each; contacts of grasp i are rows
 /// contact_offsets[i] .. contact_offsets[i+1]-1 of the contact arrays.
 struct MapGrasps {
-  RowMatrixXd pose;                       ///< N x 7: x y z qw qx qy qz, palm in object frame
-  RowMatrixXd joints;                     ///< N x J, radians or metres
-  std::vector<std::uint8_t> force_closure;  ///< N
-  std::vector<double> epsilon;            ///< N
-  std::vector<double> volume;             ///< N
+  RowMatrixXd pose;                           ///< N x 7: x y z qw qx qy qz, palm in object frame
+  RowMatrixXd joints;                         ///< N x J, radians or metres
+  std::vector<std::uint8_t> force_closure;    ///< N
+  std::vector<double> epsilon;                ///< N
+  std::vector<double> volume;                 ///< N
   std::vector<std::int64_t> contact_offsets;  ///< N + 1, monotone, from 0 to M
-  RowMatrixXd contact_points;             ///< M x 3, metres, object frame
-  RowMatrixXd contact_normals;            ///< M x 3, outward unit normals
-  std::vector<double> contact_depths;     ///< M, metres
-  std::vector<std::int32_t> contact_links;  ///< M, hand link index
-  bool contacts_available = true;         ///< false for imported maps without contacts
+  RowMatrixXd contact_points;                 ///< M x 3, metres, object frame
+  RowMatrixXd contact_normals;                ///< M x 3, outward unit normals
+  std::vector<double> contact_depths;         ///< M, metres
+  std::vector<std::int32_t> contact_links;    ///< M, hand link index
+  bool contacts_available = true;             ///< false for imported maps without contacts
   double rotation_scale = kDefaultRotationScale;  ///< rho of the pose metric, metres/radian
 
   /// Number of grasps.

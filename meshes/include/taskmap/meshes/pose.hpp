@@ -24,7 +24,7 @@ using Twist = Eigen::Matrix<double, 6, 1>;
 /// A rigid pose: the hand's palm frame expressed in the object frame.
 /// Position in metres; orientation a unit quaternion, q and -q being the same rotation.
 struct Pose {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();             ///< metres, object frame
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();               ///< metres, object frame
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< unit quaternion
 
   /// From (x, y, z, qw, qx, qy, qz); the quaternion is normalised. Throws Error on a
