@@ -19,23 +19,13 @@ using h5::Id;
 constexpr const char* kFormat = "taskmap";
 constexpr const char* kOutcomePrefix = "outcome_";
 
-const char* linkageName(Linkage method) {
-  switch (method) {
-    case Linkage::kSingle:
-      return "single";
-    case Linkage::kAverage:
-      return "average";
-    case Linkage::kComplete:
-      return "complete";
-  }
-  return "single";
-}
-
+/// The stored linkage name, parsed with clustering's own parser; errors name the attribute.
 Linkage linkageByName(const std::string& name) {
-  if (name == "single") return Linkage::kSingle;
-  if (name == "average") return Linkage::kAverage;
-  if (name == "complete") return Linkage::kComplete;
-  throw Error("/clustering attribute method: unknown linkage '" + name + "'");
+  try {
+    return linkageFromString(name);
+  } catch (const Error& e) {
+    throw Error(std::string("/clustering attribute method: ") + e.what());
+  }
 }
 
 RowMatrixXd toRows(const h5::Array<double>& a, std::size_t cols) {
@@ -132,7 +122,7 @@ void writeGrasps(hid_t file, const TaskMapData& map) {
   h5::writeDataset(cg, "bounds_max", h5::Type::kF64, bounds_max.data(), k, 3);
 
   Id lg = h5::createGroup(file, "clustering");
-  h5::writeAttr(lg, "method", std::string(linkageName(c.method)));
+  h5::writeAttr(lg, "method", std::string(toString(c.method)));
   h5::writeAttr(lg, "rotation_scale", c.rotation_scale);
   h5::writeAttr(lg, "threshold", c.threshold);
   h5::writeAttrInt(lg, "min_size", c.min_size);
