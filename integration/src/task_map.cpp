@@ -212,33 +212,22 @@ ProximityResult TaskMap::Impl::proximityTo(const Eigen::Vector3d& p, const Eigen
   return out;
 }
 
-namespace {
+void TaskMap::Impl::addTerm(std::size_t i, const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
+                            MixtureSum& m) const {
+  const double wi = weight[i];
+  if (wi <= 0) return;
+  const Eigen::Vector3d dp = p - pos[i];
+  const Eigen::Vector3d w = detail::relativeLog(qconj[i], q);
+  const double c = wi * std::exp(-0.5 * (dp.squaredNorm() * inv_sp2 + w.squaredNorm() * inv_sr2));
+  m.sum += c;
+  m.gp += c * dp;
+  m.gw += c * w;
+  m.included_weight += wi;
+  ++m.terms;
+}
 
-struct MixtureSum {
-  double sum = 0.0;
-  Eigen::Vector3d gp = Eigen::Vector3d::Zero();
-  Eigen::Vector3d gw = Eigen::Vector3d::Zero();  // hand frame, rotated by R at the end
-  double included_weight = 0.0;
-  std::size_t terms = 0;
-};
-
-}  // namespace
-
-QualityResult TaskMap::Impl::qualityExact(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                                          const Eigen::Matrix3d& r, const SampleSet& s) const {
-  MixtureSum m;
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const std::size_t i = s.global(k);
-    const double wi = weight[i];
-    if (wi <= 0) continue;
-    const Eigen::Vector3d dp = p - pos[i];
-    const Eigen::Vector3d w = detail::relativeLog(qconj[i], q);
-    const double c = wi * std::exp(-0.5 * (dp.squaredNorm() * inv_sp2 + w.squaredNorm() * inv_sr2));
-    m.sum += c;
-    m.gp += c * dp;
-    m.gw += c * w;
-    ++m.terms;
-  }
+QualityResult TaskMap::Impl::finish(const MixtureSum& m, const Eigen::Matrix3d& r,
+                                    const SampleSet& s) const {
   QualityResult out;
   if (s.total_weight <= 0) return out;
   const double scale = inv_z / s.total_weight;
@@ -249,30 +238,20 @@ QualityResult TaskMap::Impl::qualityExact(const Eigen::Vector3d& p, const Eigen:
   return out;
 }
 
+QualityResult TaskMap::Impl::qualityExact(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
+                                          const Eigen::Matrix3d& r, const SampleSet& s) const {
+  MixtureSum m;
+  for (std::size_t k = 0; k < s.size(); ++k) addTerm(s.global(k), p, q, m);
+  return finish(m, r, s);
+}
+
 QualityResult TaskMap::Impl::qualityOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
                                          const Eigen::Matrix3d& r, const SampleSet& s,
                                          const std::vector<IndexHit>& hits) const {
   MixtureSum m;
-  for (const auto& h : hits) {
-    const std::size_t i = s.global(h.index);
-    const double wi = weight[i];
-    if (wi <= 0) continue;
-    const Eigen::Vector3d dp = p - pos[i];
-    const Eigen::Vector3d w = detail::relativeLog(qconj[i], q);
-    const double c = wi * std::exp(-0.5 * (dp.squaredNorm() * inv_sp2 + w.squaredNorm() * inv_sr2));
-    m.sum += c;
-    m.gp += c * dp;
-    m.gw += c * w;
-    m.included_weight += wi;
-    ++m.terms;
-  }
-  QualityResult out;
+  for (const auto& h : hits) addTerm(s.global(h.index), p, q, m);
+  QualityResult out = finish(m, r, s);
   if (s.total_weight <= 0) return out;
-  const double scale = inv_z / s.total_weight;
-  out.value = -m.sum * scale;
-  out.gradient.head<3>() = (scale * inv_sp2) * m.gp;
-  out.gradient.tail<3>() = (scale * inv_sr2) * (r * m.gw);
-  out.terms = m.terms;
   // Omitted samples have embedding distance D > r_c, so Mahalanobis d >= D^2/s^2 > t_c^2.
   const double omitted = std::max(0.0, s.total_weight - m.included_weight) / s.total_weight;
   out.value_bound = value_bound_factor * omitted;

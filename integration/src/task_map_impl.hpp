@@ -51,6 +51,20 @@ struct TaskMap::Impl {
   QualityResult qualityOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
                             const Eigen::Matrix3d& r, const SampleSet& s,
                             const std::vector<detail::IndexHit>& hits) const;
+
+  /// Running sums of the quality mixture (gradient parts before normalisation).
+  struct MixtureSum {
+    double sum = 0.0;
+    Eigen::Vector3d gp = Eigen::Vector3d::Zero();
+    Eigen::Vector3d gw = Eigen::Vector3d::Zero();  ///< hand frame, rotated by R at the end
+    double included_weight = 0.0;
+    std::size_t terms = 0;
+  };
+  /// Adds the weighted Gaussian of sample i at (p, q) and its gradient parts to m.
+  void addTerm(std::size_t i, const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
+               MixtureSum& m) const;
+  /// The normalised value and object-frame gradient of an accumulated mixture.
+  QualityResult finish(const MixtureSum& m, const Eigen::Matrix3d& r, const SampleSet& s) const;
 };
 
 }  // namespace taskmap
