@@ -8,26 +8,14 @@
 #include <gtest/gtest.h>
 
 #include "taskmap/meshes/error.hpp"
+#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
 
-// Axis-aligned box [0, sx] x [0, sy] x [0, sz], outward counter-clockwise faces.
-TriangleMesh boxMesh(double sx, double sy, double sz) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i)
-    m.vertices.emplace_back((i & 1) ? sx : 0.0, (i & 2) ? sy : 0.0, (i & 4) ? sz : 0.0);
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    m.faces.emplace_back(q[0], q[1], q[2]);
-    m.faces.emplace_back(q[0], q[2], q[3]);
-  }
-  return m;
-}
-
 const ObjectModel& box() {
-  static const ObjectModel object = ObjectModel::fromMesh(boxMesh(0.4, 0.2, 0.1), "box");
+  static const ObjectModel object = ObjectModel::fromMesh(
+      testing::makeBox(0.4, 0.2, 0.1, Eigen::Vector3d(0.2, 0.1, 0.05)), "box");
   return object;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Closed, outward-oriented test solids for the grasp simulation tests and benchmarks.
+// Closed, outward-oriented test solids shared by the unit tests and benchmarks.
 
 #include <cmath>
 
@@ -7,12 +7,14 @@
 
 namespace taskmap::testing {
 
-/// Axis-aligned box centred at the origin with full extents (sx, sy, sz), metres.
-inline TriangleMesh makeBox(double sx, double sy, double sz) {
+/// Axis-aligned box with full extents (sx, sy, sz) centred at `centre`, metres.
+inline TriangleMesh makeBox(double sx, double sy, double sz,
+                            const Eigen::Vector3d& centre = Eigen::Vector3d::Zero()) {
   TriangleMesh m;
   for (int i = 0; i < 8; ++i)
-    m.vertices.emplace_back((i & 1 ? 0.5 : -0.5) * sx, (i & 2 ? 0.5 : -0.5) * sy,
-                            (i & 4 ? 0.5 : -0.5) * sz);
+    m.vertices.push_back(centre + Eigen::Vector3d((i & 1 ? 0.5 : -0.5) * sx,
+                                                  (i & 2 ? 0.5 : -0.5) * sy,
+                                                  (i & 4 ? 0.5 : -0.5) * sz));
   const int f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
                         {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
   for (const auto& t : f) m.faces.emplace_back(t[0], t[1], t[2]);
