@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "hdf5_io.hpp"
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -291,13 +292,7 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
       throw;
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write '" + path + "': rename failed (" + why + ")");
-  }
+  commitTemporaryFile(tmp, path, "cannot write '" + path + "'");
 }
 
 AcronymGrasps readAcronym(const std::string& path) {

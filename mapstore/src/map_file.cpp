@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "hdf5_io.hpp"
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
@@ -345,10 +346,7 @@ void writeMap(const std::string& path, const TaskMapData& map) {
     std::remove(tmp.c_str());
     throw Error("cannot write task map '" + path + "': " + e.what());
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write task map '" + path + "': rename from temporary file failed");
-  }
+  commitTemporaryFile(tmp, path, "cannot write task map '" + path + "'");
 }
 
 TaskMapData readMap(const std::string& path) {

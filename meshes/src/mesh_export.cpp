@@ -11,6 +11,7 @@
 #include <assimp/scene.h>
 #include <assimp/Exporter.hpp>
 
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
@@ -214,13 +215,7 @@ void exportScene(const std::string& path, const ExportScene& scene, SceneFormat 
     throw Error("cannot export '" + path + "': " + exporter.GetErrorString() +
                 "; check that the directory exists and is writable");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot export '" + path + "': rename failed (" + why + ")");
-  }
+  commitTemporaryFile(tmp, path, "cannot export '" + path + "'");
 }
 
 }  // namespace taskmap

@@ -11,31 +11,11 @@
 
 #include <Eigen/Geometry>
 
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {
-
-void writeAtomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write mesh file '" + path + "': cannot create " + tmp);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw Error("cannot write mesh file '" + path + "': write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw Error("cannot write mesh file '" + path + "': " + ec.message());
-  }
-}
 
 std::string num(double v, int precision) {
   char buf[64];
@@ -70,7 +50,8 @@ std::string objText(const TriangleMesh& mesh, const std::string& comment, int pr
 
 void writeObj(const TriangleMesh& mesh, const std::string& path, const std::string& comment,
               int precision) {
-  writeAtomically(path, objText(mesh, comment, precision));
+  writeFileAtomically(path, objText(mesh, comment, precision),
+                      "cannot write mesh file '" + path + "'");
 }
 
 void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format,
@@ -116,7 +97,7 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
         const std::uint16_t attributes = 0;
         put(&attributes, 2);
       }
-      writeAtomically(path, bytes);
+      writeFileAtomically(path, bytes, "cannot write mesh file '" + path + "'");
       return;
     }
     case MeshFormat::kPly: {
@@ -145,7 +126,7 @@ void writeMesh(const TriangleMesh& mesh, const std::string& path, MeshFormat for
       break;
     }
   }
-  writeAtomically(path, out.str());
+  writeFileAtomically(path, out.str(), "cannot write mesh file '" + path + "'");
 }
 
 }  // namespace taskmap

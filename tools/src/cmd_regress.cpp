@@ -9,6 +9,7 @@
 #include "command.hpp"
 #include "regression.hpp"
 #include "taskmap/mapstore/map_builder.hpp"
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 namespace taskmap::cli {
@@ -24,17 +25,6 @@ struct RegressArgs {
   int threads = 0;
   double friction = -1.0;  // < 0: the default of QualityOptions
 };
-
-void writeAtomically(const fs::path& path, const std::string& text) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw Error(tmp.string() + ": cannot write the golden file");
-    out << text;
-    if (!out.flush()) throw Error(tmp.string() + ": write failed");
-  }
-  fs::rename(tmp, path);
-}
 
 void printTable(const std::vector<ComparisonRow>& rows, const std::string& object,
                 const std::string& hand) {
@@ -83,7 +73,8 @@ int run(const RegressArgs& args) {
                    {"sampler", c.sampler},
                    {"seed", c.seed},
                    {"trials", c.trials}};
-      writeAtomically(golden_path, j.dump(2) + "\n");
+      writeFileAtomically(golden_path.string(), j.dump(2) + "\n",
+                          "cannot write golden file '" + golden_path.string() + "'");
       std::cout << "updated " << golden_path.string() << "\n";
       continue;
     }

@@ -11,6 +11,7 @@
 
 #include <unistd.h>
 
+#include "taskmap/meshes/atomic_file.hpp"
 #include "taskmap/meshes/error.hpp"
 
 #ifdef TASKMAP_HAVE_CAIRO
@@ -269,7 +270,6 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   checkCairo(cairo_status(cr), path);
 
   // Atomic write: temporary file beside the target, then rename.
-  const std::filesystem::path target(path);
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
   if (st != CAIRO_STATUS_SUCCESS) {
@@ -278,13 +278,7 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
     throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
                 "; check that the directory exists and is writable");
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, target, ec);
-  if (ec) {
-    const std::string why = ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write picture '" + path + "': rename failed (" + why + ")");
-  }
+  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
 }
 
 #endif  // TASKMAP_HAVE_CAIRO
