@@ -30,7 +30,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/meshes/error.hpp"
-#include "taskmap/quality/wrench_hull.hpp"
+#include "taskmap/quality/wrench_epsilon.hpp"
 
 namespace taskmap {
 namespace {
@@ -42,6 +42,18 @@ constexpr double kCovariantBasisMin = 1e-6;
 constexpr double kMinNormalNorm = 1e-9;
 /// LInf: largest Minkowski-sum size accepted.
 constexpr long long kMaxLInfWrenches = 1LL << 21;
+
+/// Scores a wrench set into `result` (status, message, force closure, epsilon, volume).
+void scoreWrenches(const WrenchMatrix& w, const QualityOptions& options, QualityResult& result) {
+  WrenchEpsilonOptions eo;
+  eo.volume = options.volume;
+  const WrenchEpsilon e = wrenchEpsilon(w, eo);
+  result.status = e.status;
+  result.message = e.message;
+  result.force_closure = e.force_closure;
+  result.epsilon = e.epsilon;
+  result.volume = e.volume;
+}
 
 bool hasPressure(const Contact& c) {
   return c.depth > 0.0;
@@ -131,6 +143,10 @@ void QualityOptions::validate() const {
       contact_model != ContactModel::kSoftFinger) {
     throw Error("QualityOptions.contact_model is not a known ContactModel value");
   }
+  if (volume != VolumeMode::kForceClosure && volume != VolumeMode::kAlways &&
+      volume != VolumeMode::kNever) {
+    throw Error("QualityOptions.volume is not a known VolumeMode value");
+  }
   if (norm != WrenchNorm::kL1 && norm != WrenchNorm::kLInf) {
     throw Error("QualityOptions.norm is not a known WrenchNorm value");
   }
@@ -215,7 +231,7 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
   }
 
   if (options.norm == WrenchNorm::kL1) {
-    summarizeHull(wrenchHull(edges), result);
+    scoreWrenches(edges, options, result);
     return result;
   }
 
@@ -254,7 +270,7 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
       digit[i] = 0;
     }
   }
-  summarizeHull(wrenchHull(sum), result);
+  scoreWrenches(sum, options, result);
   return result;
 }
 

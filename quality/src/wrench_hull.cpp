@@ -109,54 +109,54 @@ bool facetsSupport(const WrenchMatrix& wrenches, const WrenchHull& hull) {
 
 }  // namespace
 
-WrenchHull wrenchHull(const WrenchMatrix& wrenches, const WrenchHullOptions& options) {
-  WrenchHull hull;
+QualityStatus screenWrenches(const WrenchMatrix& wrenches, bool check_rank, double& scale,
+                             std::string& message) {
   const Eigen::Index n = wrenches.cols();
+  scale = 0.0;
   if (!wrenches.allFinite()) {
-    hull.status = QualityStatus::kInvalidInput;
-    hull.message = "a wrench is NaN or infinite";
-    return hull;
+    message = "a wrench is NaN or infinite";
+    return QualityStatus::kInvalidInput;
   }
-  if (n > 0) hull.scale = wrenches.colwise().norm().maxCoeff();
+  if (n > 0) scale = wrenches.colwise().norm().maxCoeff();
   if (n < kDim + 1) {
-    hull.status = QualityStatus::kDegenerate;
-    hull.message = std::to_string(n) + " wrenches cannot span 6 dimensions (7 needed)";
-    return hull;
+    message = std::to_string(n) + " wrenches cannot span 6 dimensions (7 needed)";
+    return QualityStatus::kDegenerate;
   }
   if (n > std::numeric_limits<int>::max() / kDim) {
-    hull.status = QualityStatus::kInvalidInput;
-    hull.message = "too many wrenches for qhull";
-    return hull;
+    message = "too many wrenches for qhull";
+    return QualityStatus::kInvalidInput;
   }
+  if (!check_rank) return QualityStatus::kOk;
+  // Affine rank with Eigen: singular values of the centred wrench matrix from its 6 x 6 Gram
+  // matrix (kDegenerateSpread = 1e-7 keeps the eigenvalue ratio at 1e-14, well above the Gram
+  // matrix's round-off).
+  const Eigen::Matrix<double, 6, 1> mean = wrenches.rowwise().mean();
+  WrenchMatrix centred = wrenches.colwise() - mean;
+  const double magnitude = centred.cwiseAbs().maxCoeff();
+  if (magnitude > 0.0) centred /= magnitude;  // no overflow or underflow in the Gram matrix
+  const Eigen::Matrix<double, 6, 6> gram = centred * centred.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram,
+                                                                       Eigen::EigenvaluesOnly);
+  const double lmax = eig.eigenvalues()(kDim - 1);
+  const double lmin = eig.eigenvalues()(0);
+  if (lmax > 0.0 && lmin > kDegenerateSpread * kDegenerateSpread * lmax) return QualityStatus::kOk;
+  int rank = 0;
+  for (int i = 0; i < kDim; ++i) {
+    rank += eig.eigenvalues()(i) > kDegenerateSpread * kDegenerateSpread * lmax;
+  }
+  if (!(lmax > 0.0)) rank = 0;
+  char thickness[32];
+  std::snprintf(thickness, sizeof thickness, "%.3g",
+                lmax > 0.0 ? std::sqrt(std::max(lmin, 0.0) / lmax) : 0.0);
+  message = "wrenches span an affine subspace of dimension " + std::to_string(rank) +
+            " < 6 (relative thickness " + thickness + ")";
+  return QualityStatus::kDegenerate;
+}
 
-  // Affine rank with Eigen before qhull: singular values of the centred wrench matrix from its
-  // 6 x 6 Gram matrix (kDegenerateSpread = 1e-7 keeps the eigenvalue ratio at 1e-14, well
-  // above the Gram matrix's round-off).
-  if (options.check_rank) {
-    const Eigen::Matrix<double, 6, 1> mean = wrenches.rowwise().mean();
-    WrenchMatrix centred = wrenches.colwise() - mean;
-    const double magnitude = centred.cwiseAbs().maxCoeff();
-    if (magnitude > 0.0) centred /= magnitude;  // no overflow or underflow in the Gram matrix
-    const Eigen::Matrix<double, 6, 6> gram = centred * centred.transpose();
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(gram,
-                                                                         Eigen::EigenvaluesOnly);
-    const double lmax = eig.eigenvalues()(kDim - 1);
-    const double lmin = eig.eigenvalues()(0);
-    if (!(lmax > 0.0) || lmin <= kDegenerateSpread * kDegenerateSpread * lmax) {
-      int rank = 0;
-      for (int i = 0; i < kDim; ++i) {
-        rank += eig.eigenvalues()(i) > kDegenerateSpread * kDegenerateSpread * lmax;
-      }
-      if (!(lmax > 0.0)) rank = 0;
-      hull.status = QualityStatus::kDegenerate;
-      char thickness[32];
-      std::snprintf(thickness, sizeof thickness, "%.3g",
-                    lmax > 0.0 ? std::sqrt(std::max(lmin, 0.0) / lmax) : 0.0);
-      hull.message = "wrenches span an affine subspace of dimension " + std::to_string(rank) +
-                     " < 6 (relative thickness " + thickness + ")";
-      return hull;
-    }
-  }
+WrenchHull wrenchHull(const WrenchMatrix& wrenches, const WrenchHullOptions& options) {
+  WrenchHull hull;
+  hull.status = screenWrenches(wrenches, options.check_rank, hull.scale, hull.message);
+  if (hull.status != QualityStatus::kOk) return hull;
 
   FILE* sink = silentSink();
   if (sink == nullptr) {

@@ -69,6 +69,9 @@ TEST(QualityOptionsTest, ValidateNamesTheBadOption) {
   o = {};
   o.max_linf_contacts = 0;
   expectThrowsWith([&] { o.validate(); }, "max_linf_contacts");
+  o = {};
+  o.volume = static_cast<VolumeMode>(7);
+  expectThrowsWith([&] { o.validate(); }, "volume");
   // evaluateGrasp validates too.
   o = {};
   o.cone_edges = 1;
@@ -342,7 +345,8 @@ TEST(EvaluateGraspTest, ContactsOnTwoAdjacentFacesAreNotForceClosure) {
   // For u = (e_x + e_z, 0): a top edge force f = -e_z + mu t (t _|_ e_z, |t| = 1) gives
   // u . w = -1 + mu t_x <= -0.5, a side edge -1 + mu t_z <= -0.5. All wrenches lie strictly on
   // one side of a hyperplane through the origin: not force closure. They span 6 dimensions,
-  // so the hull is built (status ok, volume > 0) and epsilon is 0.
+  // so the status is ok and epsilon 0; the volume is 0 by default (VolumeMode::kForceClosure)
+  // and positive when asked for always.
   std::vector<Contact> c;
   for (double x : {-0.03, 0.03}) c.push_back(makeContact({x, 0.01, 0.02}, {0, 0, 1}));
   for (double y : {-0.02, 0.02}) c.push_back(makeContact({0.05, y, -0.01}, {1, 0, 0}));
@@ -350,7 +354,12 @@ TEST(EvaluateGraspTest, ContactsOnTwoAdjacentFacesAreNotForceClosure) {
   EXPECT_EQ(r.status, QualityStatus::kOk) << r.message;
   EXPECT_FALSE(r.force_closure);
   EXPECT_EQ(r.epsilon, 0.0);
-  EXPECT_GT(r.volume, 0.0);
+  EXPECT_EQ(r.volume, 0.0);
+  QualityOptions always;
+  always.volume = VolumeMode::kAlways;
+  const auto v = evaluateGrasp(c, Eigen::Vector3d::Zero(), 0.05, always);
+  EXPECT_FALSE(v.force_closure);
+  EXPECT_GT(v.volume, 0.0);
 }
 
 TEST(EvaluateGraspTest, CubeWithTwentyFourFrictionlessContactsHasEpsilonOneOverSqrt3) {
@@ -498,6 +507,7 @@ TEST(EvaluateGraspTest, LInfIsTheHullOfTheMinkowskiSum) {
   o.norm = WrenchNorm::kLInf;
   o.cone_edges = 4;
   o.friction = 1.0;
+  o.volume = VolumeMode::kAlways;
   QualityOptions l1 = o;
   l1.norm = WrenchNorm::kL1;
   int closures = 0;

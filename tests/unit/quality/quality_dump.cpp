@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     taskmap::Rng rng(seed, static_cast<std::uint64_t>(s));
     const int n = 3 + s % 4;
     taskmap::QualityOptions o;
+    o.volume = taskmap::VolumeMode::kAlways;  // scipy's volume is compared for every grasp
     o.friction = rng.uniform(0.3, 1.0);
     if (s % 5 == 4) {
       o.contact_model = taskmap::ContactModel::kSoftFinger;

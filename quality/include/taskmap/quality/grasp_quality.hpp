@@ -24,6 +24,13 @@ enum class WrenchNorm {
   kLInf,  ///< convex hull of the Minkowski sum of the contacts' cone-edge sets (small sets only)
 };
 
+/// When the grasp wrench space volume is computed (it needs the whole hull, epsilon does not).
+enum class VolumeMode {
+  kForceClosure,  ///< for force-closure grasps only, 0 for the others (default)
+  kAlways,        ///< for every grasp whose wrenches span 6 dimensions
+  kNever,         ///< never (volume 0): force closure and epsilon only, the fastest
+};
+
 /// Options of the quality evaluation. Defaults follow GraspIt!.
 struct QualityOptions {
   double friction = 0.5;  ///< Coulomb friction coefficient mu, >= 0
@@ -32,6 +39,7 @@ struct QualityOptions {
   double torsional_friction = 0.0;  ///< soft finger: torsional coefficient in metres, >= 0
   WrenchNorm norm = WrenchNorm::kL1;
   int max_linf_contacts = 6;  ///< kLInf refuses larger contact sets (m^n wrenches)
+  VolumeMode volume = VolumeMode::kForceClosure;  ///< which grasps get the hull volume
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -58,8 +66,10 @@ struct QualityResult {
   std::string message;         ///< human-readable detail when status != kOk
   bool force_closure = false;  ///< origin strictly inside the grasp wrench space
   double epsilon = 0.0;        ///< distance from the origin to the nearest hull facet; 0 if not FC
-  double volume = 0.0;         ///< 6-D volume of the grasp wrench space (0 if degenerate)
-  int contacts_used = 0;       ///< contacts with pressure (depth > 0) that entered the hull
+  /// 6-D volume of the grasp wrench space (units of wrench^6); 0 when degenerate or when
+  /// QualityOptions::volume skips it (by default non-force-closure grasps)
+  double volume = 0.0;
+  int contacts_used = 0;  ///< contacts with pressure (depth > 0) that entered the hull
 };
 
 /// Scores a grasp from its contacts in the object frame.

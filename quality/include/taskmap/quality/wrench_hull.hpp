@@ -49,6 +49,13 @@ struct WrenchHullOptions {
   bool fast_pass = true;
 };
 
+/// Screens a wrench set before any hull is built. Returns kInvalidInput (a non-finite value, or
+/// too many wrenches), kDegenerate (fewer than 7 wrenches, or with `check_rank` an affine rank
+/// below 6 by kDegenerateSpread; the message gives rank and relative thickness) or kOk. Sets
+/// `scale` to the largest wrench norm (0 for an empty or non-finite set).
+QualityStatus screenWrenches(const WrenchMatrix& wrenches, bool check_rank, double& scale,
+                             std::string& message);
+
 /// Builds the convex hull of the columns of `wrenches` with reentrant qhull, its own qhT per
 /// call. First pass "Q0 FA" (no facet merging, total volume: about 2.5x faster on cone-edge
 /// sets, whose edges are exactly coplanar per contact); it is accepted only if qhull reports
