@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include <Eigen/LU>
-
 namespace taskmap {
 namespace detail {
 
@@ -26,24 +24,57 @@ std::uint64_t subRidgeKey(const std::array<int, 6>& vertex, int skip) {
   return key;
 }
 
+/// Determinant of a 6 x 6 matrix by Gaussian elimination with partial pivoting (overwrites m).
+/// Fixed-size loops: several times faster than a general LU for the many facets of a hull.
+double determinant6(double (&m)[6][6]) {
+  double det = 1.0;
+  for (int c = 0; c < 6; ++c) {
+    int pivot = c;
+    for (int r = c + 1; r < 6; ++r) {
+      if (std::abs(m[r][c]) > std::abs(m[pivot][c])) pivot = r;
+    }
+    if (m[pivot][c] == 0.0) return 0.0;
+    if (pivot != c) {
+      for (int k = c; k < 6; ++k) std::swap(m[pivot][k], m[c][k]);
+      det = -det;
+    }
+    det *= m[c][c];
+    const double inv = 1.0 / m[c][c];
+    for (int r = c + 1; r < 6; ++r) {
+      const double factor = m[r][c] * inv;
+      for (int k = c + 1; k < 6; ++k) m[r][k] -= factor * m[c][k];
+    }
+  }
+  return det;
+}
+
 }  // namespace
 
-IncrementalHull::IncrementalHull(const Points& points, double tolerance)
-    : points_(points), tolerance_(tolerance) {}
+void IncrementalHull::reset(const Points& points, double tolerance) {
+  points_ = &points;
+  tolerance_ = tolerance;
+  facets_.clear();
+  alive_.clear();
+  free_.clear();
+  stamp_ = 0;
+  inserted_ = 0;
+  created_total_ = 0;
+  failure_ = "";
+}
 
 bool IncrementalHull::initSimplex() {
-  const Eigen::Index n = points_.cols();
+  const Eigen::Index n = points_->cols();
   if (n < kDim + 1 || n >= kMaxPoints) return fail("too few or too many points");
   is_vertex_.assign(static_cast<std::size_t>(n), 0);
-  const Vec mean = points_.rowwise().mean();
+  const Vec mean = points_->rowwise().mean();
   Eigen::Index first = 0;
-  (points_.colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
+  (points_->colwise() - mean).colwise().squaredNorm().maxCoeff(&first);
   // Greedy spread: each next point is the one farthest from the affine hull of those chosen.
   // residual.col(i) is point i minus the first, minus its projection on the chosen directions
   // (updated by one projection per step; the chosen direction is re-orthogonalised).
   std::array<int, kDim + 1> chosen{};
   chosen[0] = static_cast<int>(first);
-  Points residual = points_.colwise() - points_.col(first);
+  Points residual = points_->colwise() - points_->col(first);
   Eigen::Matrix<double, kDim, kDim> basis;
   for (int k = 1; k <= kDim; ++k) {
     Eigen::Index best_i = 0;
@@ -59,11 +90,10 @@ bool IncrementalHull::initSimplex() {
     residual -= dir * (dir.transpose() * residual);
   }
   interior_.setZero();
-  for (int c : chosen) interior_ += points_.col(c);
+  for (int c : chosen) interior_ += points_->col(c);
   interior_ /= kDim + 1;
 
   facets_.clear();
-  facets_.reserve(256);
   alive_.clear();
   free_.clear();
   for (int i = 0; i <= kDim; ++i) {
@@ -85,10 +115,10 @@ bool IncrementalHull::initSimplex() {
 
 bool IncrementalHull::hyperplane(const std::array<int, kDim>& vertex, Vec& normal_out,
                                  double& offset_out) const {
-  const Vec base = points_.col(vertex[kDim - 1]);
+  const Vec base = points_->col(vertex[kDim - 1]);
   Eigen::Matrix<double, kDim, kDim - 1> basis;
   for (int j = 0; j < kDim - 1; ++j) {
-    Vec a = points_.col(vertex[static_cast<std::size_t>(j)]) - base;
+    Vec a = points_->col(vertex[static_cast<std::size_t>(j)]) - base;
     for (int pass = 0; pass < 2; ++pass) {
       for (int l = 0; l < j; ++l) a -= basis.col(l).dot(a) * basis.col(l);
     }
@@ -103,10 +133,10 @@ bool IncrementalHull::hyperplane(const std::array<int, kDim>& vertex, Vec& norma
   for (int pass = 0; pass < 2; ++pass) normal -= basis * (basis.transpose() * normal);
   normal.normalize();
   double offset = 0.0;
-  for (int v : vertex) offset += normal.dot(points_.col(v));
+  for (int v : vertex) offset += normal.dot(points_->col(v));
   offset /= kDim;
   for (int v : vertex) {
-    if (std::abs(normal.dot(points_.col(v)) - offset) > tolerance_)
+    if (std::abs(normal.dot(points_->col(v)) - offset) > tolerance_)
       return fail("facet vertex off its hyperplane");
   }
   const double side = normal.dot(interior_) - offset;
@@ -135,7 +165,7 @@ bool IncrementalHull::rotateHyperplane(Planned& p, const Facet& visible, const F
   normal /= norm;
   const double offset = (a * outer.offset - b * visible.offset) / norm;
   for (int v : p.vertex) {
-    if (std::abs(normal.dot(points_.col(v)) - offset) > 0.5 * tolerance_) return false;
+    if (std::abs(normal.dot(points_->col(v)) - offset) > 0.5 * tolerance_) return false;
   }
   const double side = normal.dot(interior_) - offset;
   if (!(side < -tolerance_)) return false;
@@ -236,7 +266,7 @@ bool IncrementalHull::plan(int i, int seen, bool replace_coplanar) {
       }
       // Convexity across the horizon: the outer facet's opposite vertex is not beyond it.
       const int opposite = fu.vertex[static_cast<std::size_t>(p.back)];
-      if (p.normal.dot(points_.col(opposite)) - p.offset > tolerance_) {
+      if (p.normal.dot(points_->col(opposite)) - p.offset > tolerance_) {
         return fail("non-convex horizon");
       }
       planned_.push_back(p);
@@ -245,7 +275,7 @@ bool IncrementalHull::plan(int i, int seen, bool replace_coplanar) {
   // New facets meet along ridges through the apex: each sub-ridge (a horizon ridge without
   // one point) must be shared by exactly two new facets. Match them in an open-addressing table.
   std::size_t table_size = 16;
-  while (table_size < 4 * (kDim - 1) * planned_.size()) table_size *= 2;
+  while (table_size < 2 * (kDim - 1) * planned_.size()) table_size *= 2;
   subridges_.assign(table_size, SubRidge{0, -1, -1});
   int unmatched = 0;
   for (std::size_t n = 0; n < planned_.size(); ++n) {
@@ -316,7 +346,7 @@ void IncrementalHull::commit(int i) {
 }
 
 bool IncrementalHull::complete() {
-  const Eigen::Index n = points_.cols();
+  const Eigen::Index n = points_->cols();
   for (int f : alive_) facets_[static_cast<std::size_t>(f)].outside.clear();
   for (Eigen::Index p = 0; p < n; ++p) {
     if (is_vertex_[static_cast<std::size_t>(p)]) continue;
@@ -365,12 +395,14 @@ int IncrementalHull::nearestFacet() const {
 
 double IncrementalHull::volume() const {
   double sum = 0.0;
-  Eigen::Matrix<double, kDim, kDim> m;
+  double m[kDim][kDim];
   for (int f : alive_) {
     const Facet& facet = facets_[static_cast<std::size_t>(f)];
-    for (int k = 0; k < kDim; ++k)
-      m.col(k) = points_.col(facet.vertex[static_cast<std::size_t>(k)]) - interior_;
-    sum += std::abs(m.determinant());
+    for (int k = 0; k < kDim; ++k) {
+      const auto v = points_->col(facet.vertex[static_cast<std::size_t>(k)]);
+      for (int r = 0; r < kDim; ++r) m[r][k] = v(r) - interior_(r);
+    }
+    sum += std::abs(determinant6(m));
   }
   return sum / 720.0;  // 6!
 }

@@ -35,9 +35,11 @@ class IncrementalHull {
     std::vector<int> outside;          ///< complete(): points beyond this facet
   };
 
-  /// @param points 6 x n, must outlive the hull; @param tolerance distance (same units) within
-  /// which a point counts as on a hyperplane.
-  IncrementalHull(const Points& points, double tolerance);
+  IncrementalHull() = default;
+  /// Starts over on `points` (6 x n, must outlive the use) with `tolerance`, the distance (same
+  /// units) within which a point counts as on a hyperplane. Keeps the buffers' capacity, so one
+  /// hull per thread serves many grasps without reallocating.
+  void reset(const Points& points, double tolerance);
 
   /// Builds the starting simplex from 7 affinely independent points chosen greedily (largest
   /// spread). false when the points are flat within the tolerance or n >= 65536.
@@ -66,7 +68,7 @@ class IncrementalHull {
 
  private:
   double distance(const Facet& f, int point) const {
-    return f.normal.dot(points_.col(point)) - f.offset;
+    return f.normal.dot(points_->col(point)) - f.offset;
   }
   /// A new facet worked out by plan() before anything changes.
   struct Planned {
@@ -96,8 +98,8 @@ class IncrementalHull {
   }
   void kill(int f);
 
-  const Points& points_;
-  double tolerance_;
+  const Points* points_ = nullptr;
+  double tolerance_ = 0.0;
   Vec interior_ = Vec::Zero();  ///< centroid of the starting simplex (inside every later hull)
   std::vector<Facet> facets_;
   std::vector<int> alive_;

@@ -40,7 +40,9 @@ WrenchEpsilon wrenchEpsilon(const WrenchMatrix& wrenches, const WrenchEpsilonOpt
   out.status = screenWrenches(wrenches, options.check_rank, out.scale, out.message);
   if (out.status != QualityStatus::kOk) return out;
 
-  detail::IncrementalHull hull(wrenches, kIncrementalHullTolerance * out.scale);
+  // One hull per thread, reused: its buffers keep their capacity between grasps.
+  thread_local detail::IncrementalHull hull;
+  hull.reset(wrenches, kIncrementalHullTolerance * out.scale);
   bool ok = hull.initSimplex() && refine(wrenches, hull, out);
   const bool want_volume = options.volume == VolumeMode::kAlways ||
                            (options.volume == VolumeMode::kForceClosure && out.force_closure);

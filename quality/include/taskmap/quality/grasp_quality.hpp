@@ -50,7 +50,7 @@ enum class QualityStatus {
   kNoContacts,    ///< no contact carries pressure (depth <= 0 or empty input)
   kDegenerate,    ///< wrenches span fewer than 6 dimensions: not force closure, epsilon 0
   kInvalidInput,  ///< NaN or infinite values, or a zero normal: nothing evaluated
-  kHullFailed,    ///< qhull failed for another reason: not force closure, epsilon 0
+  kHullFailed,    ///< incremental hull and qhull fallback both failed: not FC, epsilon 0
 };
 
 /// Name of a status, e.g. "ok", "no_contacts".
@@ -72,7 +72,8 @@ struct QualityResult {
   int contacts_used = 0;  ///< contacts with pressure (depth > 0) that entered the hull
 };
 
-/// Scores a grasp from its contacts in the object frame.
+/// Scores a grasp from its contacts in the object frame (wrenchEpsilon: Zheng's refinement,
+/// no whole hull unless options.volume asks for the volume).
 /// Wrench of a unit force f at point p: (f, (p - c) x f / r).
 /// @param contacts points (metres), outward unit normals, depths (metres, > 0 with pressure)
 /// @param center_of_mass c, object frame, metres
