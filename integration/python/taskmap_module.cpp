@@ -268,14 +268,22 @@ PYBIND11_MODULE(taskmap, m) {
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
             return proximityDict(t.proximity(toPose(x), c));
           },
-          py::arg("pose"), py::arg("cluster") = py::none())
+          py::arg("pose"), py::arg("cluster") = py::none(),
+          "Proximity g_p = w_p |dp|^2 + w_r |log(R_map^T R)|^2 against the nearest grasp, with "
+          "its gradient (object frame): dict value, gradient, nearest, distance, difference.")
       .def(
           "quality",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c,
              std::optional<std::string> mode) {
             return qualityDict(t.quality(toPose(x), c, modeOf(mode)));
           },
-          py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none())
+          py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none(),
+          "Quality g_q = -sum eps_i f_i / sum eps_i with its gradient (object frame). f_i is a "
+          "normalised Gaussian in the pose embedding (p, rho/sqrt2 vec R): exp(-d_i/2) / Z, "
+          "d_i = |dp|^2/sp^2 + ||R - R_i||_F^2/(2 sr^2) = |dp|^2/sp^2 + (2 sin(theta/2))^2/sr^2, "
+          "Z = (2 pi)^3 sp^3 sr^3. mode 'exact' sums every grasp, 'truncated' the grasps within "
+          "cutoff_radius and reports value_bound / gradient_bound: dict value, gradient, "
+          "value_bound, gradient_bound, terms.")
       .def(
           "evaluate",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {

@@ -33,16 +33,18 @@ double gaussianNormaliser(double position_sigma, double rotation_sigma) {
 
 double gaussianDensity(const Pose& x, const Pose& mu, double position_sigma, double rotation_sigma,
                        Twist* gradient) {
-  const Twist e = poseDifference(x, mu);
+  const Eigen::Vector3d dp = x.position - mu.position;
+  const Eigen::Matrix3d r = x.orientation.normalized().toRotationMatrix();
+  const Eigen::Matrix3d dr = mu.orientation.normalized().toRotationMatrix() - r;  // R_mu - R
   const double isp2 = 1.0 / (position_sigma * position_sigma);
   const double isr2 = 1.0 / (rotation_sigma * rotation_sigma);
-  const double d = e.head<3>().squaredNorm() * isp2 + e.tail<3>().squaredNorm() * isr2;
+  const double d = dp.squaredNorm() * isp2 + 0.5 * dr.squaredNorm() * isr2;
   const double f = std::exp(-0.5 * d) / gaussianNormaliser(position_sigma, rotation_sigma);
   if (gradient) {
-    const Eigen::Matrix3d r = x.orientation.normalized().toRotationMatrix();
-    // df = -f/2 dd, dd/dx = (2 dp / sp^2, 2 R w / sr^2).
-    gradient->head<3>() = -f * isp2 * e.head<3>();
-    gradient->tail<3>() = -f * isr2 * (r * e.tail<3>());
+    // df = -f/2 dd; dd/dp = 2 dp / sp^2, dd/dw = v(R R_mu^T) / sr^2 = v(R (R_mu - R)^T) / sr^2
+    // (v(I) = 0; criteria.hpp).
+    gradient->head<3>() = -f * isp2 * dp;
+    gradient->tail<3>() = (-0.5 * f * isr2) * detail::skewOfProduct(r, dr);
   }
   return f;
 }

@@ -2,9 +2,12 @@
 // Private inline kernels shared by criteria.cpp and task_map.cpp.
 
 #include <cmath>
+#include <cstddef>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "taskmap/meshes/pose.hpp"
 
 namespace taskmap {
 namespace detail {
@@ -22,6 +25,56 @@ inline Eigen::Vector3d relativeLog(const Eigen::Quaterniond& qm_conj, const Eige
   const double s = v.norm();
   if (s < 1e-9) return (2.0 / w) * v;  // theta = 2 atan(s / w) = 2 s / w + O(s^3)
   return (2.0 * std::atan2(s, w) / s) * v;
+}
+
+/// Above this Mahalanobis distance exp(-d / 2) is exactly 0 in double precision
+/// (exp(x) rounds to 0 for x < -745.14), so the exp call can be skipped.
+constexpr double kKernelUnderflow = 1492.0;
+
+/// Running sums of a quality mixture over embedded samples: with c_i = w_i exp(-d_i / 2),
+/// sum = sum c_i and moment = sum c_i (x_i - x) (12-D embedding differences).
+struct MixtureSum {
+  double sum = 0.0;
+  double moment[kEmbeddingDim] = {};
+  double included_weight = 0.0;  ///< sum of w_i over the terms added
+  std::size_t terms = 0;         ///< terms with w_i > 0
+};
+
+/// Adds the sample x_i = row[0..11] with weight w_i = row[12] (if > 0) to m, at the query
+/// embedding x (12 doubles). The quality kernel's Mahalanobis distance in the embedding
+/// (p, (rho/sqrt2) vec R) is d = |x_i,p - x_p|^2 inv_sp2 + |x_i,R - x_R|^2 inv_se2 with
+/// inv_sp2 = 1/sp^2 and inv_se2 = 1/(rho sr)^2, so that the rotation part is
+/// ||R_i - R||_F^2 / (2 sr^2) (criteria.hpp).
+inline void addMixtureTerm(const double* row, const double* x, double inv_sp2, double inv_se2,
+                           MixtureSum& m) {
+  const double w = row[kEmbeddingDim];
+  if (w <= 0) return;
+  double diff[kEmbeddingDim];  // x_i - x
+  for (int k = 0; k < kEmbeddingDim; ++k) diff[k] = row[k] - x[k];
+  double dp2 = 0.0, dr2 = 0.0;
+  for (int k = 0; k < 3; ++k) dp2 += diff[k] * diff[k];
+  for (int k = 3; k < kEmbeddingDim; ++k) dr2 += diff[k] * diff[k];
+  const double d = dp2 * inv_sp2 + dr2 * inv_se2;
+  if (d < kKernelUnderflow) {  // else c = 0 exactly
+    const double c = w * std::exp(-0.5 * d);
+    m.sum += c;
+    for (int k = 0; k < kEmbeddingDim; ++k) m.moment[k] += c * diff[k];
+  }
+  m.included_weight += w;
+  ++m.terms;
+}
+
+/// v(R M^T) with v(A) = (A21 - A12, A02 - A20, A10 - A01), i.e. twice the axial vector of the
+/// skew part of R M^T. For a rotation M: d tr(M^T exp(w^) R) / dw at w = 0 is -v(R M^T).
+inline Eigen::Vector3d skewOfProduct(const Eigen::Matrix3d& r, const Eigen::Matrix3d& m) {
+  const Eigen::Matrix3d a = r * m.transpose();
+  return Eigen::Vector3d(a(2, 1) - a(1, 2), a(0, 2) - a(2, 0), a(1, 0) - a(0, 1));
+}
+
+/// The rotation block of an embedding difference (9 doubles, rho/sqrt2 vec(dR), column-major)
+/// back in rotation-matrix units: dR.
+inline Eigen::Matrix3d rotationBlock(const double* nine, double rho) {
+  return Eigen::Map<const Eigen::Matrix3d>(nine) * (std::sqrt(2.0) / rho);
 }
 
 }  // namespace detail

@@ -108,13 +108,35 @@ Pose TaskMap::pose(std::size_t i) const {
 // ---------------------------------------------------------------------------------------------
 // Queries
 
+namespace {
+
+// Hits (rows of a sample set) as grasp indices and distances.
+std::vector<Neighbor> neighbours(const std::vector<std::size_t>& grasp,
+                                 const std::vector<IndexHit>& hits) {
+  std::vector<Neighbor> out;
+  out.reserve(hits.size());
+  for (const auto& h : hits) out.push_back(Neighbor{grasp[h.index], std::sqrt(h.distance2)});
+  return out;
+}
+
+/// Reused per thread: a query allocates nothing once the buffer has grown.
+std::vector<IndexHit>& hitBuffer() {
+  thread_local std::vector<IndexHit> hits = [] {
+    std::vector<IndexHit> v;
+    v.reserve(1024);
+    return v;
+  }();
+  return hits;
+}
+
+}  // namespace
+
 Neighbor TaskMap::nearest(const Pose& x, std::optional<int> cluster) const {
   const auto& set = impl_->set(cluster);
   if (set.size() == 0) throw Error("nearest: the cluster has no samples");
   const PoseEmbedding e = embedPose(x, impl_->rho);
-  thread_local std::vector<IndexHit> hits;
-  set.index->knn(e.data(), 1, hits);
-  return Neighbor{set.global(hits[0].index), std::sqrt(hits[0].distance2)};
+  const IndexHit h = set.index->nearest(e.data());
+  return Neighbor{set.grasp[h.index], std::sqrt(h.distance2)};
 }
 
 std::vector<Neighbor> TaskMap::knn(const Pose& x, int k, std::optional<int> cluster) const {
@@ -123,10 +145,7 @@ std::vector<Neighbor> TaskMap::knn(const Pose& x, int k, std::optional<int> clus
   const PoseEmbedding e = embedPose(x, impl_->rho);
   std::vector<IndexHit> hits;
   set.index->knn(e.data(), static_cast<std::size_t>(k), hits);
-  std::vector<Neighbor> out;
-  out.reserve(hits.size());
-  for (const auto& h : hits) out.push_back(Neighbor{set.global(h.index), std::sqrt(h.distance2)});
-  return out;
+  return neighbours(set.grasp, hits);
 }
 
 std::vector<Neighbor> TaskMap::radius(const Pose& x, double r, std::optional<int> cluster) const {
@@ -136,52 +155,49 @@ std::vector<Neighbor> TaskMap::radius(const Pose& x, double r, std::optional<int
   const PoseEmbedding e = embedPose(x, impl_->rho);
   std::vector<IndexHit> hits;
   set.index->radius(e.data(), r * r, hits);
-  std::vector<Neighbor> out;
-  out.reserve(hits.size());
-  for (const auto& h : hits) out.push_back(Neighbor{set.global(h.index), std::sqrt(h.distance2)});
-  return out;
+  // Nearest first, ties by grasp index.
+  std::sort(hits.begin(), hits.end(), [&](const IndexHit& a, const IndexHit& b) {
+    return a.distance2 < b.distance2 ||
+           (a.distance2 == b.distance2 && set.grasp[a.index] < set.grasp[b.index]);
+  });
+  return neighbours(set.grasp, hits);
 }
 
 ProximityResult TaskMap::proximity(const Pose& x, std::optional<int> cluster) const {
   const Neighbor n = nearest(x, cluster);
-  const Eigen::Quaterniond q = x.orientation.normalized();
-  return impl_->proximityTo(x.position, q, q.toRotationMatrix(), n);
+  return impl_->proximityTo(impl_->query(x), n);
 }
 
 QualityResult TaskMap::quality(const Pose& x, std::optional<int> cluster,
                                std::optional<QualityMode> mode) const {
   const auto& set = impl_->set(cluster);
-  const Eigen::Quaterniond q = x.orientation.normalized();
-  const Eigen::Matrix3d r = q.toRotationMatrix();
+  const Impl::Query q = impl_->query(x);
   if (mode.value_or(impl_->options.quality_mode) == QualityMode::kExact) {
-    return impl_->qualityExact(x.position, q, r, set);
+    return impl_->qualityExact(q, set);
   }
-  const PoseEmbedding e = embedPose(x, impl_->rho);
-  thread_local std::vector<IndexHit> hits;
-  set.index->radius(e.data(), impl_->cutoff2, hits);
-  return impl_->qualityOver(x.position, q, r, set, hits);
+  auto& hits = hitBuffer();
+  set.index->radius(q.e.data(), impl_->cutoff2, hits);
+  return impl_->qualityOver(q, set, hits);
 }
 
 Evaluation TaskMap::evaluate(const Pose& x, std::optional<int> cluster) const {
   const auto& set = impl_->set(cluster);
   if (set.size() == 0) throw Error("evaluate: the cluster has no samples");
-  const Eigen::Quaterniond q = x.orientation.normalized();
-  const Eigen::Matrix3d r = q.toRotationMatrix();
-  const PoseEmbedding e = embedPose(x, impl_->rho);
-  thread_local std::vector<IndexHit> hits;
+  const Impl::Query q = impl_->query(x);
   Evaluation out;
+  IndexHit nearest;
   if (impl_->options.quality_mode == QualityMode::kTruncated) {
-    set.index->radius(e.data(), impl_->cutoff2, hits);
-    out.quality = impl_->qualityOver(x.position, q, r, set, hits);
-    // The radius search is exact: its closest hit is the nearest sample. Nothing within the
-    // cut-off: one nearest-neighbour search.
-    if (hits.empty()) set.index->knn(e.data(), 1, hits);
+    // One traversal: the samples within the cut-off (the same, in the same order, as
+    // quality()'s radius search) and the nearest sample, within the cut-off or not.
+    auto& hits = hitBuffer();
+    nearest = set.index->radiusAndNearest(q.e.data(), impl_->cutoff2, hits);
+    out.quality = impl_->qualityOver(q, set, hits);
   } else {
-    out.quality = impl_->qualityExact(x.position, q, r, set);
-    set.index->knn(e.data(), 1, hits);
+    out.quality = impl_->qualityExact(q, set);
+    nearest = set.index->nearest(q.e.data());
   }
-  const Neighbor n{set.global(hits[0].index), std::sqrt(hits[0].distance2)};
-  out.proximity = impl_->proximityTo(x.position, q, r, n);
+  const Neighbor n{set.grasp[nearest.index], std::sqrt(nearest.distance2)};
+  out.proximity = impl_->proximityTo(q, n);
   return out;
 }
 
@@ -199,60 +215,67 @@ const TaskMap::Impl::SampleSet& TaskMap::Impl::set(std::optional<int> cluster) c
   return clusters[static_cast<std::size_t>(*cluster)];
 }
 
-ProximityResult TaskMap::Impl::proximityTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                                           const Eigen::Matrix3d& r, const Neighbor& n) const {
-  ProximityResult out;
-  out.nearest = n;
-  const Eigen::Vector3d dp = p - pos[n.index];
-  const Eigen::Vector3d w = detail::relativeLog(qconj[n.index], q);
-  out.difference << dp, w;
-  out.value = wp * dp.squaredNorm() + wr * w.squaredNorm();
-  out.gradient.head<3>() = 2.0 * wp * dp;
-  out.gradient.tail<3>() = 2.0 * wr * (r * w);  // R J_r^{-1}(w)^T 2 w_r w = 2 w_r R w
+TaskMap::Impl::Query TaskMap::Impl::query(const Pose& x) const {
+  Query out;
+  out.p = x.position;
+  out.q = x.orientation.normalized();
+  out.r = out.q.toRotationMatrix();
+  out.e = embedPose(x, rho);
   return out;
 }
 
-void TaskMap::Impl::addTerm(std::size_t i, const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                            MixtureSum& m) const {
-  const double wi = weight[i];
-  if (wi <= 0) return;
-  const Eigen::Vector3d dp = p - pos[i];
-  const Eigen::Vector3d w = detail::relativeLog(qconj[i], q);
-  const double c = wi * std::exp(-0.5 * (dp.squaredNorm() * inv_sp2 + w.squaredNorm() * inv_sr2));
-  m.sum += c;
-  m.gp += c * dp;
-  m.gw += c * w;
-  m.included_weight += wi;
-  ++m.terms;
+ProximityResult TaskMap::Impl::proximityTo(const Query& x, const Neighbor& n) const {
+  ProximityResult out;
+  out.nearest = n;
+  const Eigen::Vector3d dp = x.p - pos[n.index];
+  const Eigen::Vector3d w = detail::relativeLog(qconj[n.index], x.q);
+  out.difference << dp, w;
+  out.value = wp * dp.squaredNorm() + wr * w.squaredNorm();
+  out.gradient.head<3>() = 2.0 * wp * dp;
+  out.gradient.tail<3>() = 2.0 * wr * (x.r * w);  // R J_r^{-1}(w)^T 2 w_r w = 2 w_r R w
+  return out;
 }
 
-QualityResult TaskMap::Impl::finish(const MixtureSum& m, const Eigen::Matrix3d& r,
+// The mixture g_q = -scale sum c_i, scale = 1 / (Z W), c_i = w_i exp(-d_i / 2) with
+// d_i = |p - p_i|^2 / sp^2 + (3 - tr(R_i^T R)) / sr^2 (||R - R_i||_F^2 = 6 - 2 tr(R_i^T R)).
+// Under p <- p + dp, R <- exp(w^) R:  dc_i = -c_i/2 dd_i,
+//   dd_i/dp = 2 (p - p_i) / sp^2,
+//   dd_i/dw = -(1/sr^2) d tr(R_i^T exp(w^) R)/dw = -(1/sr^2) d tr(w^ R R_i^T)/dw
+//           = v(R R_i^T) / sr^2,   v(A) = (A21 - A12, A02 - A20, A10 - A01),
+// using tr(w^ A) = -w . v(A). Summed (v is linear), with the running sums of finish():
+//   dg_q/dp = (scale / sp^2) sum c_i (p - p_i)       = -(scale / sp^2) moment_p,
+//   dg_q/dw = (scale / (2 sr^2)) v(R sum c_i R_i^T)  = (scale / (2 sr^2)) v(R S^T),
+// S = sum c_i (R_i - R) = (sqrt2 / rho) moment_R (v(R R^T) = v(I) = 0 drops the c_i R part;
+// sums of differences avoid cancellation).
+QualityResult TaskMap::Impl::finish(const detail::MixtureSum& m, const Query& x,
                                     const SampleSet& s) const {
   QualityResult out;
   if (s.total_weight <= 0) return out;
   const double scale = inv_z / s.total_weight;
   out.value = -m.sum * scale;
-  out.gradient.head<3>() = (scale * inv_sp2) * m.gp;
-  out.gradient.tail<3>() = (scale * inv_sr2) * (r * m.gw);
+  out.gradient.head<3>() = (-scale * inv_sp2) * Eigen::Map<const Eigen::Vector3d>(m.moment);
+  out.gradient.tail<3>() = (0.5 * scale / (sr * sr)) *
+                           detail::skewOfProduct(x.r, detail::rotationBlock(m.moment + 3, rho));
   out.terms = m.terms;
   return out;
 }
 
-QualityResult TaskMap::Impl::qualityExact(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                                          const Eigen::Matrix3d& r, const SampleSet& s) const {
-  MixtureSum m;
-  for (std::size_t k = 0; k < s.size(); ++k) addTerm(s.global(k), p, q, m);
-  return finish(m, r, s);
+QualityResult TaskMap::Impl::qualityExact(const Query& x, const SampleSet& s) const {
+  detail::MixtureSum m;
+  for (std::size_t k = 0; k < s.size(); ++k)
+    detail::addMixtureTerm(s.row(k), x.e.data(), inv_sp2, inv_se2, m);
+  return finish(m, x, s);
 }
 
-QualityResult TaskMap::Impl::qualityOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                                         const Eigen::Matrix3d& r, const SampleSet& s,
+QualityResult TaskMap::Impl::qualityOver(const Query& x, const SampleSet& s,
                                          const std::vector<IndexHit>& hits) const {
-  MixtureSum m;
-  for (const auto& h : hits) addTerm(s.global(h.index), p, q, m);
-  QualityResult out = finish(m, r, s);
+  detail::MixtureSum m;
+  for (const auto& h : hits)
+    detail::addMixtureTerm(s.row(h.index), x.e.data(), inv_sp2, inv_se2, m);
+  QualityResult out = finish(m, x, s);
   if (s.total_weight <= 0) return out;
-  // Omitted samples have embedding distance D > r_c, so Mahalanobis d >= D^2/s^2 > t_c^2.
+  // Omitted samples have embedding distance D > r_c, so d >= D^2 / s^2 > t_c^2
+  // (task_map_build.cpp).
   const double omitted = std::max(0.0, s.total_weight - m.included_weight) / s.total_weight;
   out.value_bound = value_bound_factor * omitted;
   out.gradient_bound = gradient_bound_factor * omitted;

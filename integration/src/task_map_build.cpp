@@ -20,23 +20,34 @@ std::string grasp(std::size_t i) {
 
 }  // namespace
 
-void TaskMap::Impl::buildSet(SampleSet& s) const {
+void TaskMap::Impl::buildSet(SampleSet& s, const std::vector<std::size_t>& members) const {
   const Impl& m = *this;
-  s.count = s.members.empty() ? m.pos.size() : s.members.size();
-  s.embedding.resize(s.count * kEmbeddingDim);
-  s.total_weight = 0.0;
+  s.count = members.size();
+  std::vector<double> rows(s.count * kRowStride);
   for (std::size_t k = 0; k < s.count; ++k) {
-    const std::size_t i = s.global(k);
     Pose p;
-    p.position = m.pos[i];
-    p.orientation = m.qconj[i].conjugate();
+    p.position = m.pos[members[k]];
+    p.orientation = m.qconj[members[k]].conjugate();
     const PoseEmbedding e = embedPose(p, m.rho);
-    std::copy(e.data(), e.data() + kEmbeddingDim, s.embedding.data() + k * kEmbeddingDim);
-    s.total_weight += m.weight[i];
+    std::copy(e.data(), e.data() + kEmbeddingDim, rows.data() + k * kRowStride);
+    rows[k * kRowStride + kWeightColumn] = m.weight[members[k]];
   }
-  s.index = std::make_unique<detail::NnIndex>(s.embedding.data(), s.count, kEmbeddingDim,
-                                              m.options.index == IndexKind::kRandomizedForest,
-                                              m.options.trees, m.options.checks);
+  // Rows in the tree's leaf order: a query's candidates and hits are contiguous blocks.
+  const std::vector<std::size_t> order =
+      detail::NnIndex::leafOrder(rows.data(), s.count, kEmbeddingDim, kRowStride);
+  s.grasp.resize(s.count);
+  s.rows.resize(s.count * kRowStride);
+  for (std::size_t k = 0; k < s.count; ++k) {
+    s.grasp[k] = members[order[k]];
+    std::copy(rows.data() + order[k] * kRowStride, rows.data() + (order[k] + 1) * kRowStride,
+              s.rows.data() + k * kRowStride);
+  }
+  // Total in grasp order, independent of the layout.
+  s.total_weight = 0.0;
+  for (const std::size_t i : members) s.total_weight += m.weight[i];
+  s.index = std::make_unique<detail::NnIndex>(
+      s.rows.data(), s.count, kEmbeddingDim, kRowStride, s.grasp.data(),
+      m.options.index == IndexKind::kRandomizedForest, m.options.trees, m.options.checks);
 }
 
 void TaskMap::Impl::build() {
@@ -70,8 +81,9 @@ void TaskMap::Impl::build() {
     weight[i] = eps;
   }
 
-  all.members.clear();
-  buildSet(all);
+  std::vector<std::size_t> every(n);
+  for (std::size_t i = 0; i < n; ++i) every[i] = i;
+  buildSet(all, every);
 
   clusters.clear();
   if (data.clustering) {
@@ -81,12 +93,13 @@ void TaskMap::Impl::build() {
       throw Error("/grasps/cluster has " + std::to_string(c.labels.size()) + " labels; expected " +
                   std::to_string(n) + " (one per grasp)");
     clusters.resize(static_cast<std::size_t>(k));
+    std::vector<std::vector<std::size_t>> members(static_cast<std::size_t>(k));
     for (std::size_t i = 0; i < n; ++i) {
       const int l = c.labels[i];
       if (l < -1 || l >= k)
         throw Error(grasp(i) + ": cluster label " + std::to_string(l) + " outside -1.." +
                     std::to_string(k - 1));
-      if (l >= 0) clusters[static_cast<std::size_t>(l)].members.push_back(i);
+      if (l >= 0) members[static_cast<std::size_t>(l)].push_back(i);
     }
     for (int j = 0; j < k; ++j) {
       const int rep = c.clusters[static_cast<std::size_t>(j)].representative;
@@ -94,7 +107,7 @@ void TaskMap::Impl::build() {
           c.labels[static_cast<std::size_t>(rep)] != j)
         throw Error("/clusters row " + std::to_string(j) + ": representative " +
                     std::to_string(rep) + " is not a grasp of that cluster");
-      buildSet(clusters[static_cast<std::size_t>(j)]);
+      buildSet(clusters[static_cast<std::size_t>(j)], members[static_cast<std::size_t>(j)]);
     }
   }
 
@@ -114,11 +127,15 @@ void TaskMap::Impl::build() {
     std::vector<double> nn;
     std::vector<detail::IndexHit> hits;
     for (std::size_t i = 0; i < n; i += stride) {
-      all.index->knn(all.embedding.data() + i * kEmbeddingDim, 2, hits);
+      Pose p;
+      p.position = pos[i];
+      p.orientation = qconj[i].conjugate();
+      const PoseEmbedding e = embedPose(p, rho);  // bitwise the row of grasp i
+      all.index->knn(e.data(), 2, hits);
       // hits hold the sample itself (distance 0) and its nearest other sample.
       double d2 = 0.0;
       for (const auto& h : hits)
-        if (h.index != i) d2 = h.distance2;
+        if (all.grasp[h.index] != i) d2 = h.distance2;
       nn.push_back(std::sqrt(d2));
     }
     std::nth_element(nn.begin(), nn.begin() + static_cast<std::ptrdiff_t>(nn.size() / 2), nn.end());
@@ -133,18 +150,25 @@ void TaskMap::Impl::build() {
   sr = options.rotation_sigma.value_or(sp / rho);
   options.rotation_sigma = sr;
   inv_sp2 = 1.0 / (sp * sp);
-  inv_sr2 = 1.0 / (sr * sr);
+  inv_se2 = 1.0 / (rho * sr * rho * sr);
   inv_z = 1.0 / gaussianNormaliser(sp, sr);
 
-  // Truncation: s = max(sp, rho sr); omitted samples have d > t_c^2 with t_c = r_c / s, so each
-  // omitted density is below exp(-t_c^2 / 2) / Z = tol / Z.
+  // Truncation. In the embedding x = (p, (rho/sqrt2) vec R) the kernel distance is
+  //   d = |dx_p|^2 / sp^2 + |dx_R|^2 / (rho sr)^2   (|dx_R|^2 = rho^2/2 ||dR||_F^2),
+  // and the index distance is D^2 = |dx_p|^2 + |dx_R|^2. With s = max(sp, rho sr) both
+  // coefficients are >= 1/s^2, so d >= D^2 / s^2 exactly (no approximation of the angle).
+  // Omitted samples have D > r_c = t_c s, hence d > t_c^2 and each omitted density is below
+  // exp(-t_c^2 / 2) / Z = tol / Z. With the default sr = sp / rho, d = D^2 / sp^2.
   const double s = std::max(sp, rho * sr);
   const double tc = std::sqrt(2.0 * std::log(1.0 / options.quality_tolerance));
   cutoff = tc * s;
   cutoff2 = cutoff * cutoff * (1.0 + 1e-12);  // include boundary samples despite rounding
   value_bound_factor = options.quality_tolerance * inv_z;
-  // Gradient of one term: |grad f_i| <= f_i sqrt(d_i) / min(sp, sr); t exp(-t^2/2) decreases
-  // for t >= 1 and peaks at exp(-1/2) at t = 1.
+  // Gradient of one term (criteria.hpp): |grad f_i| = f_i/2 |grad d_i| with
+  // |grad d_i|^2 = 4 |dp|^2 / sp^4 + |v(R R_i^T)|^2 / sr^4 and |v(R R_i^T)| = 2 sin(theta)
+  // <= 2 (2 sin(theta/2)), so |grad d_i|^2 <= 4 d_i / min(sp, sr)^2 and
+  // |grad f_i| <= f_i sqrt(d_i) / min(sp, sr); t exp(-t^2/2) decreases for t >= 1 and peaks at
+  // exp(-1/2) at t = 1.
   const double peak = tc >= 1.0 ? tc * std::exp(-0.5 * tc * tc) : std::exp(-0.5);
   gradient_bound_factor = peak * inv_z / std::min(sp, sr);
 }

@@ -9,21 +9,38 @@
 #include <Eigen/Geometry>
 #include <Eigen/StdVector>
 
+#include "kernels.hpp"
 #include "nn_index.hpp"
 #include "taskmap/integration/task_map.hpp"
 
 namespace taskmap {
 
 struct TaskMap::Impl {
-  /// The samples of the whole map or of one cluster, with their own index.
+  /// Values per row of a sample set: the 12-D embedding (the index's point), then epsilon
+  /// (the layout detail::addMixtureTerm reads).
+  static constexpr std::size_t kRowStride = kEmbeddingDim + 1;
+  static constexpr std::size_t kWeightColumn = kEmbeddingDim;
+
+  /// The samples of the whole map or of one cluster, with their own index. Rows are in the
+  /// index's leaf order (NnIndex::leafOrder), so the samples a query touches lie together in
+  /// memory, and a hit's weight shares the cache line the index just read; row k is grasp
+  /// `grasp[k]`.
   struct SampleSet {
-    std::vector<std::size_t> members;  ///< global grasp indices; empty = identity (whole map)
     std::size_t count = 0;
-    std::vector<double> embedding;  ///< count x 12, row-major (the index points into it)
+    std::vector<std::size_t> grasp;  ///< grasp index of each row
+    std::vector<double> rows;        ///< count x kRowStride (the index reads them in place)
     std::unique_ptr<detail::NnIndex> index;
     double total_weight = 0.0;  ///< sum of epsilon over the set
     std::size_t size() const { return count; }
-    std::size_t global(std::size_t local) const { return members.empty() ? local : members[local]; }
+    const double* row(std::size_t k) const { return rows.data() + k * kRowStride; }
+  };
+
+  /// A query pose, normalised, with its rotation matrix and embedding.
+  struct Query {
+    Eigen::Vector3d p;
+    Eigen::Quaterniond q;
+    Eigen::Matrix3d r;
+    PoseEmbedding e;
   };
 
   TaskMapData data;
@@ -35,36 +52,26 @@ struct TaskMap::Impl {
   SampleSet all;
   std::vector<SampleSet> clusters;
   double wp = 1.0, wr = 1.0;
-  double sp = 0.0, sr = 0.0, inv_sp2 = 0.0, inv_sr2 = 0.0, inv_z = 0.0;
+  double sp = 0.0, sr = 0.0, inv_z = 0.0;
+  /// Kernel factors in embedding units: d = |dx_p|^2 inv_sp2 + |dx_R|^2 inv_se2, with
+  /// inv_se2 = 1 / (rho sr)^2 (criteria.hpp, task_map_build.cpp).
+  double inv_sp2 = 0.0, inv_se2 = 0.0;
   double cutoff = 0.0, cutoff2 = 0.0;
   double value_bound_factor = 0.0, gradient_bound_factor = 0.0;
 
   /// Validates data and options, builds indexes, resolves defaults. Throws Error.
   void build();
-  /// Embeds the set's samples and builds its index.
-  void buildSet(SampleSet& s) const;
+  /// Embeds the given grasps (in leaf order) into s and builds its index.
+  void buildSet(SampleSet& s, const std::vector<std::size_t>& members) const;
   const SampleSet& set(std::optional<int> cluster) const;
-  ProximityResult proximityTo(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                              const Eigen::Matrix3d& r, const Neighbor& n) const;
-  QualityResult qualityExact(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                             const Eigen::Matrix3d& r, const SampleSet& s) const;
-  QualityResult qualityOver(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-                            const Eigen::Matrix3d& r, const SampleSet& s,
+  Query query(const Pose& x) const;
+  ProximityResult proximityTo(const Query& x, const Neighbor& n) const;
+  QualityResult qualityExact(const Query& x, const SampleSet& s) const;
+  QualityResult qualityOver(const Query& x, const SampleSet& s,
                             const std::vector<detail::IndexHit>& hits) const;
 
-  /// Running sums of the quality mixture (gradient parts before normalisation).
-  struct MixtureSum {
-    double sum = 0.0;
-    Eigen::Vector3d gp = Eigen::Vector3d::Zero();
-    Eigen::Vector3d gw = Eigen::Vector3d::Zero();  ///< hand frame, rotated by R at the end
-    double included_weight = 0.0;
-    std::size_t terms = 0;
-  };
-  /// Adds the weighted Gaussian of sample i at (p, q) and its gradient parts to m.
-  void addTerm(std::size_t i, const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
-               MixtureSum& m) const;
   /// The normalised value and object-frame gradient of an accumulated mixture.
-  QualityResult finish(const MixtureSum& m, const Eigen::Matrix3d& r, const SampleSet& s) const;
+  QualityResult finish(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
 };
 
 }  // namespace taskmap

@@ -9,7 +9,9 @@ namespace detail {
 
 namespace {
 
-constexpr int kMaxPoints = 1 << 16;  // sub-ridge keys pack four 16-bit point indices
+constexpr int kMaxPoints = 1 << 16;
+constexpr std::size_t kKeptFacets = 1 << 15;  // facets (about 5 MB) a reused hull may keep  //
+                                              // sub-ridge keys pack four 16-bit point indices
 
 /// Key of the 4 points of a new facet other than slot `skip` (0..4) and slot 5 (the apex).
 /// Slots 0..4 are sorted, so the key needs no sorting.
@@ -53,6 +55,8 @@ double determinant6(double (&m)[6][6]) {
 void IncrementalHull::reset(const Points& points, double tolerance) {
   points_ = &points;
   tolerance_ = tolerance;
+  // Keep the buffers of ordinary grasps, but give back the memory of an exceptional one.
+  if (facets_.capacity() > kKeptFacets) std::vector<Facet>().swap(facets_);
   facets_.clear();
   alive_.clear();
   free_.clear();

@@ -186,6 +186,33 @@ class IntegrationTest(unittest.TestCase):
             e = m.quality(q, mode="exact")
             self.assertLessEqual(abs(t["value"] - e["value"]), t["value_bound"] + 1e-12 * abs(e["value"]))
 
+    def test_quality_kernel_is_gaussian_in_the_pose_embedding(self):
+        """Exact quality against numpy: f_i = exp(-d_i/2) / Z with
+        d_i = |dp|^2/sp^2 + ||R - R_i||_F^2 / (2 sr^2), Z = (2 pi)^3 sp^3 sr^3, for the default
+        (isotropic: d_i = embedding distance^2 / sp^2) and an anisotropic rotation_sigma."""
+        rs = np.array([rotation_matrix(p[3:]) for p in self.poses])
+        for scale in (None, 2.5):
+            kw = {} if scale is None else {"rotation_sigma": scale * self.map.rotation_sigma}
+            m = taskmap.TaskMap.from_arrays(self.poses, self.eps, rotation_scale=RHO, **kw)
+            sp, sr = m.position_sigma, m.rotation_sigma
+            if scale is None:
+                self.assertAlmostEqual(sr, sp / RHO, delta=1e-15)
+            z = (2 * np.pi) ** 3 * (sp * sr) ** 3
+            qs = queries(self.rng, m, 40)
+            near = 0
+            for q in qs:
+                r = rotation_matrix(q[3:])
+                d = (np.sum((self.poses[:, :3] - q[:3]) ** 2, axis=1) / sp ** 2
+                     + np.sum((rs - r) ** 2, axis=(1, 2)) / (2 * sr ** 2))
+                if scale is None:
+                    d_embedding = np.sum((self.emb - embed([q])[0]) ** 2, axis=1) / sp ** 2
+                    np.testing.assert_allclose(d, d_embedding, rtol=1e-9, atol=1e-9)
+                expected = -np.sum(self.eps * np.exp(-0.5 * d)) / z / np.sum(self.eps)
+                got = m.quality(q, mode="exact")["value"]
+                self.assertAlmostEqual(got, expected, delta=1e-9 * abs(expected) + 1e-300)
+                near += expected < -1e-6 / z
+            self.assertGreater(near, 10)  # the comparison is not vacuous
+
     def test_save_and_load_roundtrip(self):
         path = os.path.join(self.tmp, "roundtrip.h5")
         self.map.save(path)

@@ -92,16 +92,22 @@ TEST_F(Fixture, ProximityGradientMatchesFiniteDifferences) {
 }
 
 TEST_F(Fixture, QualityGradientMatchesFiniteDifferences) {
-  Rng rng(2, 0);
-  const double hl = 1e-4 * *map().options().position_sigma;
-  const double ha = 1e-4 * *map().options().rotation_sigma;
-  for (int trial = 0; trial < 100; ++trial) {
-    const Pose x = nearMap(rng);
-    const QualityResult q = map().quality(x);
-    ASSERT_LT(q.value, 0.0);
-    const Twist fd =
-        finiteDifference([&](const Pose& y) { return map().quality(y).value; }, x, hl, ha);
-    ASSERT_LT(relError(fd, q.gradient), 1e-6) << "trial " << trial;
+  // The default (isotropic) kernel, then anisotropic ones: rho sr above and below sp.
+  for (int variant = 0; variant < 3; ++variant) {
+    TaskMapOptions o = map().options();
+    if (variant > 0) o.rotation_sigma = *o.rotation_sigma * (variant == 1 ? 3.0 : 0.4);
+    const TaskMap m = TaskMap::fromData(map().data(), o);
+    Rng rng(2, 0);
+    const double hl = 1e-4 * *m.options().position_sigma;
+    const double ha = 1e-4 * *m.options().rotation_sigma;
+    for (int trial = 0; trial < 100; ++trial) {
+      const Pose x = nearMap(rng);
+      const QualityResult q = m.quality(x);
+      ASSERT_LT(q.value, 0.0);
+      const Twist fd =
+          finiteDifference([&](const Pose& y) { return m.quality(y).value; }, x, hl, ha);
+      ASSERT_LT(relError(fd, q.gradient), 1e-6) << "variant " << variant << " trial " << trial;
+    }
   }
 }
 

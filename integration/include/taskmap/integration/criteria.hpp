@@ -3,6 +3,9 @@
 /// The two task-map criteria of the paper (eq. 1.18-1.21) for ONE map sample, as plain
 /// functions: TaskMap sums them over samples; tests use them as brute-force oracles.
 ///
+/// Proximity uses the pose difference below; the quality kernel (gaussianDensity) is a
+/// Gaussian in the 12-D pose embedding instead (no log map), see there.
+///
 /// Pose difference (shared/TASKMAPS.md §4): e(x, mu) = (p - p_mu, log(R_mu^T R)), a 6-vector
 /// (metres, radians). Gradients are 6-vectors (linear, angular) in the OBJECT frame with
 /// respect to the perturbation  p <- p + dp,  R <- exp(dw) R  (dw a rotation vector expressed
@@ -27,14 +30,23 @@ Twist poseDifference(const Pose& x, const Pose& mu);
 double proximityCost(const Pose& x, const Pose& mu, double linear_weight, double angular_weight,
                      Twist* gradient = nullptr);
 
-/// Normalised Gaussian density (eq. 1.20) with k = 6 and Sigma = diag(sp^2 I3, sr^2 I3):
-/// f = exp(-d/2) / ((2 pi)^3 sp^3 sr^3), d = |dp|^2/sp^2 + |w|^2/sr^2. If gradient is not null
-/// it receives df/dx in the object frame. @param position_sigma sp, metres (> 0).
+/// Quality kernel (eq. 1.20) of one sample: a normalised Gaussian in the pose embedding
+/// (p, (rho/sqrt2) vec R) of TASKMAPS.md §4, f = exp(-d/2) / Z with
+///   d = |p - p_mu|^2 / sp^2 + ||R - R_mu||_F^2 / (2 sr^2),   Z = (2 pi)^3 sp^3 sr^3.
+/// The rotation factor is the isotropic matrix-Fisher distribution on SO(3):
+/// ||R - R_mu||_F^2 = 2 (2 sin(theta/2))^2, so d = |dp|^2/sp^2 + (2 sin(theta/2))^2/sr^2, which
+/// is the paper's Gaussian in the tangent space (k = 6, Sigma = diag(sp^2 I3, sr^2 I3), d with
+/// theta^2) to second order in theta, with its normaliser (exact as sr -> 0). It does not
+/// depend on rho; with sr = sp / rho, d is (pose distance / sp)^2, the index's own distance.
+/// If gradient is not null it receives df/dx in the object frame: df = -f/2 dd with
+/// dd/dp = 2 dp / sp^2 and dd/dw = v(R R_mu^T) / sr^2, v(A) = (A21 - A12, A02 - A20, A10 - A01)
+/// (from R <- exp(w^) R: d tr(R_mu^T exp(w^) R) = tr(w^ R R_mu^T) = -w . v(R R_mu^T), and
+/// ||R - R_mu||_F^2 = 6 - 2 tr(R_mu^T R)). @param position_sigma sp, metres (> 0).
 /// @param rotation_sigma sr, radians (> 0).
 double gaussianDensity(const Pose& x, const Pose& mu, double position_sigma, double rotation_sigma,
                        Twist* gradient = nullptr);
 
-/// The normaliser (2 pi)^3 sp^3 sr^3 of gaussianDensity; 1 / it is the density's peak value.
+/// The normaliser Z = (2 pi)^3 sp^3 sr^3 of gaussianDensity; 1/Z is the density's peak value.
 double gaussianNormaliser(double position_sigma, double rotation_sigma);
 
 }  // namespace taskmap

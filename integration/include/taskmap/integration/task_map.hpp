@@ -8,6 +8,10 @@
 /// quaternion w x y z, q = -q); distances are the pose distance of TASKMAPS.md §4 with the
 /// map's rotation scale rho; gradients are 6-vectors (linear 1/m-units, angular 1/rad-units)
 /// in the object frame for the perturbation p <- p + dp, R <- exp(dw) R (criteria.hpp).
+///
+/// The quality criterion is a mixture of Gaussians in the index's 12-D pose embedding
+/// (criteria.hpp gaussianDensity): each term is one exp of a weighted squared embedding
+/// distance, and the truncated mode sums the samples one exact radius search returns.
 
 #include <cstddef>
 #include <cstdint>
@@ -47,8 +51,9 @@ struct TaskMapOptions {
   /// sigma_p of the quality Gaussians, metres (> 0). Default: bandwidth_factor times the
   /// median nearest-neighbour pose distance between map samples (the sampling density).
   std::optional<double> position_sigma;
-  /// sigma_r of the quality Gaussians, radians (> 0). Default: sigma_p / rho, so that the
-  /// kernel is isotropic in the pose metric.
+  /// sigma_r of the quality Gaussians, radians (> 0): the rotation part of the kernel is
+  /// (2 sin(theta/2))^2 / sigma_r^2 (criteria.hpp). Default: sigma_p / rho, so that the kernel
+  /// is isotropic in the pose metric (Mahalanobis distance = (pose distance / sigma_p)^2).
   std::optional<double> rotation_sigma;
   double bandwidth_factor = 1.0;  ///< scales the default sigma_p (> 0)
   QualityMode quality_mode = QualityMode::kTruncated;
@@ -79,9 +84,10 @@ struct ProximityResult {
 struct QualityResult {
   double value = 0.0;              ///< g_q = -sum w_i f_i / sum w_i (0 if all weights are 0)
   Twist gradient = Twist::Zero();  ///< dg_q/dx, object frame
-  /// |g_q(truncated) - g_q(exact)| <= value_bound (0 in exact mode). Rigorous: every omitted
-  /// sample has Mahalanobis distance >= (embedding distance / s)^2, s = max(sp, rho sr),
-  /// because the chord 2 sin(theta/2) <= theta.
+  /// |g_q(truncated) - g_q(exact)| <= value_bound (0 in exact mode). Rigorous: the kernel's
+  /// Mahalanobis distance is a weighted squared embedding distance with weights 1/sp^2 and
+  /// 1/(rho sr)^2, so every omitted sample has d >= (embedding distance / s)^2 > t_c^2,
+  /// s = max(sp, rho sr), t_c = cutoffRadius() / s.
   double value_bound = 0.0;
   /// Euclidean norm of the omitted part of the gradient is <= gradient_bound.
   double gradient_bound = 0.0;
@@ -159,7 +165,9 @@ class TaskMap {
   QualityResult quality(const Pose& x, std::optional<int> cluster = std::nullopt,
                         std::optional<QualityMode> mode = std::nullopt) const;
   /// Nearest sample, proximity and quality with gradients, sharing one index search
-  /// (truncated mode: one exact radius search whose closest hit is the nearest sample).
+  /// (truncated mode: one traversal of the exact tree returns the samples within the cut-off
+  /// and the nearest sample, inside the cut-off or not; with a randomized forest and an empty
+  /// cut-off ball the nearest is the forest's, as nearest() gives).
   Evaluation evaluate(const Pose& x, std::optional<int> cluster = std::nullopt) const;
 
   /// evaluate() for every row of poses, on options().threads threads; identical to calling
