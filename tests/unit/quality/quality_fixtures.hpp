@@ -1,10 +1,13 @@
 #pragma once
 /// @file quality_fixtures.hpp
-/// Random contact sets shared by the quality tests and the scipy helper.
+/// Random contact sets and an analytic wrench set shared by the quality tests, benchmark and
+/// the scipy helper.
 
+#include <cmath>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include "taskmap/meshes/contact.hpp"
 #include "taskmap/meshes/random.hpp"
@@ -32,6 +35,24 @@ inline std::vector<Contact> randomContacts(Rng& rng, int n, double tilt = 0.0) {
     out.push_back(c);
   }
   return out;
+}
+
+/// The 6-simplex with vertices -e_1..-e_6 and (1,...,1), one per column. Its 7 facets: opposite
+/// (1,...,1) the facet sum x = -1, at distance 1/sqrt 6 from the origin; opposite -e_k the
+/// hyperplane 6 x_k - sum_{i != k} x_i = 1 (it contains -e_i, i != k, and (1,...,1)), at
+/// distance 1/sqrt(36 + 5) = 1/sqrt 41. The origin is inside, so epsilon = 1/sqrt 41.
+inline Eigen::Matrix<double, 6, Eigen::Dynamic> simplexWrenches() {
+  Eigen::Matrix<double, 6, Eigen::Dynamic> w(6, 7);
+  w.leftCols(6) = -Eigen::Matrix<double, 6, 6>::Identity();
+  w.col(6).setOnes();
+  return w;
+}
+
+/// 6-D volume of the simplex spanned by the 7 columns of w: |det(v_1 - v_0, ...)| / 6!.
+inline double simplexVolume(const Eigen::Matrix<double, 6, Eigen::Dynamic>& w) {
+  Eigen::Matrix<double, 6, 6> d;
+  for (int k = 0; k < 6; ++k) d.col(k) = w.col(k + 1) - w.col(0);
+  return std::abs(d.determinant()) / 720.0;
 }
 
 /// Applies the rigid motion x -> R x + t to points and normals.

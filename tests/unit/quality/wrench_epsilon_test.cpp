@@ -68,19 +68,13 @@ std::vector<Contact> flatFaceContacts(Rng& rng, int faces) {
 }
 
 TEST(WrenchEpsilonTest, SimplexAnalyticEpsilonAndVolume) {
-  // Vertices -e_1..-e_6 and (1,...,1): the facet opposite (1,...,1) is sum x_i = -1 at
-  // distance 1/sqrt 6; the facet opposite -e_1 passes through -e_2..-e_6 and (1,...,1): normal
-  // (6, -1, ..., -1)/sqrt 41 (offset 1/sqrt 41, the nearest). Volume |det(v_i - v_0)| / 6!.
-  WrenchMatrix w(6, 7);
-  w.leftCols(6) = -Eigen::Matrix<double, 6, 6>::Identity();
-  w.col(6).setOnes();
-  Eigen::Matrix<double, 6, 6> d;
-  for (int i = 0; i < 6; ++i) d.col(i) = w.col(i + 1) - w.col(0);
+  // The simplex of testing::simplexWrenches: epsilon 1/sqrt 41 (derived there).
+  const WrenchMatrix w = testing::simplexWrenches();
   const WrenchEpsilon e = wrenchEpsilon(w, incrementalOnly(VolumeMode::kAlways));
   ASSERT_EQ(e.status, QualityStatus::kOk) << e.message;
   EXPECT_TRUE(e.force_closure);
   EXPECT_NEAR(e.epsilon, 1.0 / std::sqrt(41.0), 1e-14);
-  EXPECT_NEAR(e.volume, std::abs(d.determinant()) / 720.0, 1e-14);
+  EXPECT_NEAR(e.volume, testing::simplexVolume(w), 1e-14);
   EXPECT_EQ(e.inserted, 7);
 }
 

@@ -33,17 +33,9 @@ Contact makeContact(Eigen::Vector3d point, Eigen::Vector3d normal, double depth 
 // wrenchHull directly
 
 TEST(WrenchHullTest, SimplexVolumeAndEpsilon) {
-  // The simplex with vertices -e_1..-e_6 and (1,...,1); volume |det(v_1 - v_0, ...)| / 6!.
-  // Its 7 facets: opposite (1,...,1) the facet sum x = -1, at distance 1/sqrt 6 from the
-  // origin; opposite -e_k the hyperplane 6 x_k - sum_{i != k} x_i = 1 (it contains -e_i,
-  // i != k, and (1,...,1)), at distance 1/sqrt(36 + 5) = 1/sqrt 41. The origin is inside
-  // (0 < 1 and 0 > -1), so epsilon = 1/sqrt 41.
-  WrenchMatrix w(6, 7);
-  w.leftCols(6) = -Eigen::Matrix<double, 6, 6>::Identity();
-  w.col(6).setOnes();
-  Eigen::Matrix<double, 6, 6> d;
-  for (int k = 0; k < 6; ++k) d.col(k) = w.col(k + 1) - w.col(0);
-  const double volume = std::abs(d.determinant()) / 720.0;
+  // The simplex of testing::simplexWrenches (facets and epsilon 1/sqrt 41 derived there).
+  const WrenchMatrix w = testing::simplexWrenches();
+  const double volume = testing::simplexVolume(w);
   const auto h = wrenchHull(w);
   ASSERT_EQ(h.status, QualityStatus::kOk) << h.message;
   EXPECT_EQ(h.offsets.size(), 7);
