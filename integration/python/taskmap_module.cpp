@@ -10,6 +10,7 @@
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/integration/criteria.hpp"
+#include "taskmap/integration/evaluation_session.hpp"
 #include "taskmap/integration/frames.hpp"
 #include "taskmap/integration/initialisation.hpp"
 #include "taskmap/integration/task_map.hpp"
@@ -103,6 +104,21 @@ py::dict qualityDict(const QualityResult& q) {
   d["value_bound"] = q.value_bound;
   d["gradient_bound"] = q.gradient_bound;
   d["terms"] = q.terms;
+  return d;
+}
+
+// The dict of TaskMap.evaluate and Session.evaluate.
+py::dict evaluationDict(const Evaluation& e) {
+  py::dict d;
+  d["cost"] = e.cost();
+  d["gradient"] = Eigen::VectorXd(e.gradient());
+  d["proximity"] = e.proximity.value;
+  d["proximity_gradient"] = Eigen::VectorXd(e.proximity.gradient);
+  d["quality"] = e.quality.value;
+  d["quality_gradient"] = Eigen::VectorXd(e.quality.gradient);
+  d["quality_bound"] = e.quality.value_bound;
+  d["nearest"] = e.proximity.nearest.index;
+  d["nearest_distance"] = e.proximity.nearest.distance;
   return d;
 }
 
@@ -287,21 +303,20 @@ PYBIND11_MODULE(taskmap, m) {
       .def(
           "evaluate",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
-            const Evaluation e = t.evaluate(toPose(x), c);
-            py::dict d;
-            d["cost"] = e.cost();
-            d["gradient"] = Eigen::VectorXd(e.gradient());
-            d["proximity"] = e.proximity.value;
-            d["proximity_gradient"] = Eigen::VectorXd(e.proximity.gradient);
-            d["quality"] = e.quality.value;
-            d["quality_gradient"] = Eigen::VectorXd(e.quality.gradient);
-            d["quality_bound"] = e.quality.value_bound;
-            d["nearest"] = e.proximity.nearest.index;
-            d["nearest_distance"] = e.proximity.nearest.distance;
-            return d;
+            return evaluationDict(t.evaluate(toPose(x), c));
           },
           py::arg("pose"), py::arg("cluster") = py::none(),
           "Proximity and quality with gradients (object frame) and the nearest grasp.")
+      .def(
+          "session",
+          [](const TaskMap& t, std::optional<double> margin, std::optional<int> c) {
+            return EvaluationSession(t, c, margin);
+          },
+          py::arg("margin") = py::none(), py::arg("cluster") = py::none(), py::keep_alive<0, 1>(),
+          "A Session for one optimizer run: session.evaluate(pose) returns what evaluate(pose, "
+          "cluster) returns, answered from a cache of the grasps within cutoff_radius + margin "
+          "(metres; default 0.25 cutoff_radius) of the last searched pose. Not thread-safe: one "
+          "session per thread.")
       .def(
           "evaluate_batch",
           [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
@@ -365,6 +380,25 @@ PYBIND11_MODULE(taskmap, m) {
           },
           py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
           "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
+
+  py::class_<EvaluationSession>(m, "Session",
+                                "Warm-started evaluate for one optimizer run (TaskMap.session); "
+                                "not thread-safe.")
+      .def(
+          "evaluate",
+          [](EvaluationSession& s, const Vec7& x) { return evaluationDict(s.evaluate(toPose(x))); },
+          py::arg("pose"), "The same dict as TaskMap.evaluate(pose, cluster).")
+      .def_property_readonly("stats",
+                             [](const EvaluationSession& s) {
+                               py::dict d;
+                               d["calls"] = s.stats().calls;
+                               d["anchors"] = s.stats().anchors;
+                               d["fallbacks"] = s.stats().fallbacks;
+                               return d;
+                             })
+      .def_property_readonly("margin", &EvaluationSession::margin)
+      .def_property_readonly("cluster", &EvaluationSession::cluster)
+      .def("reset", &EvaluationSession::reset, "Drops the cache and zeroes stats.");
 
   m.def(
       "load",

@@ -44,13 +44,10 @@ struct MixtureSum {
 /// embedding x (12 doubles). The quality kernel's Mahalanobis distance in the embedding
 /// (p, (rho/sqrt2) vec R) is d = |x_i,p - x_p|^2 inv_sp2 + |x_i,R - x_R|^2 inv_se2 with
 /// inv_sp2 = 1/sp^2 and inv_se2 = 1/(rho sr)^2, so that the rotation part is
-/// ||R_i - R||_F^2 / (2 sr^2) (criteria.hpp).
-inline void addMixtureTerm(const double* row, const double* x, double inv_sp2, double inv_se2,
-                           MixtureSum& m) {
-  const double w = row[kEmbeddingDim];
-  if (w <= 0) return;
-  double diff[kEmbeddingDim];  // x_i - x
-  for (int k = 0; k < kEmbeddingDim; ++k) diff[k] = row[k] - x[k];
+/// ||R_i - R||_F^2 / (2 sr^2) (criteria.hpp). Here with the differences diff = x_i - x
+/// (12 doubles) already computed and the weight w > 0 (addMixtureTerm computes them).
+inline void addMixtureDifference(const double* diff, double w, double inv_sp2, double inv_se2,
+                                 MixtureSum& m) {
   double dp2 = 0.0, dr2 = 0.0;
   for (int k = 0; k < 3; ++k) dp2 += diff[k] * diff[k];
   for (int k = 3; k < kEmbeddingDim; ++k) dr2 += diff[k] * diff[k];
@@ -62,6 +59,17 @@ inline void addMixtureTerm(const double* row, const double* x, double inv_sp2, d
   }
   m.included_weight += w;
   ++m.terms;
+}
+
+/// Adds the sample x_i = row[0..11] with weight w_i = row[12] (if > 0) to m, at the query
+/// embedding x (12 doubles): addMixtureDifference, the same arithmetic term by term.
+inline void addMixtureTerm(const double* row, const double* x, double inv_sp2, double inv_se2,
+                           MixtureSum& m) {
+  const double w = row[kEmbeddingDim];
+  if (w <= 0) return;
+  double diff[kEmbeddingDim];  // x_i - x
+  for (int k = 0; k < kEmbeddingDim; ++k) diff[k] = row[k] - x[k];
+  addMixtureDifference(diff, w, inv_sp2, inv_se2, m);
 }
 
 /// v(R M^T) with v(A) = (A21 - A12, A02 - A20, A10 - A01), i.e. twice the axial vector of the

@@ -14,6 +14,25 @@ struct IndexHit {
   double distance2;
 };
 
+/// The index's squared Euclidean distance, bitwise: FLANN's L2 sums the squared differences
+/// in groups of four ((d0^2 + d1^2 + d2^2 + d3^2) added to the running sum per group), then the
+/// remainder one by one. A caller that re-tests the index's points against a radius or for the
+/// nearest point (EvaluationSession) gets exactly the index's distances and ties.
+inline double squaredDistance(const double* a, const double* b, int dim) {
+  double result = 0.0;
+  int k = 0;
+  for (; k + 3 < dim; k += 4) {
+    const double d0 = a[k] - b[k], d1 = a[k + 1] - b[k + 1];
+    const double d2 = a[k + 2] - b[k + 2], d3 = a[k + 3] - b[k + 3];
+    result += d0 * d0 + d1 * d1 + d2 * d2 + d3 * d3;
+  }
+  for (; k < dim; ++k) {
+    const double d = a[k] - b[k];
+    result += d * d;
+  }
+  return result;
+}
+
 /// Nearest-neighbour index over n points of dim coordinates, row k at points + k * stride
 /// (stride >= dim; the caller may keep more values per row after the coordinates). FLANN's
 /// exact kd-tree, optionally with a randomized forest for approximate nearest/knn. The points

@@ -272,6 +272,11 @@ QualityResult TaskMap::Impl::qualityOver(const Query& x, const SampleSet& s,
   detail::MixtureSum m;
   for (const auto& h : hits)
     detail::addMixtureTerm(s.row(h.index), x.e.data(), inv_sp2, inv_se2, m);
+  return truncated(m, x, s);
+}
+
+QualityResult TaskMap::Impl::truncated(const detail::MixtureSum& m, const Query& x,
+                                       const SampleSet& s) const {
   QualityResult out = finish(m, x, s);
   if (s.total_weight <= 0) return out;
   // Omitted samples have embedding distance D > r_c, so d >= D^2 / s^2 > t_c^2

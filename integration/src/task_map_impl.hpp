@@ -69,6 +69,9 @@ struct TaskMap::Impl {
   QualityResult qualityExact(const Query& x, const SampleSet& s) const;
   QualityResult qualityOver(const Query& x, const SampleSet& s,
                             const std::vector<detail::IndexHit>& hits) const;
+  /// The truncated-mode result of a mixture over the samples within the cut-off: finish()
+  /// and the truncation bounds from the weight the mixture left out.
+  QualityResult truncated(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
 
   /// The normalised value and object-frame gradient of an accumulated mixture.
   QualityResult finish(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;

@@ -213,6 +213,42 @@ class IntegrationTest(unittest.TestCase):
                 near += expected < -1e-6 / z
             self.assertGreater(near, 10)  # the comparison is not vacuous
 
+    def test_session_equals_evaluate_on_a_trajectory(self):
+        m = self.map
+        rng = np.random.default_rng(5)
+        for cluster in (None, 2):
+            s = m.session(cluster=cluster)
+            self.assertAlmostEqual(s.margin, 0.25 * m.cutoff_radius, places=15)
+            self.assertEqual(s.cluster, cluster)
+            target = m.pose(int(np.nonzero(self.labels == 2)[0][3]))
+            x = target.copy()
+            x[:3] += 3 * m.position_sigma * rng.normal(size=3)
+            for k in range(25):
+                x[:3] += 0.25 * (target[:3] - x[:3])  # converge in position, fixed orientation
+                a, b = s.evaluate(x), m.evaluate(x, cluster=cluster)
+                self.assertEqual(a["nearest"], b["nearest"])
+                self.assertEqual(a["nearest_distance"], b["nearest_distance"])
+                self.assertEqual(a["proximity"], b["proximity"])
+                np.testing.assert_allclose(a["quality"], b["quality"], rtol=1e-12)
+                np.testing.assert_allclose(a["gradient"], b["gradient"], rtol=1e-12,
+                                           atol=1e-12 * np.linalg.norm(b["gradient"]))
+            st = s.stats
+            self.assertEqual(st["calls"], 25)
+            self.assertGreaterEqual(st["anchors"], 1)
+            self.assertLess(st["anchors"], 10)
+            s.reset()
+            self.assertEqual(s.stats["calls"], 0)
+        with self.assertRaisesRegex(taskmap.Error, "margin"):
+            m.session(margin=-1.0)
+        with self.assertRaisesRegex(taskmap.Error, "cluster 9"):
+            m.session(cluster=9)
+
+    def test_session_keeps_its_map_alive(self):
+        s = taskmap.TaskMap.from_arrays(self.poses, self.eps, rotation_scale=RHO).session(margin=0.0)
+        e = s.evaluate(self.poses[7])
+        self.assertEqual(e["nearest"], 7)
+        self.assertEqual(s.stats["anchors"], 1)
+
     def test_save_and_load_roundtrip(self):
         path = os.path.join(self.tmp, "roundtrip.h5")
         self.map.save(path)

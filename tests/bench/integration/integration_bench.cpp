@@ -19,6 +19,7 @@
 
 #include "synthetic_map.hpp"
 #include "taskmap/integration/criteria.hpp"
+#include "taskmap/integration/evaluation_session.hpp"
 #include "taskmap/integration/task_map.hpp"
 
 namespace taskmap {
@@ -26,6 +27,9 @@ namespace {
 
 constexpr std::size_t kSamples = 100000;
 constexpr std::size_t kQueries = 4096;
+// The optimizer-trajectory query set (a separate set; the rows above keep theirs).
+constexpr std::size_t kTrajectories = 256;
+constexpr std::size_t kIterates = 25;
 
 struct Cloud {  // nanoflann dataset adaptor over the row-major embedding
   std::vector<double> e;
@@ -51,6 +55,11 @@ struct Fixture {
   std::vector<Eigen::Vector3d> pos;
   std::vector<Eigen::Quaterniond, Eigen::aligned_allocator<Eigen::Quaterniond>> qconj;
   std::vector<double> w;
+  // Trajectory set: kTrajectories x kIterates poses, trajectory t at [t kIterates, ...). Each
+  // starts 3 kernel widths per axis (position and rotation) from a random map sample and
+  // converges to it, x_{k+1} = x_k + 0.25 (target - x_k) (rotation: along the geodesic), plus
+  // noise of 0.1 kernel width per axis: an optimizer's iterates (TASKMAPS.md §3).
+  std::vector<Pose> trajectory;
   double wsum = 0, isp2 = 0, ise2 = 0, sr = 0, rho = 0, inv_z = 0, wp = 0, wr = 0;
 
   Fixture() {
@@ -71,6 +80,28 @@ struct Fixture {
       }
       queries.push_back(x);
       query_embedding.push_back(embedPose(x, rho));
+    }
+    Rng trng(6, 0);
+    auto jitter = [&](Pose x, double k) {
+      x.position += k * sp * Eigen::Vector3d(trng.normal(), trng.normal(), trng.normal());
+      x.orientation = Eigen::Quaterniond(
+          rotationExp(k * sr * Eigen::Vector3d(trng.normal(), trng.normal(), trng.normal())) *
+          x.orientation.toRotationMatrix());
+      return x;
+    };
+    for (std::size_t t = 0; t < kTrajectories; ++t) {
+      const Pose target = map.pose(trng.below(map.size()));
+      Pose x = jitter(target, 3.0);
+      for (std::size_t k = 0; k < kIterates; ++k) {
+        trajectory.push_back(x);
+        Pose y;
+        y.position = x.position + 0.25 * (target.position - x.position);
+        const Eigen::Matrix3d r = x.orientation.toRotationMatrix();
+        y.orientation = Eigen::Quaterniond(
+            rotationExp(0.25 * rotationLog(target.orientation.toRotationMatrix() * r.transpose())) *
+            r);
+        x = jitter(y, 0.1);
+      }
     }
     for (std::size_t i = 0; i < map.size(); ++i) {
       const Pose p = map.pose(i);
@@ -321,6 +352,89 @@ void BM_NearestBruteForce(benchmark::State& s) {
   });
 }
 
+// The trajectory set in trajectory order (3 passes).
+// Margin sweep (1e5 samples, 256 x 25 iterates, medians of 3 runs, p50 / p99 in us,
+// anchors per trajectory; evaluate on the same set 9.9 / 48.0):
+//   margin 0: 11.4 / 44.3, 25;  0.25 r_c: 5.1 / 47.4, 6.7;  0.5 r_c: 5.2 / 49.7, 4.0;
+//   1.0 r_c: 5.7 / 82.9, 2.4;  1.5 r_c: 5.9 / 119, 1.9.
+// A cached call costs the mixture terms (the same exp calls as evaluate) plus a scan of the
+// cached shells it can reach; a refill costs a radius search of r_c + margin and the copy, so
+// p99 (refills) grows with the margin. 0.25 and 0.5 tie in p50; 0.25 is the default. evaluate:
+// TaskMap::evaluate per iterate. session: one EvaluationSession per trajectory (constructed outside
+// the timed call; its first call, which searches the index, is timed). Argument: margin in percent
+// of the cut-off radius, -1 for the default.
+std::map<std::string, SessionStats>& sessionStats() {
+  static std::map<std::string, SessionStats> r;
+  return r;
+}
+template <typename F>
+void timedTrajectories(benchmark::State& state, const std::string& key, F&& f) {
+  std::vector<double> ns;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const std::size_t q = i % (kTrajectories * kIterates);
+    const double t = f(
+        q, q % kIterates == 0, [&] { return std::chrono::steady_clock::now(); }, ns);
+    benchmark::DoNotOptimize(t);
+    ++i;
+  }
+  std::sort(ns.begin(), ns.end());
+  Latency l;
+  l.p50 = ns[ns.size() / 2] / 1000.0;
+  l.p99 = ns[std::min(ns.size() - 1, ns.size() * 99 / 100)] / 1000.0;
+  state.counters["p50_us"] = l.p50;
+  state.counters["p99_us"] = l.p99;
+  results()[key] = l;
+}
+void BM_TrajectoryEvaluate(benchmark::State& s) {
+  Fixture& f = fx();
+  timedTrajectories(s, "trajectory/evaluate", [&](std::size_t q, bool, auto now, auto& ns) {
+    const auto t0 = now();
+    const Evaluation e = f.map.evaluate(f.trajectory[q]);
+    const auto t1 = now();
+    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+    return e.cost();
+  });
+}
+void BM_TrajectorySession(benchmark::State& s) {
+  Fixture& f = fx();
+  const bool by_default = s.range(0) < 0;
+  const std::optional<double> margin =
+      by_default
+          ? std::nullopt
+          : std::optional<double>(static_cast<double>(s.range(0)) / 100.0 * f.map.cutoffRadius());
+  const std::string key =
+      by_default ? std::string("trajectory/session(default margin)")
+                 : "trajectory/session(margin " + std::to_string(s.range(0)) + "% r_c)";
+  std::optional<EvaluationSession> session;
+  SessionStats total;
+  std::size_t cached = 0;
+  auto collect = [&] {
+    if (!session) return;
+    total.calls += session->stats().calls;
+    total.anchors += session->stats().anchors;
+    total.fallbacks += session->stats().fallbacks;
+  };
+  timedTrajectories(s, key, [&](std::size_t q, bool first, auto now, auto& ns) {
+    if (first) {
+      collect();
+      session.emplace(f.map, std::nullopt, margin);
+    }
+    const auto t0 = now();
+    const Evaluation e = session->evaluate(f.trajectory[q]);
+    const auto t1 = now();
+    ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+    cached += session->cachedSamples();
+    return e.cost();
+  });
+  collect();
+  const double trajectories = static_cast<double>(total.calls) / kIterates;
+  s.counters["anchors/traj"] = static_cast<double>(total.anchors) / trajectories;
+  s.counters["fallbacks/traj"] = static_cast<double>(total.fallbacks) / trajectories;
+  s.counters["cached"] = static_cast<double>(cached) / static_cast<double>(total.calls);
+  sessionStats()[key] = total;
+}
+
 // Argument: 0 = mixed query set, 1 = near query set.
 BENCHMARK(BM_EvaluateTaskMapFlann)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_EvaluateTaskMapFlannTol5e2)->Arg(0)->Arg(1)->Iterations(20000);
@@ -331,6 +445,17 @@ BENCHMARK(BM_NearestTaskMapFlann)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_RadiusCutoffTaskMapFlann)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_NearestNanoflann)->Arg(0)->Arg(1)->Iterations(20000);
 BENCHMARK(BM_NearestBruteForce)->Arg(0)->Iterations(500);
+constexpr int kTrajectoryCalls = 3 * kTrajectories * kIterates;
+BENCHMARK(BM_TrajectoryEvaluate)->Iterations(kTrajectoryCalls);
+BENCHMARK(BM_TrajectorySession)->Arg(-1)->Iterations(kTrajectoryCalls);
+// Margin sweep (percent of the cut-off radius), for EvaluationSession::kDefaultMarginFactor.
+BENCHMARK(BM_TrajectorySession)
+    ->Arg(0)
+    ->Arg(25)
+    ->Arg(50)
+    ->Arg(100)
+    ->Arg(150)
+    ->Iterations(kTrajectoryCalls);
 
 }  // namespace
 }  // namespace taskmap
@@ -365,6 +490,24 @@ int main(int argc, char** argv) {
         (exact.gradient - c.quality.gradient).norm() > 1e-9 * c.quality.gradient.norm())
       ++mismatches;
   }
+  // Exactness of the session on the trajectory set: the same nearest sample and distance and
+  // term count as evaluate, value within 1e-12 relative.
+  std::size_t session_mismatches = 0;
+  for (std::size_t t = 0; t < kTrajectories; ++t) {
+    EvaluationSession session(f.map);
+    for (std::size_t k = 0; k < kIterates; ++k) {
+      const Pose& x = f.trajectory[t * kIterates + k];
+      const Evaluation a = f.map.evaluate(x), b = session.evaluate(x);
+      if (a.proximity.nearest.index != b.proximity.nearest.index ||
+          a.proximity.nearest.distance != b.proximity.nearest.distance ||
+          a.quality.terms != b.quality.terms ||
+          std::abs(a.quality.value - b.quality.value) > 1e-12 * std::abs(a.quality.value))
+        ++session_mismatches;
+    }
+  }
+  mismatches += session_mismatches;
+  std::printf("trajectory set: %zu x %zu iterates; session vs evaluate: %zu mismatches\n",
+              kTrajectories, kIterates, session_mismatches);
   std::printf(
       "map: %zu samples, sigma_p %.4g m, sigma_r %.4g rad, cut-off %.4g m; exactness check on 512 "
       "queries: %zu mismatches, worst relative truncation error %.3g\n",
@@ -393,5 +536,20 @@ int main(int argc, char** argv) {
     ratio((std::string(kind) + "/brute[mixed]").c_str(),
           (std::string(kind) + "/taskmap(flann)[near]").c_str());
   }
+  std::printf("trajectory set (%zu trajectories x %zu iterates, one session per trajectory):\n",
+              kTrajectories, kIterates);
+  for (const auto& [key, st] : sessionStats()) {
+    if (!r.count(key)) continue;
+    const double trajectories = static_cast<double>(st.calls) / kIterates;
+    std::printf(
+        "  %-40s p50 %7.3f us  p99 %7.3f us  anchors/traj %5.2f  fallbacks/traj %5.2f"
+        "  p50 ratio evaluate/session %.2fx, p99 %.2fx\n",
+        key.c_str(), r[key].p50, r[key].p99, static_cast<double>(st.anchors) / trajectories,
+        static_cast<double>(st.fallbacks) / trajectories, r["trajectory/evaluate"].p50 / r[key].p50,
+        r["trajectory/evaluate"].p99 / r[key].p99);
+  }
+  if (r.count("trajectory/evaluate"))
+    std::printf("  %-40s p50 %7.3f us  p99 %7.3f us\n", "trajectory/evaluate",
+                r["trajectory/evaluate"].p50, r["trajectory/evaluate"].p99);
   return mismatches == 0 ? 0 : 1;
 }

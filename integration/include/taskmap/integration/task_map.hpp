@@ -27,6 +27,8 @@
 
 namespace taskmap {
 
+class EvaluationSession;
+
 /// Nearest-neighbour index over the 12-D pose embedding.
 enum class IndexKind {
   kExactKdTree,       ///< single kd-tree, exact answers (default)
@@ -180,6 +182,7 @@ class TaskMap {
       std::optional<int> cluster = std::nullopt) const;
 
  private:
+  friend class EvaluationSession;  // reads the sample sets and criteria (evaluation_session.hpp)
   struct Impl;
   explicit TaskMap(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
