@@ -251,6 +251,17 @@ std::map<std::string, Latency>& results() {
   return r;
 }
 
+/// p50 / p99 of per-call latencies (ns, sorted here) as counters and into results()[key].
+void record(benchmark::State& state, const std::string& key, std::vector<double>& ns) {
+  std::sort(ns.begin(), ns.end());
+  Latency l;
+  l.p50 = ns[ns.size() / 2] / 1000.0;
+  l.p99 = ns[std::min(ns.size() - 1, ns.size() * 99 / 100)] / 1000.0;
+  state.counters["p50_us"] = l.p50;
+  state.counters["p99_us"] = l.p99;
+  results()[key] = l;
+}
+
 // Times f(query index) per call; each query is used `repeat` times in a row (1: every call
 // goes to another part of the map, as in the query sets; more: warm caches).
 template <typename F>
@@ -267,13 +278,7 @@ void timed(benchmark::State& state, std::string key, F&& f, std::size_t repeat =
     ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
     ++i;
   }
-  std::sort(ns.begin(), ns.end());
-  Latency l;
-  l.p50 = ns[ns.size() / 2] / 1000.0;
-  l.p99 = ns[std::min(ns.size() - 1, ns.size() * 99 / 100)] / 1000.0;
-  state.counters["p50_us"] = l.p50;
-  state.counters["p99_us"] = l.p99;
-  results()[key] = l;
+  record(state, key, ns);
 }
 
 void BM_EvaluateTaskMapFlann(benchmark::State& s) {
@@ -378,13 +383,7 @@ void timedTrajectories(benchmark::State& state, const std::string& key, F&& f) {
     benchmark::DoNotOptimize(t);
     ++i;
   }
-  std::sort(ns.begin(), ns.end());
-  Latency l;
-  l.p50 = ns[ns.size() / 2] / 1000.0;
-  l.p99 = ns[std::min(ns.size() - 1, ns.size() * 99 / 100)] / 1000.0;
-  state.counters["p50_us"] = l.p50;
-  state.counters["p99_us"] = l.p99;
-  results()[key] = l;
+  record(state, key, ns);
 }
 void BM_TrajectoryEvaluate(benchmark::State& s) {
   Fixture& f = fx();

@@ -237,13 +237,7 @@ TEST(EvaluationSession, DefaultMarginStatsAndReset) {
 TEST(EvaluationSession, TiesGoToTheSmallerGraspIndex) {
   // Every sample twice: the cached nearest must pick the smaller index, as evaluate does.
   const std::size_t n = 300;
-  TaskMapData data = syntheticMap(n);
-  TaskMapData twice = data;
-  twice.grasps.pose.conservativeResize(static_cast<Eigen::Index>(2 * n), 7);
-  twice.grasps.pose.bottomRows(static_cast<Eigen::Index>(n)) = data.grasps.pose;
-  twice.grasps.epsilon.insert(twice.grasps.epsilon.end(), data.grasps.epsilon.begin(),
-                              data.grasps.epsilon.end());
-  twice.clustering.reset();
+  const TaskMapData twice = testing::duplicatedMap(n);
   TaskMapOptions o;
   o.position_sigma = 0.005;
   const TaskMap map = TaskMap::fromData(twice, o);

@@ -95,5 +95,18 @@ inline Pose randomPose(Rng& rng) {
   return p;
 }
 
+/// The synthetic map of n grasps with every grasp stored twice (grasps i and n + i equal, no
+/// clustering): equal distances, for tie-breaking tests.
+inline TaskMapData duplicatedMap(std::size_t n) {
+  const TaskMapData data = syntheticMap(n);
+  TaskMapData twice = data;
+  twice.grasps.pose.conservativeResize(static_cast<Eigen::Index>(2 * n), 7);
+  twice.grasps.pose.bottomRows(static_cast<Eigen::Index>(n)) = data.grasps.pose;
+  twice.grasps.epsilon.insert(twice.grasps.epsilon.end(), data.grasps.epsilon.begin(),
+                              data.grasps.epsilon.end());
+  twice.clustering.reset();
+  return twice;
+}
+
 }  // namespace testing
 }  // namespace taskmap

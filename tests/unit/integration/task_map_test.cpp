@@ -231,13 +231,7 @@ TEST(TaskMap, QualityKernelIsGaussianInTheEmbedding) {
 // and evaluate all put the smaller grasp index first.
 TEST(TaskMap, TiesGoToTheSmallerGraspIndex) {
   const std::size_t n = 300;
-  TaskMapData data = syntheticMap(n);
-  TaskMapData twice = data;
-  twice.grasps.pose.conservativeResize(static_cast<Eigen::Index>(2 * n), 7);
-  twice.grasps.pose.bottomRows(static_cast<Eigen::Index>(n)) = data.grasps.pose;
-  twice.grasps.epsilon.insert(twice.grasps.epsilon.end(), data.grasps.epsilon.begin(),
-                              data.grasps.epsilon.end());
-  twice.clustering.reset();
+  const TaskMapData twice = testing::duplicatedMap(n);
   TaskMapOptions o;
   o.position_sigma = 0.005;  // the sampling density of duplicates is 0
   const TaskMap map = TaskMap::fromData(twice, o);
