@@ -33,6 +33,11 @@ bool refine(const WrenchMatrix& w, detail::IncrementalHull& hull, WrenchEpsilon&
   return false;
 }
 
+/// Whether `mode` asks for the volume of a set with this force-closure outcome.
+bool wantsVolume(VolumeMode mode, bool force_closure) {
+  return mode == VolumeMode::kAlways || (mode == VolumeMode::kForceClosure && force_closure);
+}
+
 }  // namespace
 
 WrenchEpsilon wrenchEpsilon(const WrenchMatrix& wrenches, const WrenchEpsilonOptions& options) {
@@ -44,9 +49,7 @@ WrenchEpsilon wrenchEpsilon(const WrenchMatrix& wrenches, const WrenchEpsilonOpt
   thread_local detail::IncrementalHull hull;
   hull.reset(wrenches, kIncrementalHullTolerance * out.scale);
   bool ok = hull.initSimplex() && refine(wrenches, hull, out);
-  const bool want_volume = options.volume == VolumeMode::kAlways ||
-                           (options.volume == VolumeMode::kForceClosure && out.force_closure);
-  if (ok && want_volume) {
+  if (ok && wantsVolume(options.volume, out.force_closure)) {
     ok = hull.complete();
     if (ok) out.volume = hull.volume();
   }
@@ -73,9 +76,7 @@ WrenchEpsilon wrenchEpsilon(const WrenchMatrix& wrenches, const WrenchEpsilonOpt
   out.message = summary.message;
   out.force_closure = summary.force_closure;
   out.epsilon = summary.epsilon;
-  const bool qhull_volume = options.volume == VolumeMode::kAlways ||
-                            (options.volume == VolumeMode::kForceClosure && out.force_closure);
-  out.volume = qhull_volume ? summary.volume : 0.0;
+  out.volume = wantsVolume(options.volume, out.force_closure) ? summary.volume : 0.0;
   out.used_qhull = true;
   return out;
 }

@@ -19,17 +19,10 @@
 namespace taskmap {
 namespace {
 
+using testing::makeContact;
 using testing::randomContacts;
 
 constexpr double kPi = 3.14159265358979323846;
-
-Contact makeContact(Eigen::Vector3d point, Eigen::Vector3d normal, double depth = 1e-3) {
-  Contact c;
-  c.point = point;
-  c.normal = normal.normalized();
-  c.depth = depth;
-  return c;
-}
 
 template <typename F>
 void expectThrowsWith(F&& f, const std::string& needle) {

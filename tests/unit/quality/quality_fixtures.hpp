@@ -19,6 +19,15 @@ inline Eigen::Vector3d ellipsoidAxes() {
   return {0.05, 0.03, 0.02};
 }
 
+/// A pressing contact (depth in metres) at `point` with the unit normal along `normal`.
+inline Contact makeContact(Eigen::Vector3d point, Eigen::Vector3d normal, double depth = 1e-3) {
+  Contact c;
+  c.point = point;
+  c.normal = normal.normalized();
+  c.depth = depth;
+  return c;
+}
+
 /// n contacts on the ellipsoid surface about the origin, outward normals, depth > 0.
 /// With `tilt` > 0 the normals are perturbed (still unit), like noisy simulated contacts.
 inline std::vector<Contact> randomContacts(Rng& rng, int n, double tilt = 0.0) {

@@ -19,15 +19,8 @@ extern "C" {
 namespace taskmap {
 namespace {
 
+using testing::makeContact;
 using testing::randomContacts;
-
-Contact makeContact(Eigen::Vector3d point, Eigen::Vector3d normal, double depth = 1e-3) {
-  Contact c;
-  c.point = point;
-  c.normal = normal.normalized();
-  c.depth = depth;
-  return c;
-}
 
 // ---------------------------------------------------------------------------------------------
 // wrenchHull directly
