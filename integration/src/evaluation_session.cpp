@@ -66,10 +66,10 @@ IndexHit EvaluationSession::State::anchorAt(const TaskMap::Impl::Query& x, detai
   ++stats.anchors;
   IndexHit nearest{kNone, std::numeric_limits<double>::infinity()};
   if (exact_tree) {
-    nearest = set->index->radiusAndNearest(x.e.data(), reach2, hits);
+    nearest = impl->ballAndNearest(*set, x, reach2, hits);
     nearest.index = set->grasp[nearest.index];
   } else {
-    set->index->radius(x.e.data(), reach2, hits);
+    impl->ballSearch(*set, x, reach2, hits);
   }
   // Cache rows in kShells shells of equal width in squared distance to the anchor, nearest
   // shell first (a counting sort): a query scans only the shells that can matter to it.

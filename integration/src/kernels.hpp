@@ -4,6 +4,10 @@
 #include <cmath>
 #include <cstddef>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -40,18 +44,57 @@ struct MixtureSum {
   std::size_t terms = 0;         ///< terms with w_i > 0
 };
 
-/// Adds the sample x_i = row[0..11] with weight w_i = row[12] (if > 0) to m, at the query
-/// embedding x (12 doubles). The quality kernel's Mahalanobis distance in the embedding
-/// (p, (rho/sqrt2) vec R) is d = |x_i,p - x_p|^2 inv_sp2 + |x_i,R - x_R|^2 inv_se2 with
-/// inv_sp2 = 1/sp^2 and inv_se2 = 1/(rho sr)^2, so that the rotation part is
-/// ||R_i - R||_F^2 / (2 sr^2) (criteria.hpp). Here with the differences diff = x_i - x
-/// (12 doubles) already computed and the weight w > 0 (addMixtureTerm computes them).
-inline void addMixtureDifference(const double* diff, double w, double inv_sp2, double inv_se2,
-                                 MixtureSum& m) {
+/// The quality kernel's Mahalanobis distance in the embedding (p, (rho/sqrt2) vec R):
+/// d = |x_i,p - x_p|^2 inv_sp2 + |x_i,R - x_R|^2 inv_se2 with inv_sp2 = 1/sp^2 and
+/// inv_se2 = 1/(rho sr)^2, so that the rotation part is ||R_i - R||_F^2 / (2 sr^2)
+/// (criteria.hpp), from the differences diff = x_i - x (12 doubles).
+inline double mixtureDistance(const double* diff, double inv_sp2, double inv_se2) {
   double dp2 = 0.0, dr2 = 0.0;
   for (int k = 0; k < 3; ++k) dp2 += diff[k] * diff[k];
   for (int k = 3; k < kEmbeddingDim; ++k) dr2 += diff[k] * diff[k];
-  const double d = dp2 * inv_sp2 + dr2 * inv_se2;
+  return dp2 * inv_sp2 + dr2 * inv_se2;
+}
+
+/// Adds the term c = w exp(-d / 2) with the differences diff (12 doubles) to m, given
+/// e = exp(-d / 2) (0 if d >= kKernelUnderflow): the part of addMixtureDifference after the exp.
+inline void addMixtureExp(const double* diff, double w, double e, MixtureSum& m) {
+  const double c = w * e;
+  m.sum += c;
+  for (int k = 0; k < kEmbeddingDim; ++k) m.moment[k] += c * diff[k];
+  m.included_weight += w;
+  ++m.terms;
+}
+
+/// addMixtureExp for the terms t < n with differences diffs + 12 t, weights[t] and exps[t], in
+/// order: the same arithmetic, the moment's twelve sums two at a time.
+inline void addMixtureExps(const double* diffs, const double* weights, const double* exps,
+                           std::size_t n, MixtureSum& m) {
+#if defined(__SSE2__)
+  static_assert(kEmbeddingDim == 12, "six pairs");
+  __m128d moment[6];
+  for (int j = 0; j < 6; ++j) moment[j] = _mm_loadu_pd(m.moment + 2 * j);
+  for (std::size_t t = 0; t < n; ++t) {
+    const double c = weights[t] * exps[t];
+    m.sum += c;
+    const __m128d cc = _mm_set1_pd(c);
+    const double* diff = diffs + t * kEmbeddingDim;
+    for (int j = 0; j < 6; ++j)
+      moment[j] = _mm_add_pd(moment[j], _mm_mul_pd(cc, _mm_loadu_pd(diff + 2 * j)));
+    m.included_weight += weights[t];
+  }
+  for (int j = 0; j < 6; ++j) _mm_storeu_pd(m.moment + 2 * j, moment[j]);
+  m.terms += n;
+#else
+  for (std::size_t t = 0; t < n; ++t)
+    addMixtureExp(diffs + t * kEmbeddingDim, weights[t], exps[t], m);
+#endif
+}
+
+/// Adds the sample with embedding differences diff = x_i - x (12 doubles) and weight w > 0 to
+/// m: c = w exp(-d / 2) with d = mixtureDistance (addMixtureTerm computes diff and w).
+inline void addMixtureDifference(const double* diff, double w, double inv_sp2, double inv_se2,
+                                 MixtureSum& m) {
+  const double d = mixtureDistance(diff, inv_sp2, inv_se2);
   if (d < kKernelUnderflow) {  // else c = 0 exactly
     const double c = w * std::exp(-0.5 * d);
     m.sum += c;

@@ -163,8 +163,8 @@ flann::Matrix<double> matrix(const double* points, std::size_t n, int dim, std::
 }  // namespace
 
 struct NnIndex::Flann {
-  // The exact tree reads the caller's rows in place (no reordered copy): with the rows in
-  // leafOrder() each leaf is one contiguous block, and a hit's row is in cache for the caller.
+  // The exact tree reads the caller's rows in place when they are in leafOrder() (each leaf one
+  // contiguous block, a hit's row in cache for the caller), else its own copy in leaf order.
   std::unique_ptr<flann::KDTreeSingleIndex<Dist>> exact;  // radius, and nearest/knn when exact
   std::unique_ptr<flann::NNIndex<Dist>> forest;           // nearest/knn when randomized
 };
@@ -183,7 +183,7 @@ std::vector<std::size_t> NnIndex::leafOrder(const double* points, std::size_t n,
 }
 
 NnIndex::NnIndex(const double* points, std::size_t n, int dim, std::size_t stride,
-                 const std::size_t* ids, bool randomized, int trees, int checks)
+                 const std::size_t* ids, bool randomized, int trees, int checks, bool reorder)
     : flann_(std::make_unique<Flann>()),
       n_(n),
       ids_(ids),
@@ -193,7 +193,7 @@ NnIndex::NnIndex(const double* points, std::size_t n, int dim, std::size_t strid
   // The exact tree serves radius searches in both modes (FLANN's forest would search its
   // first tree exactly, and complain on stderr about the others).
   flann_->exact = std::make_unique<flann::KDTreeSingleIndex<Dist>>(
-      data, flann::KDTreeSingleIndexParams(kLeafSize, false));
+      data, flann::KDTreeSingleIndexParams(kLeafSize, reorder));
   flann_->exact->buildIndex();
   if (randomized) {
     // FLANN's forest draws split dimensions from std::rand: seed it for reproducible trees

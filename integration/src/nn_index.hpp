@@ -17,7 +17,8 @@ struct IndexHit {
 /// The index's squared Euclidean distance, bitwise: FLANN's L2 sums the squared differences
 /// in groups of four ((d0^2 + d1^2 + d2^2 + d3^2) added to the running sum per group), then the
 /// remainder one by one. A caller that re-tests the index's points against a radius or for the
-/// nearest point (EvaluationSession) gets exactly the index's distances and ties.
+/// nearest point (EvaluationSession, the ball tree's candidates) gets exactly the index's
+/// distances and ties.
 inline double squaredDistance(const double* a, const double* b, int dim) {
   double result = 0.0;
   int k = 0;
@@ -36,9 +37,9 @@ inline double squaredDistance(const double* a, const double* b, int dim) {
 /// Nearest-neighbour index over n points of dim coordinates, row k at points + k * stride
 /// (stride >= dim; the caller may keep more values per row after the coordinates). FLANN's
 /// exact kd-tree, optionally with a randomized forest for approximate nearest/knn. The points
-/// must outlive the index; the tree reads them in place, so rows in leafOrder() give each leaf
-/// a contiguous block of memory. Every query method is const and thread-safe (no shared
-/// mutable state).
+/// must outlive the index; the tree reads them in place (rows in leafOrder() give each leaf a
+/// contiguous block of memory) or from its own reordered copy. Every query method is const and
+/// thread-safe (no shared mutable state).
 ///
 /// Ties in distance are broken by a key per row (`ids`, e.g. the grasp index): among points at
 /// equal distance the one with the smaller key comes first.
@@ -53,8 +54,10 @@ class NnIndex {
   /// @param ids tie-break key of each row, or null for the row index. Held by pointer.
   /// @param randomized false: exact single kd-tree. true: also a randomized forest of `trees`
   /// trees; nearest/knn visit at most `checks` of its leaves.
+  /// @param reorder the exact tree keeps its own copy of the points in its leaf order (for rows
+  /// not in leafOrder()); false: it reads the rows in place.
   NnIndex(const double* points, std::size_t n, int dim, std::size_t stride, const std::size_t* ids,
-          bool randomized, int trees, int checks);
+          bool randomized, int trees, int checks, bool reorder = false);
   ~NnIndex();
   NnIndex(const NnIndex&) = delete;
   NnIndex& operator=(const NnIndex&) = delete;

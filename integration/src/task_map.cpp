@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 
@@ -119,16 +120,6 @@ std::vector<Neighbor> neighbours(const std::vector<std::size_t>& grasp,
   return out;
 }
 
-/// Reused per thread: a query allocates nothing once the buffer has grown.
-std::vector<IndexHit>& hitBuffer() {
-  thread_local std::vector<IndexHit> hits = [] {
-    std::vector<IndexHit> v;
-    v.reserve(1024);
-    return v;
-  }();
-  return hits;
-}
-
 }  // namespace
 
 Neighbor TaskMap::nearest(const Pose& x, std::optional<int> cluster) const {
@@ -175,9 +166,9 @@ QualityResult TaskMap::quality(const Pose& x, std::optional<int> cluster,
   if (mode.value_or(impl_->options.quality_mode) == QualityMode::kExact) {
     return impl_->qualityExact(q, set);
   }
-  auto& hits = hitBuffer();
-  set.index->radius(q.e.data(), impl_->cutoff2, hits);
-  return impl_->qualityOver(q, set, hits);
+  detail::MixtureSum m;
+  impl_->cutoffMixture(set, q, m);
+  return impl_->truncated(m, q, set);
 }
 
 Evaluation TaskMap::evaluate(const Pose& x, std::optional<int> cluster) const {
@@ -187,11 +178,12 @@ Evaluation TaskMap::evaluate(const Pose& x, std::optional<int> cluster) const {
   Evaluation out;
   IndexHit nearest;
   if (impl_->options.quality_mode == QualityMode::kTruncated) {
-    // One traversal: the samples within the cut-off (the same, in the same order, as
-    // quality()'s radius search) and the nearest sample, within the cut-off or not.
-    auto& hits = hitBuffer();
-    nearest = set.index->radiusAndNearest(q.e.data(), impl_->cutoff2, hits);
-    out.quality = impl_->qualityOver(q, set, hits);
+    // One search: the mixture over the samples within the cut-off (the same terms, in the same
+    // order, as quality()'s) and the nearest sample, within the cut-off or, if none is, from
+    // the index.
+    detail::MixtureSum m;
+    nearest = impl_->cutoffMixture(set, q, m);
+    out.quality = impl_->truncated(m, q, set);
   } else {
     out.quality = impl_->qualityExact(q, set);
     nearest = set.index->nearest(q.e.data());
@@ -265,14 +257,6 @@ QualityResult TaskMap::Impl::qualityExact(const Query& x, const SampleSet& s) co
   for (std::size_t k = 0; k < s.size(); ++k)
     detail::addMixtureTerm(s.row(k), x.e.data(), inv_sp2, inv_se2, m);
   return finish(m, x, s);
-}
-
-QualityResult TaskMap::Impl::qualityOver(const Query& x, const SampleSet& s,
-                                         const std::vector<IndexHit>& hits) const {
-  detail::MixtureSum m;
-  for (const auto& h : hits)
-    detail::addMixtureTerm(s.row(h.index), x.e.data(), inv_sp2, inv_se2, m);
-  return truncated(m, x, s);
 }
 
 QualityResult TaskMap::Impl::truncated(const detail::MixtureSum& m, const Query& x,

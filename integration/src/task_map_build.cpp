@@ -32,9 +32,22 @@ void TaskMap::Impl::buildSet(SampleSet& s, const std::vector<std::size_t>& membe
     std::copy(e.data(), e.data() + kEmbeddingDim, rows.data() + k * kRowStride);
     rows[k * kRowStride + kWeightColumn] = m.weight[members[k]];
   }
-  // Rows in the tree's leaf order: a query's candidates and hits are contiguous blocks.
-  const std::vector<std::size_t> order =
-      detail::NnIndex::leafOrder(rows.data(), s.count, kEmbeddingDim, kRowStride);
+  // Rows in the ball tree's leaf order (else the index's): a query's candidates and hits are
+  // contiguous blocks.
+  std::vector<Eigen::Vector3d> positions(s.count);
+  std::vector<Eigen::Vector4d> quaternions(s.count);
+  for (std::size_t k = 0; k < s.count; ++k) {
+    positions[k] = m.pos[members[k]];
+    const Eigen::Quaterniond q = m.qconj[members[k]].conjugate();
+    quaternions[k] = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+  }
+  s.ball = detail::PoseBallTree::build(positions, quaternions, m.rho);
+  std::vector<std::size_t> order;
+  if (s.ball) {
+    order.assign(s.ball->order().begin(), s.ball->order().end());
+  } else {
+    order = detail::NnIndex::leafOrder(rows.data(), s.count, kEmbeddingDim, kRowStride);
+  }
   s.grasp.resize(s.count);
   s.rows.resize(s.count * kRowStride);
   for (std::size_t k = 0; k < s.count; ++k) {
@@ -47,7 +60,8 @@ void TaskMap::Impl::buildSet(SampleSet& s, const std::vector<std::size_t>& membe
   for (const std::size_t i : members) s.total_weight += m.weight[i];
   s.index = std::make_unique<detail::NnIndex>(
       s.rows.data(), s.count, kEmbeddingDim, kRowStride, s.grasp.data(),
-      m.options.index == IndexKind::kRandomizedForest, m.options.trees, m.options.checks);
+      m.options.index == IndexKind::kRandomizedForest, m.options.trees, m.options.checks,
+      /*reorder=*/s.ball != nullptr);
 }
 
 void TaskMap::Impl::build() {

@@ -1,6 +1,7 @@
 #pragma once
 // Private: the state behind TaskMap.
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -9,6 +10,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/StdVector>
 
+#include "ball_tree.hpp"
+#include "huge_page_allocator.hpp"
 #include "kernels.hpp"
 #include "nn_index.hpp"
 #include "taskmap/integration/task_map.hpp"
@@ -21,15 +24,16 @@ struct TaskMap::Impl {
   static constexpr std::size_t kRowStride = kEmbeddingDim + 1;
   static constexpr std::size_t kWeightColumn = kEmbeddingDim;
 
-  /// The samples of the whole map or of one cluster, with their own index. Rows are in the
-  /// index's leaf order (NnIndex::leafOrder), so the samples a query touches lie together in
-  /// memory, and a hit's weight shares the cache line the index just read; row k is grasp
-  /// `grasp[k]`.
+  /// The samples of the whole map or of one cluster, with their own index and ball tree. Rows
+  /// are in the ball tree's leaf order (else the index's, NnIndex::leafOrder), so the samples
+  /// a query touches lie together in memory; row k is grasp `grasp[k]`.
   struct SampleSet {
     std::size_t count = 0;
-    std::vector<std::size_t> grasp;  ///< grasp index of each row
-    std::vector<double> rows;        ///< count x kRowStride (the index reads them in place)
+    std::vector<std::size_t> grasp;   ///< grasp index of each row
+    detail::HugeVector<double> rows;  ///< count x kRowStride (the index reads them in place)
     std::unique_ptr<detail::NnIndex> index;
+    /// Candidates of the cut-off searches; null if it does not apply (ball_tree.hpp).
+    std::unique_ptr<detail::PoseBallTree> ball;
     double total_weight = 0.0;  ///< sum of epsilon over the set
     std::size_t size() const { return count; }
     const double* row(std::size_t k) const { return rows.data() + k * kRowStride; }
@@ -66,9 +70,33 @@ struct TaskMap::Impl {
   const SampleSet& set(std::optional<int> cluster) const;
   Query query(const Pose& x) const;
   ProximityResult proximityTo(const Query& x, const Neighbor& n) const;
+  /// Every sample of s within squared pose distance radius2 of x, in search order, with the
+  /// index's distances (the same set as NnIndex::radius): from the ball tree's candidates
+  /// when it applies, else from the index.
+  void ballSearch(const SampleSet& s, const Query& x, double radius2,
+                  std::vector<detail::IndexHit>& out) const;
+  /// The ball tree's candidates of s within pose distance sqrt(radius2) of x, prefetching
+  /// their rows; false if the tree does not apply (none, or it cannot answer this radius).
+  static bool ballCandidates(const SampleSet& s, const Query& x, double radius2,
+                             std::vector<std::uint32_t>& out);
+  /// a before b: nearer, ties to the smaller grasp index (the index's rule).
+  static bool nearer(const SampleSet& s, const detail::IndexHit& a, const detail::IndexHit& b) {
+    return a.distance2 < b.distance2 ||
+           (a.distance2 == b.distance2 && s.grasp[a.index] < s.grasp[b.index]);
+  }
+  /// The nearest sample (a row of s) when no sample is within a searched ball: exact tree: the
+  /// ball tree's exact branch and bound (the index's distances and ties), else the index's
+  /// nearest() (randomized forest: its answer).
+  detail::IndexHit nearestOutsideBall(const SampleSet& s, const Query& x) const;
+  /// ballSearch() and the nearest sample (a row of s): the best of the ball if it holds a
+  /// sample, else the index's nearest() (exact tree: exact; randomized forest: its answer), as
+  /// NnIndex::radiusAndNearest.
+  detail::IndexHit ballAndNearest(const SampleSet& s, const Query& x, double radius2,
+                                  std::vector<detail::IndexHit>& out) const;
   QualityResult qualityExact(const Query& x, const SampleSet& s) const;
-  QualityResult qualityOver(const Query& x, const SampleSet& s,
-                            const std::vector<detail::IndexHit>& hits) const;
+  /// The truncated mixture at x over the samples of s within the cut-off, added to m, and the
+  /// nearest sample (a row of s; as ballAndNearest) from the same search.
+  detail::IndexHit cutoffMixture(const SampleSet& s, const Query& x, detail::MixtureSum& m) const;
   /// The truncated-mode result of a mixture over the samples within the cut-off: finish()
   /// and the truncation bounds from the weight the mixture left out.
   QualityResult truncated(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
