@@ -83,7 +83,8 @@ std::unique_ptr<PoseBallTree> PoseBallTree::build(
   tree->buildRange(coords, index, 0, static_cast<std::uint32_t>(n));
   tree->points_.resize(n * kStride);
   for (std::size_t k = 0; k < n; ++k)
-    std::copy(coords.begin() + index[k] * kStride, coords.begin() + (index[k] + 1) * kStride,
+    std::copy(coords.begin() + std::size_t{index[k]} * kStride,
+              coords.begin() + (std::size_t{index[k]} + 1) * kStride,
               tree->points_.begin() + static_cast<std::ptrdiff_t>(k * kStride));
   tree->order_ = std::move(index);
   return tree;
@@ -98,8 +99,8 @@ int PoseBallTree::buildRange(std::vector<float>& coords, std::vector<std::uint32
     std::fill(hi, hi + kStride, std::numeric_limits<float>::lowest());
     for (std::uint32_t i = b; i < e; ++i)
       for (int k = 0; k < kStride; ++k) {
-        lo[k] = std::min(lo[k], coords[index[i] * kStride + k]);
-        hi[k] = std::max(hi[k], coords[index[i] * kStride + k]);
+        lo[k] = std::min(lo[k], coords[std::size_t{index[i]} * kStride + k]);
+        hi[k] = std::max(hi[k], coords[std::size_t{index[i]} * kStride + k]);
       }
   };
   if (end - begin <= static_cast<std::uint32_t>(kLeafSize)) {
@@ -115,7 +116,8 @@ int PoseBallTree::buildRange(std::vector<float>& coords, std::vector<std::uint32
   // Ties by sample index: the partition depends on the samples only.
   std::nth_element(index.begin() + begin, index.begin() + mid, index.begin() + end,
                    [&](std::uint32_t a, std::uint32_t b) {
-                     const float va = coords[a * kStride + split], vb = coords[b * kStride + split];
+                     const float va = coords[std::size_t{a} * kStride + split],
+                                 vb = coords[std::size_t{b} * kStride + split];
                      return va < vb || (va == vb && a < b);
                    });
   const int me = static_cast<int>(nodes_.size());
@@ -175,8 +177,10 @@ bool PoseBallTree::candidates(const Eigen::Vector3d& p, const Eigen::Quaterniond
   const Eigen::Vector4d u = canonical(q);
   alignas(16) float y[kStride];
   queryPoint(p, u, rho_, y);
+  for (int k = 0; k < kDim; ++k)
+    if (!std::isfinite(y[k])) return false;
   const float radius2 = floatRadius2(r, y);
-  // Not in the domain (sample found twice possible) or a non-finite query.
+  // Not in the domain (a sample could be found twice).
   if (!(radius2 / (4.0 * rho_ * rho_) < kMaxQuaternionReach2)) return false;
   search(y, radius2, out, static_cast<const char*>(rows), row_bytes);
   // Samples nearer to -q need a search around -q only if w <= sqrt(x*(r)) <= t / (2 rho).
@@ -210,12 +214,14 @@ bool PoseBallTree::nearest(const Eigen::Vector3d& p, const Eigen::Quaterniond& q
     }
 #if defined(__SSE2__)
     const __m128 y0 = _mm_load_ps(y), y1 = _mm_load_ps(y + 4);
-    auto point2 = [&](std::uint32_t i) { return pointDistance2(&points_[i * kStride], y0, y1); };
+    auto point2 = [&](std::uint32_t i) {
+      return pointDistance2(&points_[std::size_t{i} * kStride], y0, y1);
+    };
     auto box2 = [&](const float* lo, const float* hi) { return boxDistance2(lo, hi, y0, y1); };
 #else
     auto point2 = [&](std::uint32_t i) {
       float d[kStride];
-      for (int k = 0; k < kStride; ++k) d[k] = points_[i * kStride + k] - y[k];
+      for (int k = 0; k < kStride; ++k) d[k] = points_[std::size_t{i} * kStride + k] - y[k];
       return sumSquares(d);
     };
     auto box2 = [&](const float* lo, const float* hi) {
@@ -273,12 +279,14 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
   };
 #if defined(__SSE2__)
   const __m128 y0 = _mm_load_ps(y), y1 = _mm_load_ps(y + 4);
-  auto point2 = [&](std::uint32_t i) { return pointDistance2(&points_[i * kStride], y0, y1); };
+  auto point2 = [&](std::uint32_t i) {
+    return pointDistance2(&points_[std::size_t{i} * kStride], y0, y1);
+  };
   auto box2 = [&](const float* lo, const float* hi) { return boxDistance2(lo, hi, y0, y1); };
 #else
   auto point2 = [&](std::uint32_t i) {
     float d[kStride];
-    for (int k = 0; k < kStride; ++k) d[k] = points_[i * kStride + k] - y[k];
+    for (int k = 0; k < kStride; ++k) d[k] = points_[std::size_t{i} * kStride + k] - y[k];
     return sumSquares(d);
   };
   auto box2 = [&](const float* lo, const float* hi) {
@@ -302,8 +310,8 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
       hit_leaves.push_back(~c);
 #if defined(__SSE2__)
       const Leaf& leaf = leaves_[static_cast<std::size_t>(~c)];
-      const char* b = reinterpret_cast<const char*>(&points_[leaf.begin * kStride]);
-      const char* e = reinterpret_cast<const char*>(&points_[leaf.end * kStride]);
+      const char* b = reinterpret_cast<const char*>(&points_[std::size_t{leaf.begin} * kStride]);
+      const char* e = reinterpret_cast<const char*>(&points_[std::size_t{leaf.end} * kStride]);
       for (; b < e; b += 64) _mm_prefetch(b, _MM_HINT_T0);
 #endif
       continue;
@@ -318,7 +326,9 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
     const Leaf& leaf = leaves_[static_cast<std::size_t>(l)];
     reserveLeaf();
     std::uint32_t* dst = out.data();
+#if defined(__SSE2__)
     const std::size_t first = count;
+#endif
     for (std::uint32_t i = leaf.begin; i < leaf.end; ++i) {
       dst[count] = i;
       count += point2(i) <= radius2 ? 1 : 0;
@@ -330,6 +340,9 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
         for (std::size_t b = 0; b < row_bytes; b += 64) _mm_prefetch(row + b, _MM_HINT_T0);
         _mm_prefetch(row + row_bytes - 1, _MM_HINT_T0);
       }
+#else
+    (void)rows;  // prefetching needs SSE
+    (void)row_bytes;
 #endif
   }
   out.resize(count);

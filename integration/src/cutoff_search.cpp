@@ -13,7 +13,7 @@
 #include "kernels.hpp"
 #include "nn_index.hpp"
 #include "task_map_impl.hpp"
-#include "vector_exp.hpp"
+#include "term_batch.hpp"
 
 namespace taskmap {
 
@@ -25,17 +25,6 @@ namespace {
 std::vector<std::uint32_t>& candidateBuffer() {
   thread_local std::vector<std::uint32_t> buffer;
   return buffer;
-}
-
-/// Per-term buffers of cutoffMixture, reused by the calling thread.
-struct MixtureScratch {
-  std::vector<double> diffs;  ///< 12 per term
-  std::vector<double> weights;
-  std::vector<double> exps;
-};
-MixtureScratch& mixtureScratch() {
-  thread_local MixtureScratch scratch;
-  return scratch;
 }
 
 }  // namespace
@@ -104,23 +93,14 @@ IndexHit TaskMap::Impl::cutoffMixture(const SampleSet& s, const Query& x,
   // First pass over the candidates: the exact distance (the index's); for the samples within
   // the cut-off the nearest so far, and for the terms (weight > 0) the differences and the
   // kernel's exponent. Then the exps of all terms at once (expBatch), then the sums.
-  MixtureScratch& scratch = mixtureScratch();
-  const std::size_t n = candidates.size();
-  if (scratch.diffs.size() < n * kEmbeddingDim) {
-    scratch.diffs.resize(n * kEmbeddingDim);
-    scratch.weights.resize(n);
-    scratch.exps.resize(n);
-  }
-  double* diffs = scratch.diffs.data();
-  double* weights = scratch.weights.data();
-  double* exps = scratch.exps.data();
-  std::size_t terms = 0;
+  detail::TermBatch& batch = detail::termBatch();
+  batch.reserve(candidates.size());
   IndexHit best{0, std::numeric_limits<double>::infinity()};
   bool found = false;
   for (const std::uint32_t k : candidates) {
     const double* row = s.row(k);
-    double* diff = diffs + terms * kEmbeddingDim;  // x_i - x, kept if a term
-    double sq[kEmbeddingDim];                      // diff^2
+    double* diff = batch.nextDiff();  // x_i - x, kept if a term
+    double sq[kEmbeddingDim];         // diff^2
 #if defined(__SSE2__)
     for (int c = 0; c < kEmbeddingDim; c += 2) {
       const __m128d d = _mm_sub_pd(_mm_loadu_pd(row + c), _mm_loadu_pd(xe + c));
@@ -133,7 +113,7 @@ IndexHit TaskMap::Impl::cutoffMixture(const SampleSet& s, const Query& x,
       sq[c] = diff[c] * diff[c];
     }
 #endif
-    // The index's distance (groupedSquaredNorm's order) and the kernel's (mixtureDistance's)
+    // The index's distance (squaredDistance's order) and the kernel's (mixtureDistance's)
     // from the same squares.
     const double d2 = ((sq[0] + sq[1]) + sq[2] + sq[3]) + (sq[4] + sq[5] + sq[6] + sq[7]) +
                       (sq[8] + sq[9] + sq[10] + sq[11]);
@@ -145,15 +125,10 @@ IndexHit TaskMap::Impl::cutoffMixture(const SampleSet& s, const Query& x,
     if (w > 0) {
       const double dp2 = sq[0] + sq[1] + sq[2];
       const double dr2 = sq[3] + sq[4] + sq[5] + sq[6] + sq[7] + sq[8] + sq[9] + sq[10] + sq[11];
-      const double d = dp2 * inv_sp2 + dr2 * inv_se2;
-      weights[terms] = w;
-      exps[terms] =
-          d < detail::kKernelUnderflow ? -0.5 * d : -std::numeric_limits<double>::infinity();
-      ++terms;
+      batch.commit(w, dp2 * inv_sp2 + dr2 * inv_se2);
     }
   }
-  detail::expBatch(exps, exps, terms);
-  detail::addMixtureExps(diffs, weights, exps, terms, m);
+  batch.flushInto(m);
   return found ? best : nearestOutsideBall(s, x);
 }
 

@@ -10,6 +10,7 @@
 #include "nn_index.hpp"
 #include "task_map_impl.hpp"
 #include "taskmap/meshes/error.hpp"
+#include "term_batch.hpp"
 
 namespace taskmap {
 
@@ -88,10 +89,18 @@ IndexHit EvaluationSession::State::anchorAt(const TaskMap::Impl::Query& x, detai
     std::copy(row, row + kStride, rows.data() + k * kStride);
     grasp[k] = set->grasp[h.index];
   }
-  for (const IndexHit& h : hits) {
-    const double* row = set->row(h.index);
-    if (m && h.distance2 <= impl->cutoff2)
-      detail::addMixtureTerm(row, x.e.data(), impl->inv_sp2, impl->inv_se2, *m);
+  if (m) {
+    detail::TermBatch& batch = detail::termBatch();
+    batch.reserve(hits.size());
+    for (const IndexHit& h : hits) {
+      const double* row = set->row(h.index);
+      const double w = row[kEmbeddingDim];
+      if (h.distance2 > impl->cutoff2 || !(w > 0)) continue;
+      double* diff = batch.nextDiff();
+      for (int c = 0; c < kEmbeddingDim; ++c) diff[c] = row[c] - x.e[c];
+      batch.commit(w, detail::mixtureDistance(diff, impl->inv_sp2, impl->inv_se2));
+    }
+    batch.flushInto(*m);
   }
   std::copy(x.e.data(), x.e.data() + kEmbeddingDim, anchor);
   anchored = true;
@@ -171,13 +180,15 @@ Evaluation EvaluationSession::evaluate(const Pose& x) {
     double stop2 = stopAt(std::numeric_limits<double>::infinity());
     bool any_within = false;
     constexpr std::size_t kStride = State::kStride;
+    detail::TermBatch& batch = detail::termBatch();
+    batch.reserve(s.grasp.size());
     std::size_t k = 0;
     for (std::size_t j = 0; j < kShells; ++j) {
       // Rows of shell j and beyond are at least sqrt(j reach2 / kShells) from the anchor.
       if (static_cast<double>(j) * (1.0 - 1e-12) > stop2 * s.shells_per_reach2) break;
       for (; k < s.shell_end[j]; ++k) {
         const double* row = s.rows.data() + k * kStride;
-        double diff[kEmbeddingDim];  // x_i - x
+        double* diff = batch.nextDiff();  // x_i - x, kept if a term
         for (int c = 0; c < 4; ++c) diff[c] = row[c] - xe[c];
         double d2 = diff[0] * diff[0] + diff[1] * diff[1] + diff[2] * diff[2] + diff[3] * diff[3];
         if (d2 > cutoff2 && d2 > nearest.distance2) continue;
@@ -186,7 +197,7 @@ Evaluation EvaluationSession::evaluate(const Pose& x) {
         d2 += diff[8] * diff[8] + diff[9] * diff[9] + diff[10] * diff[10] + diff[11] * diff[11];
         if (d2 <= cutoff2) {
           const double w = row[kEmbeddingDim];
-          if (w > 0) detail::addMixtureDifference(diff, w, impl.inv_sp2, impl.inv_se2, m);
+          if (w > 0) batch.commit(w, detail::mixtureDistance(diff, impl.inv_sp2, impl.inv_se2));
           any_within = true;
         }
         if (d2 < nearest.distance2 || (d2 == nearest.distance2 && s.grasp[k] < nearest.index)) {
@@ -195,6 +206,7 @@ Evaluation EvaluationSession::evaluate(const Pose& x) {
         }
       }
     }
+    batch.flushInto(m);
     if (s.exact_tree) {
       // Uncached samples are farther than R - delta from x.
       const bool certified =

@@ -11,7 +11,9 @@
 ///
 /// The quality criterion is a mixture of Gaussians in the index's 12-D pose embedding
 /// (criteria.hpp gaussianDensity): each term is one exp of a weighted squared embedding
-/// distance, and the truncated mode sums the samples one exact radius search returns.
+/// distance, and the truncated mode sums exactly the samples within the cut-off (the set
+/// radius() returns), found by a search of the map's float (p, 2 rho q) bounding-box tree whose
+/// candidates are then tested with the index's distance.
 
 #include <cstddef>
 #include <cstdint>
@@ -166,10 +168,10 @@ class TaskMap {
   /// options().quality_mode).
   QualityResult quality(const Pose& x, std::optional<int> cluster = std::nullopt,
                         std::optional<QualityMode> mode = std::nullopt) const;
-  /// Nearest sample, proximity and quality with gradients, sharing one index search
-  /// (truncated mode: one traversal of the exact tree returns the samples within the cut-off
-  /// and the nearest sample, inside the cut-off or not; with a randomized forest and an empty
-  /// cut-off ball the nearest is the forest's, as nearest() gives).
+  /// Nearest sample, proximity and quality with gradients, sharing one search (truncated mode:
+  /// the samples within the cut-off give the mixture and, if there are any, the exact nearest;
+  /// with none, a branch and bound finds the exact nearest, or with a randomized forest the
+  /// forest's answer, as nearest() gives). Same nearest sample and distance as nearest().
   Evaluation evaluate(const Pose& x, std::optional<int> cluster = std::nullopt) const;
 
   /// evaluate() for every row of poses, on options().threads threads; identical to calling
