@@ -301,28 +301,7 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
   // level pushes at most two children.
   int stack[80];
   int top = 0;
-  thread_local std::vector<int> hit_leaves;
-  hit_leaves.clear();
-  stack[top++] = nodes_.empty() ? ~0 : 0;
-  while (top > 0) {
-    const int c = stack[--top];
-    if (c < 0) {
-      hit_leaves.push_back(~c);
-#if defined(__SSE2__)
-      const Leaf& leaf = leaves_[static_cast<std::size_t>(~c)];
-      const char* b = reinterpret_cast<const char*>(&points_[std::size_t{leaf.begin} * kStride]);
-      const char* e = reinterpret_cast<const char*>(&points_[std::size_t{leaf.end} * kStride]);
-      for (; b < e; b += 64) _mm_prefetch(b, _MM_HINT_T0);
-#endif
-      continue;
-    }
-    const Node& node = nodes_[static_cast<std::size_t>(c)];
-    // Second child pushed first: the first child's subtree is searched first.
-    if (box2(node.lo[1], node.hi[1]) <= radius2) stack[top++] = node.child[1];
-    if (box2(node.lo[0], node.hi[0]) <= radius2) stack[top++] = node.child[0];
-    assert(top <= 78);
-  }
-  for (const int l : hit_leaves) {
+  auto scanLeaf = [&](int l) {
     const Leaf& leaf = leaves_[static_cast<std::size_t>(l)];
     reserveLeaf();
     std::uint32_t* dst = out.data();
@@ -344,7 +323,36 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
     (void)rows;  // prefetching needs SSE
     (void)row_bytes;
 #endif
+  };
+  // The leaves met, scanned after the traversal; beyond kMaxLeaves of them (radii far above
+  // the cut-off) the others are scanned as they are met.
+  constexpr int kMaxLeaves = 256;
+  int hit_leaves[kMaxLeaves];
+  int leaves_found = 0;
+  stack[top++] = nodes_.empty() ? ~0 : 0;
+  while (top > 0) {
+    const int c = stack[--top];
+    if (c < 0) {
+      if (leaves_found == kMaxLeaves) {
+        scanLeaf(~c);
+        continue;
+      }
+      hit_leaves[leaves_found++] = ~c;
+#if defined(__SSE2__)
+      const Leaf& leaf = leaves_[static_cast<std::size_t>(~c)];
+      const char* b = reinterpret_cast<const char*>(&points_[std::size_t{leaf.begin} * kStride]);
+      const char* e = reinterpret_cast<const char*>(&points_[std::size_t{leaf.end} * kStride]);
+      for (; b < e; b += 64) _mm_prefetch(b, _MM_HINT_T0);
+#endif
+      continue;
+    }
+    const Node& node = nodes_[static_cast<std::size_t>(c)];
+    // Second child pushed first: the first child's subtree is searched first.
+    if (box2(node.lo[1], node.hi[1]) <= radius2) stack[top++] = node.child[1];
+    if (box2(node.lo[0], node.hi[0]) <= radius2) stack[top++] = node.child[0];
+    assert(top <= 78);
   }
+  for (int j = 0; j < leaves_found; ++j) scanLeaf(hit_leaves[j]);
   out.resize(count);
 }
 

@@ -289,6 +289,20 @@ TEST(PoseBallTree, RefusesWhatItCannotAnswer) {
   EXPECT_NE(PoseBallTree::build({Eigen::Vector3d(0, 1e17, 0)}, one_q, kRho), nullptr);
 }
 
+// A radius that meets more leaves than a search defers (256 of 32 points): the rest are
+// scanned as they are met, and the candidates still cover the ball once.
+TEST(PoseBallTree, RadiusMeetingManyLeaves) {
+  Set s = makeSet(20000, false, 31);
+  s.rho = 1.0;  // r = 1.9 rho then holds most samples (every position, most rotations)
+  for (std::size_t i = 0; i < s.size(); ++i) s.embedded[i] = embedPose(s.poses[i], s.rho);
+  const auto tree = PoseBallTree::build(s.positions, s.wxyz, s.rho);
+  ASSERT_NE(tree, nullptr);
+  Rng rng(37, 0);
+  Stats stats;
+  for (int n = 0; n < 20; ++n) checkCandidates(*tree, s, makeQuery(rng, s), 1.9 * s.rho, stats);
+  EXPECT_GT(stats.ball, 20u * 300u * 32u);  // well over 256 leaves' worth per query
+}
+
 TEST(PoseBallTree, TinySets) {
   for (const std::size_t n : {1, 5, 32, 33}) {
     SCOPED_TRACE(n);

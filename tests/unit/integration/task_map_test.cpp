@@ -103,8 +103,8 @@ TEST(TaskMap, NearestKnnRadiusEqualBruteForce) {
     const Neighbor n = map.nearest(x, cluster);
     ASSERT_EQ(n.index, truth[0].index) << "query " << i;
     ASSERT_NEAR(n.distance, truth[0].distance, 1e-12);
-    // evaluate's nearest comes from the combined radius + nearest traversal (also when the
-    // cut-off ball is empty, as for most uniform queries).
+    // evaluate's nearest comes from the cut-off ball's samples, or from the ball tree's branch
+    // and bound when the ball is empty (as for most uniform queries).
     const Evaluation ev = map.evaluate(x, cluster);
     ASSERT_EQ(ev.proximity.nearest.index, truth[0].index) << "query " << i;
     ASSERT_NEAR(ev.proximity.nearest.distance, truth[0].distance, 1e-12);
