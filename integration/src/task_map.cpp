@@ -143,9 +143,9 @@ std::vector<Neighbor> TaskMap::radius(const Pose& x, double r, std::optional<int
   if (!(r >= 0) || !std::isfinite(r))
     throw Error("radius: r = " + num(r) + " is invalid; give a finite distance >= 0 (metres)");
   const auto& set = impl_->set(cluster);
-  const PoseEmbedding e = embedPose(x, impl_->rho);
   std::vector<IndexHit> hits;
-  set.index->radius(e.data(), r * r, hits);
+  // The index's set and distances (NnIndex::radius), from the ball tree's candidates.
+  impl_->ballSearch(set, impl_->query(x), r * r, hits);
   // Nearest first, ties by grasp index.
   std::sort(hits.begin(), hits.end(), [&](const IndexHit& a, const IndexHit& b) {
     return a.distance2 < b.distance2 ||

@@ -5,9 +5,10 @@
 //   nanoflann(7-D): a nanoflann kd-tree over the same 7-D float points, the same 7-D radius
 //     and -q search, the same exact 12-D filter; nanoflann(12-D): a nanoflann kd-tree over the
 //     12-D embedding, radius r_c; brute: a scan of every sample.
-// nearest/* and radius(cut-off)/* time TaskMap::nearest / radius (FLANN's 12-D index), the
-// 12-D nanoflann tree and brute force. Per-call latencies give p50 / p99; the summary prints
-// ratios against TaskMap measured in the same run. One thread (one core).
+// nearest/* times TaskMap::nearest (FLANN's 12-D index), the 12-D nanoflann tree and brute
+// force; radius(cut-off)/* times TaskMap::radius at the cut-off (the ball tree's candidates
+// filtered by the index's distance, then sorted). Per-call latencies give p50 / p99; the summary
+// prints ratios against TaskMap measured in the same run. One thread (one core).
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -445,8 +446,8 @@ void BM_NearestTaskMap(benchmark::State& s) {
   Fixture& f = fx();
   timed(s, "nearest/taskmap", [&](std::size_t i) { return f.map.nearest(f.queries[i]).index; });
 }
-// TaskMap::radius at the quality cut-off (FLANN's 12-D index; public API: includes sorting the
-// hits and the output vector). evaluate does not use it: it searches the ball tree.
+// TaskMap::radius at the quality cut-off (public API: the ball tree's search as in evaluate,
+// plus sorting the hits and the output vector).
 void BM_RadiusCutoffTaskMap(benchmark::State& s) {
   Fixture& f = fx();
   timed(s, "radius(cut-off)/taskmap",
@@ -473,12 +474,13 @@ void BM_NearestBruteForce(benchmark::State& s) {
 
 // The trajectory set in trajectory order (3 passes).
 // Margin sweep (1e5 samples, 256 x 25 iterates, medians of 3 runs, p50 / p99 in us,
-// anchors per trajectory; evaluate on the same set 9.9 / 48.0):
-//   margin 0: 11.4 / 44.3, 25;  0.25 r_c: 5.1 / 47.4, 6.7;  0.5 r_c: 5.2 / 49.7, 4.0;
-//   1.0 r_c: 5.7 / 82.9, 2.4;  1.5 r_c: 5.9 / 119, 1.9.
-// A cached call costs the mixture terms (the same exp calls as evaluate) plus a scan of the
+// anchors per trajectory; evaluate on the same set 5.4 / 9.8):
+//   margin 0: 6.1 / 10.5, 25;  0.25 r_c: 3.5 / 13.4, 6.7;  0.5 r_c: 3.7 / 19.1, 4.0;
+//   1.0 r_c: 4.3 / 31.6, 2.4;  1.5 r_c: 4.6 / 47.8, 1.9.
+// A cached call costs the mixture terms (the same batched exps as evaluate) plus a scan of the
 // cached shells it can reach; a refill costs a radius search of r_c + margin and the copy, so
-// p99 (refills) grows with the margin. 0.25 and 0.5 tie in p50; 0.25 is the default. evaluate:
+// p99 (refills) grows with the margin. 0.25 has the lowest p50 and p99 of the margins that
+// reuse the cache; it is the default. evaluate:
 // TaskMap::evaluate per iterate. session: one EvaluationSession per trajectory (constructed outside
 // the timed call; its first call, which searches the index, is timed). Argument: margin in percent
 // of the cut-off radius, -1 for the default.
