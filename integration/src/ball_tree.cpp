@@ -54,6 +54,38 @@ inline float sumSquares(const float* d) {
 }
 #endif
 
+/// The squared distances from one 7-D query y (8 floats, the 8th 0) to a point (8 floats) and
+/// to a box [lo, hi] (8 floats each; 0 inside); all 16-byte aligned.
+#if defined(__SSE2__)
+class Distances {
+ public:
+  explicit Distances(const float* y) : y0_(_mm_load_ps(y)), y1_(_mm_load_ps(y + 4)) {}
+  float point(const float* p) const { return pointDistance2(p, y0_, y1_); }
+  float box(const float* lo, const float* hi) const { return boxDistance2(lo, hi, y0_, y1_); }
+
+ private:
+  __m128 y0_, y1_;
+};
+#else
+class Distances {
+ public:
+  explicit Distances(const float* y) : y_(y) {}
+  float point(const float* p) const {
+    float d[kStride];
+    for (int k = 0; k < kStride; ++k) d[k] = p[k] - y_[k];
+    return sumSquares(d);
+  }
+  float box(const float* lo, const float* hi) const {
+    float d[kStride];
+    for (int k = 0; k < kStride; ++k) d[k] = std::max(std::max(lo[k] - y_[k], y_[k] - hi[k]), 0.0f);
+    return sumSquares(d);
+  }
+
+ private:
+  const float* y_;
+};
+#endif
+
 }  // namespace
 
 std::unique_ptr<PoseBallTree> PoseBallTree::build(
@@ -212,24 +244,9 @@ bool PoseBallTree::nearest(const Eigen::Vector3d& p, const Eigen::Quaterniond& q
       if (!(u[0] <= reach)) break;
       for (int k = 3; k < kDim; ++k) y[k] = -y[k];
     }
-#if defined(__SSE2__)
-    const __m128 y0 = _mm_load_ps(y), y1 = _mm_load_ps(y + 4);
-    auto point2 = [&](std::uint32_t i) {
-      return pointDistance2(&points_[std::size_t{i} * kStride], y0, y1);
-    };
-    auto box2 = [&](const float* lo, const float* hi) { return boxDistance2(lo, hi, y0, y1); };
-#else
-    auto point2 = [&](std::uint32_t i) {
-      float d[kStride];
-      for (int k = 0; k < kStride; ++k) d[k] = points_[std::size_t{i} * kStride + k] - y[k];
-      return sumSquares(d);
-    };
-    auto box2 = [&](const float* lo, const float* hi) {
-      float d[kStride];
-      for (int k = 0; k < kStride; ++k) d[k] = std::max(std::max(lo[k] - y[k], y[k] - hi[k]), 0.0f);
-      return sumSquares(d);
-    };
-#endif
+    const Distances dist(y);
+    auto point2 = [&](std::uint32_t i) { return dist.point(&points_[std::size_t{i} * kStride]); };
+    auto box2 = [&](const float* lo, const float* hi) { return dist.box(lo, hi); };
     struct Entry {
       int child;
       float distance2;
@@ -277,24 +294,9 @@ void PoseBallTree::search(const float* y, float radius2, std::vector<std::uint32
   auto reserveLeaf = [&] {
     if (out.size() < count + kLeafSize) out.resize(std::max(2 * out.size(), count + kLeafSize));
   };
-#if defined(__SSE2__)
-  const __m128 y0 = _mm_load_ps(y), y1 = _mm_load_ps(y + 4);
-  auto point2 = [&](std::uint32_t i) {
-    return pointDistance2(&points_[std::size_t{i} * kStride], y0, y1);
-  };
-  auto box2 = [&](const float* lo, const float* hi) { return boxDistance2(lo, hi, y0, y1); };
-#else
-  auto point2 = [&](std::uint32_t i) {
-    float d[kStride];
-    for (int k = 0; k < kStride; ++k) d[k] = points_[std::size_t{i} * kStride + k] - y[k];
-    return sumSquares(d);
-  };
-  auto box2 = [&](const float* lo, const float* hi) {
-    float d[kStride];
-    for (int k = 0; k < kStride; ++k) d[k] = std::max(std::max(lo[k] - y[k], y[k] - hi[k]), 0.0f);
-    return sumSquares(d);
-  };
-#endif
+  const Distances dist(y);
+  auto point2 = [&](std::uint32_t i) { return dist.point(&points_[std::size_t{i} * kStride]); };
+  auto box2 = [&](const float* lo, const float* hi) { return dist.box(lo, hi); };
   // Two passes: the hierarchy first, collecting the leaves that meet the ball and prefetching
   // their points, then the leaf scans, so that the memory system fetches every leaf at once
   // instead of one after another. The depth of a median split tree is < 32 (n < 2^31) and each
