@@ -95,13 +95,7 @@ inline void addMixtureExps(const double* diffs, const double* weights, const dou
 inline void addMixtureDifference(const double* diff, double w, double inv_sp2, double inv_se2,
                                  MixtureSum& m) {
   const double d = mixtureDistance(diff, inv_sp2, inv_se2);
-  if (d < kKernelUnderflow) {  // else c = 0 exactly
-    const double c = w * std::exp(-0.5 * d);
-    m.sum += c;
-    for (int k = 0; k < kEmbeddingDim; ++k) m.moment[k] += c * diff[k];
-  }
-  m.included_weight += w;
-  ++m.terms;
+  addMixtureExp(diff, w, d < kKernelUnderflow ? std::exp(-0.5 * d) : 0.0, m);  // else c = 0
 }
 
 /// Adds the sample x_i = row[0..11] with weight w_i = row[12] (if > 0) to m, at the query

@@ -30,7 +30,8 @@ struct TaskMap::Impl {
   struct SampleSet {
     std::size_t count = 0;
     std::vector<std::size_t> grasp;   ///< grasp index of each row
-    detail::HugeVector<double> rows;  ///< count x kRowStride (the index reads them in place)
+    detail::HugeVector<double> rows;  ///< count x kRowStride (an index without a ball tree
+                                      ///< reads them in place, else its own copy)
     std::unique_ptr<detail::NnIndex> index;
     /// Candidates of the cut-off searches; null if it does not apply (ball_tree.hpp).
     std::unique_ptr<detail::PoseBallTree> ball;
