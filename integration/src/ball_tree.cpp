@@ -182,21 +182,22 @@ float PoseBallTree::floatRadius2(double r, const float* y) const {
 
 namespace {
 
-/// The 7-D query (p, 2 rho q) in float for q with w >= 0 (u: q normalised, sign fixed).
-void queryPoint(const Eigen::Vector3d& p, const Eigen::Vector4d& u, double rho, float* y) {
+/// The 7-D query point y = (p, 2 rho u, 0) in float (8 floats), u = q normalised with w >= 0,
+/// and u's w in *w; false if a coordinate is not finite (the tree cannot answer).
+bool queryPoint(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, double rho, float* y,
+                double* w) {
+  Eigen::Vector4d u(q.w(), q.x(), q.y(), q.z());
+  u.normalize();
+  if (u[0] < 0) u = -u;
   y[0] = static_cast<float>(p.x());
   y[1] = static_cast<float>(p.y());
   y[2] = static_cast<float>(p.z());
   for (int k = 0; k < 4; ++k) y[3 + k] = static_cast<float>(2 * rho * u[k]);
   y[7] = 0.0f;
-}
-
-/// q as (w, x, y, z), normalised, with w >= 0.
-Eigen::Vector4d canonical(const Eigen::Quaterniond& q) {
-  Eigen::Vector4d u(q.w(), q.x(), q.y(), q.z());
-  u.normalize();
-  if (u[0] < 0) u = -u;
-  return u;
+  for (int k = 0; k < kDim; ++k)
+    if (!std::isfinite(y[k])) return false;
+  *w = u[0];
+  return true;
 }
 
 }  // namespace
@@ -206,18 +207,16 @@ bool PoseBallTree::candidates(const Eigen::Vector3d& p, const Eigen::Quaterniond
                               std::size_t row_bytes) const {
   out.clear();
   if (!(std::isfinite(r) && r >= 0)) return false;
-  const Eigen::Vector4d u = canonical(q);
   alignas(16) float y[kStride];
-  queryPoint(p, u, rho_, y);
-  for (int k = 0; k < kDim; ++k)
-    if (!std::isfinite(y[k])) return false;
+  double w = 0.0;
+  if (!queryPoint(p, q, rho_, y, &w)) return false;
   const float radius2 = floatRadius2(r, y);
   // Not in the domain (a sample could be found twice).
   if (!(radius2 / (4.0 * rho_ * rho_) < kMaxQuaternionReach2)) return false;
   search(y, radius2, out, static_cast<const char*>(rows), row_bytes);
   // Samples nearer to -q need a search around -q only if w <= sqrt(x*(r)) <= t / (2 rho).
   const double reach = std::sqrt(static_cast<double>(radius2)) / (2.0 * rho_);
-  if (u[0] <= reach) {
+  if (w <= reach) {
     for (int k = 3; k < kDim; ++k) y[k] = -y[k];
     search(y, radius2, out, static_cast<const char*>(rows), row_bytes);
   }
@@ -227,11 +226,9 @@ bool PoseBallTree::candidates(const Eigen::Vector3d& p, const Eigen::Quaterniond
 bool PoseBallTree::nearest(const Eigen::Vector3d& p, const Eigen::Quaterniond& q,
                            ExactDistance exact, const std::size_t* keys, std::uint32_t& best,
                            double& best_distance2) const {
-  const Eigen::Vector4d u = canonical(q);
   alignas(16) float y[kStride];
-  queryPoint(p, u, rho_, y);
-  for (int k = 0; k < kDim; ++k)
-    if (!std::isfinite(y[k])) return false;
+  double w = 0.0;
+  if (!queryPoint(p, q, rho_, y, &w)) return false;
   bool found = false;
   std::uint32_t best_k = 0;
   double best_d2 = std::numeric_limits<double>::infinity();
@@ -241,7 +238,7 @@ bool PoseBallTree::nearest(const Eigen::Vector3d& p, const Eigen::Quaterniond& q
   for (int sign = 0; sign < 2; ++sign) {
     if (sign == 1) {
       const double reach = std::sqrt(static_cast<double>(bound2)) / (2.0 * rho_);
-      if (!(u[0] <= reach)) break;
+      if (!(w <= reach)) break;
       for (int k = 3; k < kDim; ++k) y[k] = -y[k];
     }
     const Distances dist(y);
