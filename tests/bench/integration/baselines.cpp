@@ -15,29 +15,24 @@ namespace taskmap {
 namespace bench {
 namespace {
 
-struct Cloud {  // nanoflann dataset adaptor over the row-major embedding
-  std::vector<double> e;
-  std::size_t kdtree_get_point_count() const { return e.size() / kEmbeddingDim; }
-  double kdtree_get_pt(std::size_t i, std::size_t d) const { return e[i * kEmbeddingDim + d]; }
+/// nanoflann dataset adaptor over row-major points of Dim coordinates of type T.
+template <typename T, int Dim>
+struct Cloud {
+  std::vector<T> v;
+  std::size_t kdtree_get_point_count() const { return v.size() / Dim; }
+  T kdtree_get_pt(std::size_t i, std::size_t d) const { return v[i * Dim + d]; }
   template <class B>
   bool kdtree_get_bbox(B&) const {
     return false;
   }
 };
-using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>,
-                                                     Cloud, kEmbeddingDim, std::size_t>;
+using Cloud12 = Cloud<double, kEmbeddingDim>;  // the embedding
+using NanoTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud12>,
+                                                     Cloud12, kEmbeddingDim, std::size_t>;
 
 // The 7-D float points y = (p, 2 rho q), q = (w, x, y, z) with w >= 0, as TaskMap's ball tree.
 constexpr int kBallDim = 7;
-struct Cloud7 {
-  std::vector<float> y;
-  std::size_t kdtree_get_point_count() const { return y.size() / kBallDim; }
-  float kdtree_get_pt(std::size_t i, std::size_t d) const { return y[i * kBallDim + d]; }
-  template <class B>
-  bool kdtree_get_bbox(B&) const {
-    return false;
-  }
-};
+using Cloud7 = Cloud<float, kBallDim>;
 using NanoTree7 =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, Cloud7, float>, Cloud7,
                                         kBallDim, std::uint32_t>;
@@ -53,7 +48,7 @@ struct Baselines::Impl {
   const TaskMap& map;
   std::vector<Pose> queries;
   std::vector<PoseEmbedding, Eigen::aligned_allocator<PoseEmbedding>> query_embedding;
-  Cloud cloud;
+  Cloud12 cloud;
   std::unique_ptr<NanoTree> nano;
   Cloud7 cloud7;
   std::unique_ptr<NanoTree7> nano7;
@@ -87,9 +82,9 @@ struct Baselines::Impl {
     for (std::size_t i = 0; i < map.size(); ++i) {
       const Pose p = map.pose(i);
       const PoseEmbedding e = embedPose(p, rho);
-      cloud.e.insert(cloud.e.end(), e.data(), e.data() + kEmbeddingDim);
+      cloud.v.insert(cloud.v.end(), e.data(), e.data() + kEmbeddingDim);
       const auto y = point7(p.position, p.orientation);
-      cloud7.y.insert(cloud7.y.end(), y.begin(), y.end());
+      cloud7.v.insert(cloud7.v.end(), y.begin(), y.end());
       pos.push_back(p.position);
       qconj.push_back(p.orientation.conjugate());
       w.push_back(map.data().grasps.epsilon[i]);
@@ -106,10 +101,10 @@ struct Baselines::Impl {
       first.buildIndex();
       Cloud7 ordered;
       for (const std::uint32_t i : first.vAcc) {
-        ordered.y.insert(ordered.y.end(), cloud7.y.begin() + i * kBallDim,
-                         cloud7.y.begin() + (i + 1) * kBallDim);
-        rows7.insert(rows7.end(), cloud.e.begin() + i * kEmbeddingDim,
-                     cloud.e.begin() + (i + 1) * kEmbeddingDim);
+        ordered.v.insert(ordered.v.end(), cloud7.v.begin() + i * kBallDim,
+                         cloud7.v.begin() + (i + 1) * kBallDim);
+        rows7.insert(rows7.end(), cloud.v.begin() + i * kEmbeddingDim,
+                     cloud.v.begin() + (i + 1) * kEmbeddingDim);
         grasp7.push_back(i);
       }
       cloud7 = std::move(ordered);
@@ -158,7 +153,7 @@ struct Baselines::Impl {
   double addTerm(std::size_t qi, std::size_t i, Mixture& m,
                  double max_d2 = std::numeric_limits<double>::infinity(),
                  const double* row = nullptr) const {
-    if (!row) row = cloud.e.data() + i * kEmbeddingDim;
+    if (!row) row = cloud.v.data() + i * kEmbeddingDim;
     const Eigen::Matrix<double, kEmbeddingDim, 1> diff =
         Eigen::Map<const Eigen::Matrix<double, kEmbeddingDim, 1>>(row) - query_embedding[qi];
     const double dp2 = diff.head<3>().squaredNorm(), dr2 = diff.tail<9>().squaredNorm();
@@ -256,7 +251,7 @@ struct Baselines::Impl {
     std::size_t best = 0;
     double best_d2 = std::numeric_limits<double>::max();
     for (std::size_t i = 0; i < map.size(); ++i) {
-      const double* p = cloud.e.data() + i * kEmbeddingDim;
+      const double* p = cloud.v.data() + i * kEmbeddingDim;
       double d2 = 0;
       for (int k = 0; k < kEmbeddingDim; ++k) d2 += (p[k] - q[k]) * (p[k] - q[k]);
       if (d2 < best_d2) {
