@@ -62,6 +62,17 @@ void Kinematics::pointJacobian(int body, const Eigen::Vector3d& point,
   }
 }
 
+void Kinematics::addJacobianTransposeTimes(int body, const Eigen::Vector3d& point,
+                                           const Eigen::Vector3d& f,
+                                           Eigen::Ref<Eigen::VectorXd> g) const {
+  if (body < 0) return;
+  for (int d : robot_->bodyDofs()[body]) {
+    // (a x (p - o)) . f = a . ((p - o) x f)
+    g[d] += prismatic_[d] ? axis_world_[d].dot(f)
+                          : axis_world_[d].dot((point - origin_world_[d]).cross(f));
+  }
+}
+
 Eigen::Matrix3Xd Kinematics::pointJacobian(int body, const Eigen::Vector3d& point) const {
   Eigen::Matrix3Xd j(3, robot_->dofs());
   pointJacobian(body, point, j);

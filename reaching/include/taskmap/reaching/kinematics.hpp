@@ -36,6 +36,10 @@ class Kinematics {
                      Eigen::Ref<Eigen::Matrix3Xd> out) const;
   /// Allocating form of pointJacobian.
   Eigen::Matrix3Xd pointJacobian(int body, const Eigen::Vector3d& point) const;
+  /// g += J(point)^T f: the joint-space image of a force f (world) at the point `point` (world
+  /// coordinates) rigidly attached to `body`, without forming J. g has dofs() entries.
+  void addJacobianTransposeTimes(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& f,
+                                 Eigen::Ref<Eigen::VectorXd> g) const;
   /// Angular (rotational) Jacobian of a body (3 x dofs, world frame).
   Eigen::Matrix3Xd angularJacobian(int body) const;
   /// Geometric Jacobian of the body frame origin: rows 0-2 linear, rows 3-5 angular (world).
