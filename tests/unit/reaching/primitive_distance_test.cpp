@@ -77,7 +77,9 @@ void checkAgainstOracle(bool rect_a, bool rect_b, unsigned seed) {
     if (d.cores_touch) ++touching;
   }
   // The random cases cover both separated and intersecting cores.
-  if (rect_a || rect_b) EXPECT_GT(touching, 0);  // two random segments never meet
+  if (rect_a || rect_b) {
+    EXPECT_GT(touching, 0);  // two random segments never meet
+  }
   EXPECT_LT(touching, 200);
 }
 
