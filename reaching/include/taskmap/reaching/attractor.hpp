@@ -16,9 +16,9 @@ namespace taskmap {
 
 /// Parameters of eq. 1.19.
 struct AttractorOptions {
-  double relaxation_time = 0.25;  ///< T_mc, seconds (> 0)
-  double damping = 1.0;           ///< xi (> 0); 1 gives the paper's non-overshooting response
-  double dt = 0.01;               ///< sampling time Delta t, seconds (> 0)
+  double relaxation_time = 0.2;  ///< T_mc, seconds (> 0)
+  double damping = 1.0;          ///< xi (> 0); 1 gives the paper's non-overshooting response
+  double dt = 0.01;              ///< sampling time Delta t, seconds (> 0)
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };

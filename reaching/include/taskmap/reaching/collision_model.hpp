@@ -17,7 +17,7 @@ namespace taskmap {
 
 /// Which pairs are checked and the shape of the cost.
 struct CollisionOptions {
-  double boundary_distance = 0.05;  ///< d_B: the cost is zero beyond it, metres (> 0)
+  double boundary_distance = 0.1;  ///< d_B: the cost is zero beyond it, metres (> 0)
   double slope = 1.0;  ///< s: the closest-point cost is s d_B (d_B - 2 d) when penetrating (> 0)
   /// Weight of the centre-point term e^{-d_c} (>= 0); negative means s d_B^2, the closest-point
   /// cost at contact, so that both terms have the same scale.

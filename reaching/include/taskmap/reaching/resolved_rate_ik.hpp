@@ -43,7 +43,7 @@ struct TaskGoal {
 struct IkOptions {
   double feedback_gain = 10.0;    ///< K of the closed-loop term K (x_d - x), 1/s (>= 0)
   double joint_limit_gain = 1.0;  ///< alpha for the joint-limit gradient (eq. 1.8), 1/s (>= 0)
-  double collision_gain = 20.0;   ///< alpha for the collision gradient (eq. 1.16), 1/s (>= 0)
+  double collision_gain = 100.0;  ///< alpha for the collision gradient (eq. 1.16), 1/s (>= 0)
   /// Damping lambda of (J W^-1 J^T + lambda^2 E)^-1 against singularities (>= 0, 0 = exact).
   double damping = 1e-3;
   /// Diagonal of W; empty means proportional to the joint ranges (the paper's choice),
