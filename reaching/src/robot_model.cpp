@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "taskmap/meshes/error.hpp"
 
@@ -19,6 +21,30 @@ Eigen::Vector3d orthogonalTo(const Eigen::Vector3d& d) {
   const Eigen::Vector3d other =
       std::abs(d.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   return d.cross(other).normalized();
+}
+
+/// Sphere-swept rectangle inscribed in the palm-frame bounding box of the given primitives
+/// (each with its link pose in the palm frame): radius half the box's smallest extent.
+Primitive envelope(
+    const std::vector<std::pair<Eigen::Isometry3d, std::vector<Primitive>>>& shapes) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const auto& [pose, list] : shapes) {
+    for (const Primitive& p : list) {
+      const Eigen::Matrix3d a = pose.linear() * p.axes;
+      const Eigen::Vector3d c = pose * p.center;
+      for (int su = -1; su <= 1; su += 2) {
+        for (int sv = -1; sv <= 1; sv += 2) {
+          const double hv = p.type == PrimitiveType::kSweptRectangle ? p.half_v : 0.0;
+          const Eigen::Vector3d x = c + su * p.half_u * a.col(0) + sv * hv * a.col(1);
+          lo = lo.cwiseMin(x - Eigen::Vector3d::Constant(p.radius));
+          hi = hi.cwiseMax(x + Eigen::Vector3d::Constant(p.radius));
+        }
+      }
+    }
+  }
+  Eigen::Isometry3d box = Eigen::Isometry3d::Identity();
+  box.translation() = 0.5 * (lo + hi);
+  return Primitive::fromBox(box, hi - lo);
 }
 
 }  // namespace
@@ -135,6 +161,7 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
     throw Error("hand mount: the adapter transform is not finite");
   // linkPoses are in the palm frame; the palm frame sits at palm_in_flange on the flange.
   const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  std::vector<std::pair<Eigen::Isometry3d, std::vector<Primitive>>> hand_shapes;
   for (size_t i = 0; i < hand.links().size(); ++i) {
     const HandLink& link = hand.links()[i];
     RobotBody body;
@@ -170,6 +197,8 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
         }
       }
     }
+    hand_shapes.emplace_back(poses[i], body.shapes);
+    if (!mount.per_link_shapes) body.shapes.clear();
     addBody(std::move(body));
   }
   RobotBody palm;
@@ -177,6 +206,9 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
   palm.parent = flange;
   palm.role = BodyRole::kHand;
   palm.origin = mount.palm_in_flange;
+  bool any_shape = false;
+  for (const auto& entry : hand_shapes) any_shape = any_shape || !entry.second.empty();
+  if (!mount.per_link_shapes && any_shape) palm.shapes.push_back(envelope(hand_shapes));
   palm_body_ = addBody(std::move(palm));
 }
 

@@ -36,11 +36,15 @@ TEST(RobotModel, PandaHasSevenJointsWithFrankaLimitsAndCapsules) {
   EXPECT_EQ(robot.bodies()[robot.requireBody("fer_link7")].chain_depth, 7);
 }
 
-TEST(RobotModel, HumanoidHandIsMountedOnTheFlangeWithBoxesAsSweptRectangles) {
-  const RobotModel& robot = test::pandaWithHand();
+TEST(RobotModel, HumanoidHandPerLinkBoxesBecomeSweptRectangles) {
+  RobotModel robot = RobotModel::load(test::robotsDir() + "/panda/panda.urdf");
+  HandMount mount = RobotModel::humanoidMountOnPanda();
+  mount.per_link_shapes = true;
+  robot.mountHand(HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf"),
+                  mount);
   ASSERT_GE(robot.palmBody(), 0);
-  const int palm_link = robot.requireBody("hand/palm");
-  const RobotBody& palm = robot.bodies()[palm_link];
+  EXPECT_TRUE(robot.bodies()[robot.palmBody()].shapes.empty());
+  const RobotBody& palm = robot.bodies()[robot.requireBody("hand/palm")];
   EXPECT_EQ(palm.role, BodyRole::kHand);
   EXPECT_EQ(palm.parent, robot.requireBody("fer_link8"));
   ASSERT_EQ(palm.shapes.size(), 1u);
@@ -51,6 +55,24 @@ TEST(RobotModel, HumanoidHandIsMountedOnTheFlangeWithBoxesAsSweptRectangles) {
   EXPECT_NEAR(p.half_u, 0.0275, 1e-12);
   EXPECT_NEAR(p.half_v, 0.035, 1e-12);
   EXPECT_NEAR(std::abs(p.axes.col(2).z()), 1.0, 1e-12);  // normal along the palm z
+}
+
+TEST(RobotModel, HumanoidHandEnvelopeEnclosesEveryLinkPrimitive) {
+  const RobotModel& robot = test::pandaWithHand();
+  const RobotBody& palm = robot.bodies()[robot.palmBody()];
+  ASSERT_EQ(palm.shapes.size(), 1u);
+  const Primitive& env = palm.shapes[0];
+  EXPECT_EQ(env.type, PrimitiveType::kSweptRectangle);
+  // Open humanoid hand: palm 0.085 wide, fingers reach 0.05 + 0.048 + 0.028 + 0.024 beyond the
+  // palm centre; the envelope is a flat plate about 3 cm thick.
+  EXPECT_NEAR(env.radius, 0.015, 0.005);
+  EXPECT_GT(2 * (env.half_u + env.radius), 0.09);
+  EXPECT_GT(2 * (env.half_v + env.radius), 0.19);
+  for (const RobotBody& b : robot.bodies()) {
+    if (b.role == BodyRole::kHand && b.name != "palm") {
+      EXPECT_TRUE(b.shapes.empty()) << b.name;
+    }
+  }
 }
 
 TEST(RobotModel, UrdfShapesBecomePrimitives) {

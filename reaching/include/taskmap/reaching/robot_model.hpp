@@ -66,6 +66,10 @@ struct HandMount {
   Eigen::Isometry3d palm_in_flange = Eigen::Isometry3d::Identity();
   /// Hand joint values (HandModel::jointNames order); empty means the hand's preshape.
   Eigen::VectorXd hand_q;
+  /// false (default): the hand collides as one sphere-swept rectangle enclosing all its link
+  /// primitives at hand_q, in the palm frame (one primitive per body, as in the paper);
+  /// true: every hand link keeps its own primitives (more pairs, tighter fit).
+  bool per_link_shapes = false;
 };
 
 /// A robot: bodies, degrees of freedom with limits. Cheap to copy; const methods thread-safe.
@@ -86,10 +90,11 @@ class RobotModel {
   /// flange z axis, wrist 2 cm beyond the flange.
   static HandMount humanoidMountOnPanda();
 
-  /// Mounts a hand: each hand link becomes a fixed body (role kHand) under mount.flange, with
-  /// its boxes as sphere-swept rectangles, cylinders and spheres as capsules; adds a body
-  /// "palm" at the palm frame. Throws Error on an unknown flange, a second hand, or a wrong
-  /// hand_q size.
+  /// Mounts a hand: each hand link becomes a fixed body "hand/<link>" (role kHand) under
+  /// mount.flange, with its boxes as sphere-swept rectangles, cylinders and spheres as
+  /// capsules, convex meshes as enclosing spheres; adds a body "palm" at the palm frame, which
+  /// carries the enveloping primitive unless mount.per_link_shapes. Throws Error on an unknown
+  /// flange, a second hand, or a wrong hand_q size.
   void mountHand(const HandModel& hand, const HandMount& mount);
   /// Adds an environment body fixed in the world at `pose`. Throws Error on a duplicate name.
   int addEnvironmentBody(const std::string& name, const Eigen::Isometry3d& pose,
