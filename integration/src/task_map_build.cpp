@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "task_map_impl.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {
@@ -125,7 +125,7 @@ void TaskMap::Impl::build() {
     }
   }
 
-  // W_map: w_r = rho^2 w_p by default (TASKMAPS.md §4).
+  // W_map: w_r = rho^2 w_p by default (docs/METHOD.md §4).
   wp = options.linear_weight;
   wr = options.angular_weight.value_or(rho * rho * wp);
   options.angular_weight = wr;

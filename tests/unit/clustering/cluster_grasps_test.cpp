@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "taskmap/clustering/clustering.hpp"
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap {
 namespace {

@@ -11,7 +11,7 @@
 #include <limits>
 #include <string>
 
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

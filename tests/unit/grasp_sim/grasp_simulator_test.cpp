@@ -7,8 +7,8 @@
 #include <string>
 #include <thread>
 
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

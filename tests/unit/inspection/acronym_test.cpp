@@ -13,7 +13,7 @@
 #include <unistd.h>
 
 #include "synthetic_map.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -10,8 +10,8 @@
 
 #include <Eigen/Geometry>
 
+#include "taskmap/core/random.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/random.hpp"
 
 namespace taskmap::testing {
 

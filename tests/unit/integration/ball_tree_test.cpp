@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "synthetic_map.hpp"
-#include "taskmap/meshes/pose.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/pose.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap {
 namespace {

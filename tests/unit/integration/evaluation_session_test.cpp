@@ -12,9 +12,9 @@
 #include <gtest/gtest.h>
 
 #include "synthetic_map.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {

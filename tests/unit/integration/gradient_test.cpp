@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 
 #include "synthetic_map.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/frames.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {
@@ -102,7 +102,7 @@ TEST_F(Fixture, QualityGradientMatchesFiniteDifferences) {
     const double ha = 1e-4 * *m.options().rotation_sigma;
     for (int trial = 0; trial < 100; ++trial) {
       const Pose x = nearMap(rng);
-      const QualityResult q = m.quality(x);
+      const QualityCriterion q = m.quality(x);
       ASSERT_LT(q.value, 0.0);
       const Twist fd =
           finiteDifference([&](const Pose& y) { return m.quality(y).value; }, x, hl, ha);

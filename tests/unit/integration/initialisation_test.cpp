@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "synthetic_map.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdint>
 
+#include "taskmap/core/pose.hpp"
+#include "taskmap/core/random.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/pose.hpp"
-#include "taskmap/meshes/random.hpp"
 
 namespace taskmap {
 namespace testing {

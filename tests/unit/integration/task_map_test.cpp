@@ -11,9 +11,9 @@
 #include <gtest/gtest.h>
 
 #include "synthetic_map.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {
@@ -154,7 +154,7 @@ TEST(TaskMap, RandomizedForestFindsMostNearestNeighbours) {
     // evaluate: the radius search stays exact, and so is its nearest when the cut-off ball
     // holds a sample; otherwise it is the forest's answer, as nearest() gives.
     const Evaluation e = map.evaluate(x);
-    const QualityResult q = sharedMap().quality(x);
+    const QualityCriterion q = sharedMap().quality(x);
     ASSERT_EQ(e.quality.terms, q.terms);
     ASSERT_NEAR(e.quality.value, q.value, 1e-12 * std::abs(q.value));
     if (truth[0].distance <= map.cutoffRadius()) {
@@ -183,7 +183,7 @@ TEST(TaskMap, ExactQualityEqualsSumOfDensities) {
       v -= map.data().grasps.epsilon[i] * f / wsum;
       g -= map.data().grasps.epsilon[i] * gi / wsum;
     }
-    const QualityResult q = map.quality(x, std::nullopt, QualityMode::kExact);
+    const QualityCriterion q = map.quality(x, std::nullopt, QualityMode::kExact);
     EXPECT_NEAR(q.value, v, 1e-10 * std::abs(v) + 1e-300);
     EXPECT_LE((q.gradient - g).norm(), 1e-9 * g.norm() + 1e-300);
     EXPECT_EQ(q.value_bound, 0.0);
@@ -219,7 +219,7 @@ TEST(TaskMap, QualityKernelIsGaussianInTheEmbedding) {
                                       : dp2 / (sp * sp) + chord * chord / (sr * sr);
         v -= data.grasps.epsilon[i] * std::exp(-0.5 * d) / z / wsum;
       }
-      const QualityResult q = map.quality(x, std::nullopt, QualityMode::kExact);
+      const QualityCriterion q = map.quality(x, std::nullopt, QualityMode::kExact);
       ASSERT_NEAR(q.value, v, 1e-9 * std::abs(v) + 1e-300) << "variant " << variant;
       checked += v < -1e-6 / z;
     }
@@ -286,8 +286,8 @@ TEST(TaskMap, TruncatedQualityWithinReportedBound) {
     const auto xs = queries(map, variant == 0 ? kQueries : 1000, 23);
     double worst_ratio = 0.0;
     for (const Pose& x : xs) {
-      const QualityResult t = map.quality(x, std::nullopt, QualityMode::kTruncated);
-      const QualityResult e = map.quality(x, std::nullopt, QualityMode::kExact);
+      const QualityCriterion t = map.quality(x, std::nullopt, QualityMode::kTruncated);
+      const QualityCriterion e = map.quality(x, std::nullopt, QualityMode::kExact);
       const double slack = 1e-12 * std::abs(e.value) + 1e-300;
       ASSERT_LE(std::abs(t.value - e.value), t.value_bound + slack);
       ASSERT_LE((t.gradient - e.gradient).norm(),
@@ -311,7 +311,7 @@ TEST(TaskMap, EvaluateMatchesSeparateQueries) {
     for (std::optional<int> c : {std::optional<int>(), std::optional<int>(1)}) {
       const Evaluation e = map.evaluate(x, c);
       const ProximityResult p = map.proximity(x, c);
-      const QualityResult q = map.quality(x, c);
+      const QualityCriterion q = map.quality(x, c);
       EXPECT_EQ(e.proximity.nearest.index, p.nearest.index);
       EXPECT_EQ(e.proximity.value, p.value);
       EXPECT_EQ(e.quality.value, q.value);

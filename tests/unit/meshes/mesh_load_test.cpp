@@ -14,7 +14,7 @@
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/meshes/mesh_io.hpp"
 #include "taskmap/meshes/object_model.hpp"
 

@@ -13,7 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "quality_fixtures.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/quality/wrench_hull.hpp"
 
 namespace taskmap {

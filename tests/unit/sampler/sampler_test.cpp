@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

@@ -1,12 +1,12 @@
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap {
 namespace {

@@ -1,5 +1,5 @@
 // The map-building pipeline: deterministic parallel trials in fixed blocks.
-#include "taskmap/mapstore/map_builder.hpp"
+#include "taskmap/builder/map_builder.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 #ifndef TASKMAP_VERSION
 #define TASKMAP_VERSION "unknown"
