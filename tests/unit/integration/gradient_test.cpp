@@ -9,6 +9,7 @@
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/frames.hpp"
 #include "taskmap/integration/task_map.hpp"
+#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -181,12 +182,7 @@ TEST_F(Fixture, WorldFrameGradientsMatchFiniteDifferences) {
 }
 
 TEST(Frames, ChainRejectsWrongJacobianShape) {
-  try {
-    chainToJoints(Twist::Zero(), Eigen::MatrixXd::Zero(5, 3));
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "Jacobian has 5 rows; expected 6 (linear then angular, world frame)");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { chainToJoints(Twist::Zero(), Eigen::MatrixXd::Zero(5, 3)); }), "Jacobian has 5 rows; expected 6 (linear then angular, world frame)");
 }
 
 }  // namespace
