@@ -17,8 +17,8 @@
 #include <nlohmann/json.hpp>
 
 #include "hdf5_io.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 #ifndef TASKMAP_VERSION
 #define TASKMAP_VERSION "unknown"

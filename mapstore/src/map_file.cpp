@@ -9,8 +9,8 @@
 #include <limits>
 
 #include "hdf5_io.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

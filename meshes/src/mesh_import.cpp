@@ -15,7 +15,7 @@
 #include <assimp/Importer.hpp>
 
 #include "mesh_soup.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::detail {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 

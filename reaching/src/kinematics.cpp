@@ -4,7 +4,7 @@
 #include <cassert>
 #include <string>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <Eigen/Cholesky>
 
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <utility>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -11,7 +11,7 @@
 #include <urdf_parser/urdf_parser.h>
 #include <nlohmann/json.hpp>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {

@@ -13,9 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "data_dir.hpp"
 #include "reach_picture.hpp"
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
 #include "taskmap/reaching/attractor.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
@@ -58,22 +59,16 @@ Eigen::Isometry3d parsePose(const std::string& text, const std::string& option) 
   }
 }
 
-std::string bundled(const std::string& dir, const std::string& name) {
-  return std::string(TASKMAP_SOURCE_DIR) + "/" + dir + "/" + name + "/" + name + ".urdf";
-}
 
 /// The robot with its hand (if any) and the scene; returns the controlled body (palm or flange).
 int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot) {
   const bool panda = args.robot == "panda";
   if (!panda && !std::filesystem::exists(args.robot))
     throw Error("--robot '" + args.robot + "' is neither 'panda' nor an existing URDF file");
-  robot = RobotModel::load(panda ? bundled("reaching/robots", "panda") : args.robot);
+  robot = RobotModel::load(panda ? dataDir() + "/robots/panda/panda.urdf" : args.robot);
   if (args.hand != "none") {
-    std::string hand_path = args.hand;
-    if (!std::filesystem::exists(hand_path)) hand_path = bundled("meshes/hands", args.hand);
-    if (!std::filesystem::exists(hand_path))
-      throw Error("--hand '" + args.hand + "' is neither a URDF file nor a hand of meshes/hands " +
-                  "(humanoid, barrett, panda), nor 'none'");
+    const std::string hand_path =
+        std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
     HandMount mount = RobotModel::humanoidMountOnPanda();
     if (!args.flange.empty()) mount.flange = args.flange;
     if (!panda && args.flange.empty())

@@ -9,13 +9,13 @@
 #include <filesystem>
 #include <limits>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>
 
 #include "map_picture_draw.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
+#include "taskmap/core/atomic_file.hpp"
 #endif
 
 namespace taskmap::cli {

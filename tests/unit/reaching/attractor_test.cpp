@@ -10,7 +10,7 @@
 #include <Eigen/SVD>
 
 #include "reaching_fixtures.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace taskmap {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "reaching_fixtures.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace taskmap {

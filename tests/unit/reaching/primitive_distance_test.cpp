@@ -7,7 +7,7 @@
 #include <Eigen/Eigenvalues>
 #include <random>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

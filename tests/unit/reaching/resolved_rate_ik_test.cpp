@@ -7,8 +7,8 @@
 #include <iostream>
 
 #include "reaching_fixtures.hpp"
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 namespace {
