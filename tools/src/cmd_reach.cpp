@@ -59,7 +59,6 @@ Eigen::Isometry3d parsePose(const std::string& text, const std::string& option) 
   }
 }
 
-
 /// The robot with its hand (if any) and the scene; returns the controlled body (palm or flange).
 int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot) {
   const bool panda = args.robot == "panda";
