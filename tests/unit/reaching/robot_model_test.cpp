@@ -75,6 +75,41 @@ TEST(RobotModel, HumanoidHandEnvelopeEnclosesEveryLinkPrimitive) {
   }
 }
 
+/// Mounts a hand URDF on the Panda flange with a 5 cm adapter along the flange z axis and checks
+/// that the palm body sits there and carries an enveloping primitive.
+void expectMountable(const std::string& urdf) {
+  RobotModel robot = RobotModel::load(test::robotsDir() + "/panda/panda.urdf");
+  const HandModel hand = HandModel::load(urdf);
+  HandMount mount;
+  mount.flange = "fer_link8";
+  mount.palm_in_flange.translation() = Eigen::Vector3d(0, 0, 0.05);
+  robot.mountHand(hand, mount);
+  ASSERT_GE(robot.palmBody(), 0);
+  const RobotBody& palm = robot.bodies()[robot.palmBody()];
+  EXPECT_EQ(palm.parent, robot.requireBody("fer_link8"));
+  EXPECT_TRUE(palm.origin.isApprox(mount.palm_in_flange));
+  ASSERT_EQ(palm.shapes.size(), 1u);
+  EXPECT_GT(palm.shapes[0].boundingRadius(), 0.02);
+  EXPECT_EQ(robot.dofs(), 7);  // hand joints are fixed at the preshape
+  int hand_bodies = 0;
+  for (const RobotBody& b : robot.bodies()) hand_bodies += b.role == BodyRole::kHand;
+  EXPECT_EQ(hand_bodies, static_cast<int>(hand.links().size()) + 1);
+}
+
+TEST(RobotModel, AnyHandMountsOnTheFlange) {
+  expectMountable(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  expectMountable(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
+}
+
+TEST(RobotModel, RealHandsMountOnTheFlange) {
+  // Real hands from public repositories (mesh collision geometry, mimic joints); skipped when
+  // the shared inputs are absent.
+  const std::string real = std::string(TASKMAP_SOURCE_DIR) + "/../shared/real/hands";
+  if (!std::filesystem::exists(real)) GTEST_SKIP() << "no " << real;
+  expectMountable(real + "/franka_hand/franka_hand.urdf");
+  expectMountable(real + "/allegro_right/allegro_hand_description_right.urdf");
+}
+
 TEST(RobotModel, UrdfShapesBecomePrimitives) {
   const RobotModel robot =
       RobotModel::load(test::writeTempFile("mixed_shapes.urdf", test::mixedJointsUrdf()));
