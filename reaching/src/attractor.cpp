@@ -1,6 +1,8 @@
 // Attractor dynamics eq. 1.17-1.19 and the reaching rollout (attractor + IK at each step).
 #include "taskmap/reaching/attractor.hpp"
 
+#include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +33,17 @@ Eigen::VectorXd attractorStep(const AttractorCoefficients& c, const Eigen::Vecto
   return x + c.a * (r_next - x) + c.b * (x - x_previous);
 }
 
+Eigen::VectorXd attractorPoint(const Eigen::VectorXd& x0,
+                               const std::vector<Eigen::VectorXd>& points, double segment_time,
+                               double t) {
+  assert(!points.empty() && segment_time > 0.0);
+  const double s = std::max(0.0, t) / segment_time;
+  const int k = static_cast<int>(std::floor(s));
+  if (k >= static_cast<int>(points.size())) return points.back();
+  const Eigen::VectorXd& from = k == 0 ? x0 : points[k - 1];
+  return from + (s - k) * (points[k] - from);
+}
+
 std::vector<Eigen::VectorXd> attractorTrajectory(const AttractorOptions& options,
                                                  const Eigen::VectorXd& x0,
                                                  const std::vector<Eigen::VectorXd>& points,
@@ -43,18 +56,11 @@ std::vector<Eigen::VectorXd> attractorTrajectory(const AttractorOptions& options
                   " finite values");
   if (!(segment_time > 0.0) || steps < 1)
     throw Error("attractor trajectory: segment_time must be > 0 s and steps >= 1");
-  const auto attractorPoint = [&](double t) -> Eigen::VectorXd {
-    const double s = t / segment_time;
-    const int k = static_cast<int>(std::floor(s));
-    if (k >= static_cast<int>(points.size())) return points.back();
-    const Eigen::VectorXd& from = k == 0 ? x0 : points[k - 1];
-    return from + (s - k) * (points[k] - from);
-  };
   std::vector<Eigen::VectorXd> x{x0};
   Eigen::VectorXd previous = x0;
   for (int t = 0; t < steps; ++t) {
-    const Eigen::VectorXd next =
-        attractorStep(c, x.back(), previous, attractorPoint((t + 1) * options.dt));
+    const Eigen::VectorXd next = attractorStep(
+        c, x.back(), previous, attractorPoint(x0, points, segment_time, (t + 1) * options.dt));
     previous = x.back();
     x.push_back(next);
   }
@@ -136,6 +142,8 @@ ReachResult reach(const RobotModel& robot, const CollisionModel* collisions, int
   if ((q0 - robot.lower()).minCoeff() < 0.0 || (robot.upper() - q0).minCoeff() < 0.0)
     throw Error("reach: start configuration is outside the joint limits");
   if (!target.matrix().allFinite()) throw Error("reach: target pose is not finite");
+  for (const Eigen::Isometry3d& via : options.via_points)
+    if (!via.matrix().allFinite()) throw Error("reach: a via point is not finite");
   const ResolvedRateIK ik(
       robot,
       {{TaskKind::kPosition, body, reference, -1}, {TaskKind::kOrientation, body, reference, -1}},
@@ -151,12 +159,16 @@ ReachResult reach(const RobotModel& robot, const CollisionModel* collisions, int
   r.joint_limit_margin = jointLimitMargin(robot, q0);
   trackClearance(collisions, kin, 0, r);
   const Eigen::VectorXd x0 = taskVariables(r.palm.back(), target.linear());
-  const Eigen::VectorXd x_target = taskVariables(target, target.linear());
+  std::vector<Eigen::VectorXd> points;
+  for (const Eigen::Isometry3d& via : options.via_points)
+    points.push_back(taskVariables(via, target.linear()));
+  points.push_back(taskVariables(target, target.linear()));
+  const double segment_time = options.move_time / static_cast<double>(points.size());
   Eigen::VectorXd x = x0, x_previous = x0;
   std::vector<TaskGoal> goals(2);
   for (int t = 0; t < options.steps; ++t) {
-    const double s = std::min(1.0, (t + 1) * dt / options.move_time);
-    const Eigen::VectorXd x_next = attractorStep(c, x, x_previous, x0 + s * (x_target - x0));
+    const Eigen::VectorXd x_next =
+        attractorStep(c, x, x_previous, attractorPoint(x0, points, segment_time, (t + 1) * dt));
     const Eigen::Isometry3d goal = goalPose(x_next, target.linear());
     const Eigen::Isometry3d now = goalPose(x, target.linear());
     goals[0].position = now.translation();  // feedback on the current desired pose

@@ -9,6 +9,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,7 @@ namespace {
 
 struct ReachArgs {
   std::string robot = "panda", hand = "humanoid", flange, mount, target, frame, scene, start, png;
+  std::vector<std::string> via;
   ReachOptions options;
   bool json = false;
 };
@@ -142,6 +144,8 @@ void runReach(const ReachArgs& args) {
   args.options.validate();
   if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" is required");
   const Eigen::Isometry3d target = parsePose(args.target, "--target");
+  ReachOptions options = args.options;
+  for (const std::string& v : args.via) options.via_points.push_back(parsePose(v, "--via"));
   const ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
   RobotModel robot;
   const int body = buildRobot(args, scene, robot);
@@ -157,7 +161,7 @@ void runReach(const ReachArgs& args) {
   const CollisionModel collisions(robot, co);
   const Eigen::VectorXd q0 = startConfiguration(args, robot);
   const auto t0 = std::chrono::steady_clock::now();
-  const ReachResult r = reach(robot, &collisions, body, reference, target, q0, args.options);
+  const ReachResult r = reach(robot, &collisions, body, reference, target, q0, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (args.json)
@@ -196,6 +200,9 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
   cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)")
       ->required();
+  cmd->add_option("--via", args->via,
+                  "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
+                  "attractor point passes through; repeat for several");
   cmd->add_option("--frame", args->frame,
                   "frame of --target: 'object' (default when the scene has one) or 'world'");
   cmd->add_option("--scene", args->scene,

@@ -155,5 +155,44 @@ TEST(Reach, CollisionNullSpaceTermKeepsClearWhereTheSameRolloutWouldCollide) {
   EXPECT_GT(with.min_clearance, 0.0);
 }
 
+TEST(Reach, ViaPointBendsThePathAndTheTargetIsStillReached) {
+  RobotModel robot = test::pandaWithHand();
+  const ReachScene scene = defaultReachScene();
+  addSceneTo(scene, robot);
+  CollisionOptions co;
+  co.hand_may_touch = {scene.object};
+  const CollisionModel collisions(robot, co);
+  const int object = robot.requireBody(scene.object);
+  Eigen::Isometry3d via = sideGrasp();
+  via.translation() += Eigen::Vector3d(0.0, -0.25, 0.1);
+  const auto closest = [&](const ReachResult& r) {
+    double best = 1e9;
+    for (const Eigen::Isometry3d& p : r.palm)
+      best = std::min(best, (p.translation() - via.translation()).norm());
+    return best;
+  };
+  ReachOptions options;
+  const ReachResult direct =
+      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), options);
+  options.via_points = {via};
+  options.move_time = 2.0;
+  options.steps = 400;  // 2 s of motion, 2 s to settle
+  const ReachResult bent =
+      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), options);
+  std::cout << "closest approach to the via point: direct " << closest(direct) << " m, with via "
+            << closest(bent) << " m\n";
+  EXPECT_EQ(bent.status, ReachStatus::kReached) << bent.message;
+  EXPECT_LT(closest(bent), 0.05);
+  EXPECT_GT(closest(direct), 0.1);
+}
+
+TEST(Attractor, AttractorPointInterpolatesLinearly) {
+  const Eigen::VectorXd x0 = Eigen::Vector2d(0, 0);
+  const std::vector<Eigen::VectorXd> pts = {Eigen::Vector2d(1, 0), Eigen::Vector2d(1, 2)};
+  EXPECT_TRUE(attractorPoint(x0, pts, 0.5, 0.25).isApprox(Eigen::Vector2d(0.5, 0)));
+  EXPECT_TRUE(attractorPoint(x0, pts, 0.5, 0.75).isApprox(Eigen::Vector2d(1, 1)));
+  EXPECT_TRUE(attractorPoint(x0, pts, 0.5, 5.0).isApprox(Eigen::Vector2d(1, 2)));
+}
+
 }  // namespace
 }  // namespace taskmap

@@ -36,6 +36,12 @@ AttractorCoefficients attractorCoefficients(const AttractorOptions& options);
 Eigen::VectorXd attractorStep(const AttractorCoefficients& c, const Eigen::VectorXd& x,
                               const Eigen::VectorXd& x_previous, const Eigen::VectorXd& r_next);
 
+/// The attractor point at time t (seconds, >= 0): linear interpolation from x0 through
+/// points[0], points[1], ..., segment_time seconds per segment, then the last point.
+Eigen::VectorXd attractorPoint(const Eigen::VectorXd& x0,
+                               const std::vector<Eigen::VectorXd>& points, double segment_time,
+                               double t);
+
 /// Attractor trajectory of `steps` steps from rest at x0. The attractor point r(t) moves
 /// linearly from x0 through points[0], points[1], ... (at least one, same size as x0), taking
 /// segment_time seconds (> 0) per segment, then stays at the last point. Returns steps + 1
@@ -51,6 +57,9 @@ struct ReachOptions {
   IkOptions ik;                ///< resolved-rate IK gains
   int steps = 300;             ///< control steps (>= 1)
   double move_time = 1.0;      ///< seconds for the attractor point to travel to the target (> 0)
+  /// Intermediate poses of the body (reference frame) the attractor point passes through on
+  /// its way to the target, move_time / (via_points.size() + 1) seconds per segment.
+  std::vector<Eigen::Isometry3d> via_points;
   double position_tolerance = 1e-3;     ///< metres: reached when the final error is below
   double orientation_tolerance = 1e-2;  ///< radians: reached when the final error is below
   /// Throws Error naming the field when a value is out of range.
