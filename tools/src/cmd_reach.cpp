@@ -173,7 +173,7 @@ void runReach(const ReachArgs& args) {
     const Eigen::Isometry3d ref =
         reference >= 0 ? kin.pose(reference) : Eigen::Isometry3d::Identity();
     const int n = static_cast<int>(r.q.size()) - 1;
-    writeReachPicture(robot, r, {0, n / 4, n / 2, n}, ref * target, args.png);
+    writeReachPicture(robot, r, body, {0, n / 4, n / 2, n}, ref * target, args.png);
     if (!args.json) std::printf("picture           %s\n", args.png.c_str());
   }
   if (r.status != ReachStatus::kReached) {

@@ -21,7 +21,7 @@
 namespace taskmap::cli {
 
 #ifndef TASKMAP_HAVE_CAIRO
-void writeReachPicture(const RobotModel&, const ReachResult&, const std::vector<int>&,
+void writeReachPicture(const RobotModel&, const ReachResult&, int, const std::vector<int>&,
                        const Eigen::Isometry3d&, const std::string& path) {
   throw Error("cannot write picture '" + path + "': this taskmap was built without cairo");
 }
@@ -103,7 +103,7 @@ void bounds(const RobotModel& robot, const ReachResult& result, const std::vecto
 
 }  // namespace
 
-void writeReachPicture(const RobotModel& robot, const ReachResult& result,
+void writeReachPicture(const RobotModel& robot, const ReachResult& result, int body,
                        const std::vector<int>& frames, const Eigen::Isometry3d& target_world,
                        const std::string& path) {
   constexpr int kWidth = 1800, kHeight = 700;
@@ -119,6 +119,11 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result,
   draw::setColor(cr, Rgb{1, 1, 1});
   cairo_paint(cr);
   Kinematics kin(robot);
+  std::vector<Eigen::Vector3d> trail;
+  for (const Eigen::VectorXd& q : result.q) {
+    kin.update(q);
+    trail.push_back(kin.pose(body).translation());
+  }
   for (size_t i = 0; i < kViews.size(); ++i) {
     const View& v = kViews[i];
     const double x0 = i * cell + 0.5 * (cell - (hi[v.u] - lo[v.u]) * scale);
@@ -133,6 +138,11 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result,
       drawBodies(cr, panel, robot, kin, false, Rgb{0.2 + 0.7 * s, 0.45 - 0.2 * s, 0.85 - 0.7 * s},
                  0.25 + 0.55 * s);
     }
+    draw::setColor(cr, Rgb{0.1, 0.1, 0.1}, 0.9);
+    cairo_set_line_width(cr, 1.5);
+    cairo_move_to(cr, panel.px(trail[0]), panel.py(trail[0]));
+    for (const Eigen::Vector3d& p : trail) cairo_line_to(cr, panel.px(p), panel.py(p));
+    cairo_stroke(cr);
     const Eigen::Vector3d t = target_world.translation();
     draw::setColor(cr, Rgb{0.85, 0.0, 0.0});
     cairo_set_line_width(cr, 2.5);
@@ -150,7 +160,7 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result,
             for (int f : frames) s += (s.empty() ? "" : ", ") + std::to_string(f);
             return s;
           }() +
-          " (blue to orange), environment grey, target palm position red",
+          " (blue to orange), palm path black, environment grey, target red",
       14);
   cairo_surface_flush(surface);
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
