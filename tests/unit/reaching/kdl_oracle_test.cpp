@@ -40,13 +40,15 @@ KDL::Frame frameOf(const Eigen::Isometry3d& t) {
   return f;
 }
 
-/// Panda chain to the flange, optionally followed by the palm adapter.
-KDL::Chain pandaChain(const Eigen::Isometry3d* palm_in_flange) {
+/// Panda chain to link `links` (1..7) or, for 8, to the flange, optionally followed by the palm
+/// adapter.
+KDL::Chain pandaChain(const Eigen::Isometry3d* palm_in_flange, int links = 8) {
   KDL::Chain chain;
-  for (int i = 0; i < 7; ++i) {
+  for (int i = 0; i < std::min(links, 7); ++i) {
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), frameOf(kPanda[i])));
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::RotZ), KDL::Frame::Identity()));
   }
+  if (links < 8) return chain;
   chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), frameOf(kPanda[7])));
   if (palm_in_flange)
     chain.addSegment(KDL::Segment(KDL::Joint(KDL::Joint::None), frameOf(*palm_in_flange)));
@@ -58,10 +60,11 @@ void expectMatchesKdl(const RobotModel& robot, const KDL::Chain& chain, int body
   KDL::ChainJntToJacSolver jac(chain);
   Kinematics kin(robot);
   std::mt19937 rng(seed);
+  const int n = static_cast<int>(chain.getNrOfJoints());
   for (int s = 0; s < 50; ++s) {
     const Eigen::VectorXd q = test::randomConfiguration(robot, rng, 0.0);
-    KDL::JntArray kq(static_cast<unsigned>(q.size()));
-    kq.data = q;
+    KDL::JntArray kq(static_cast<unsigned>(n));
+    kq.data = q.head(n);
     KDL::Frame f;
     KDL::Jacobian kj(kq.rows());
     ASSERT_GE(fk.JntToCart(kq, f), 0);
@@ -76,6 +79,13 @@ void expectMatchesKdl(const RobotModel& robot, const KDL::Chain& chain, int body
                                                             << kin.jacobian(body) << "\nKDL\n"
                                                             << kj.data;
   }
+}
+
+TEST(KdlOracle, EveryPandaLinkMatchesKdl) {
+  const RobotModel& robot = test::pandaWithHand();
+  for (int link = 1; link <= 7; ++link)
+    expectMatchesKdl(robot, pandaChain(nullptr, link),
+                     robot.requireBody("fer_link" + std::to_string(link)), 20 + link);
 }
 
 TEST(KdlOracle, PandaFlangeMatchesKdl) {
