@@ -123,4 +123,39 @@ Eigen::Matrix3Xd Kinematics::relativeAngularJacobian(int body, int reference) co
          (angularJacobian(body) - angularJacobian(reference));
 }
 
+namespace {
+
+double robotMass(const RobotModel& robot) {
+  double m = 0.0;
+  for (const RobotBody& b : robot.bodies())
+    if (b.role != BodyRole::kEnvironment) m += b.mass;
+  if (!(m > 0.0))
+    throw Error("robot '" + robot.name() +
+                "' has no mass; the centre of mass needs <inertial> "
+                "elements in the URDF");
+  return m;
+}
+
+}  // namespace
+
+Eigen::Vector3d Kinematics::centerOfMass() const {
+  const double total = robotMass(*robot_);
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  const auto& bodies = robot_->bodies();
+  for (size_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].role != BodyRole::kEnvironment && bodies[i].mass > 0.0)
+      c += bodies[i].mass * (poses_[i] * bodies[i].com);
+  return c / total;
+}
+
+Eigen::Matrix3Xd Kinematics::centerOfMassJacobian() const {
+  const double total = robotMass(*robot_);
+  Eigen::Matrix3Xd j = Eigen::Matrix3Xd::Zero(3, robot_->dofs());
+  const auto& bodies = robot_->bodies();
+  for (size_t i = 0; i < bodies.size(); ++i)
+    if (bodies[i].role != BodyRole::kEnvironment && bodies[i].mass > 0.0)
+      j += (bodies[i].mass / total) * pointJacobian(static_cast<int>(i), poses_[i] * bodies[i].com);
+  return j;
+}
+
 }  // namespace taskmap

@@ -49,6 +49,9 @@ ResolvedRateIK::ResolvedRateIK(const RobotModel& robot, std::vector<TaskSpec> ta
         throw Error("IK task: joint index " + std::to_string(t.dof) + " out of range 0.." +
                     std::to_string(robot.dofs() - 1));
       rows_ += 1;
+    } else if (t.kind == TaskKind::kCenterOfMass) {
+      Kinematics(robot).centerOfMass();  // throws when the model has no mass
+      rows_ += 3;
     } else {
       if (t.body < 0 || t.body >= bodies || t.reference < -1 || t.reference >= bodies)
         throw Error("IK task: body or reference index out of range (bodies: " +
@@ -87,6 +90,11 @@ void ResolvedRateIK::taskError(const Kinematics& kin, const std::vector<TaskGoal
         error.segment<3>(row) =
             rotationLog(g.rotation * kin.relativeRotation(t.body, t.reference).transpose());
         jacobian.middleRows<3>(row) = kin.relativeAngularJacobian(t.body, t.reference);
+        row += 3;
+        break;
+      case TaskKind::kCenterOfMass:
+        error.segment<3>(row) = g.position - kin.centerOfMass();
+        jacobian.middleRows<3>(row) = kin.centerOfMassJacobian();
         row += 3;
         break;
       case TaskKind::kJoint:

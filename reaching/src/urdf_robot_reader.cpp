@@ -139,6 +139,13 @@ struct UrdfRobotReader {
     body.parent = parent;
     if (link->parent_joint) addJoint(*link->parent_joint, body);
     addShapes(*link, body);
+    if (link->inertial) {
+      body.mass = link->inertial->mass;
+      const urdf::Vector3& c = link->inertial->origin.position;
+      body.com = Eigen::Vector3d(c.x, c.y, c.z);
+      if (!(body.mass >= 0.0) || !std::isfinite(body.mass) || !body.com.allFinite())
+        fail("link '" + link->name + "' has a negative or non-finite mass or centre of mass");
+    }
     const int index = robot.addBody(std::move(body));
     for (const auto& child : link->child_links) addLink(child, index);
   }

@@ -99,6 +99,35 @@ TEST(Kinematics, PointJacobianMatchesFiniteDifferencesOfABodyFixedPoint) {
   EXPECT_EQ(j.rightCols(2).norm(), 0.0);
 }
 
+TEST(Kinematics, CenterOfMassAndItsJacobian) {
+  const RobotModel& robot = test::pandaWithHand();
+  double total = 0.0;
+  for (const RobotBody& b : robot.bodies()) total += b.mass;
+  EXPECT_NEAR(total, 16.18253, 1e-9);  // sum of the Panda's link masses (inertials.yaml)
+  Kinematics kin(robot);
+  std::mt19937 rng(4);
+  for (int s = 0; s < 5; ++s) {
+    const Eigen::VectorXd q = test::randomConfiguration(robot, rng);
+    kin.update(q);
+    const Eigen::Matrix3Xd j = kin.centerOfMassJacobian();
+    Eigen::Matrix3Xd fd(3, q.size());
+    for (int i = 0; i < q.size(); ++i) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[i] += kStep;
+      qm[i] -= kStep;
+      kin.update(qp);
+      const Eigen::Vector3d a = kin.centerOfMass();
+      kin.update(qm);
+      fd.col(i) = (a - kin.centerOfMass()) / (2 * kStep);
+    }
+    EXPECT_LT(relativeError(j, fd), 1e-6);
+    EXPECT_EQ(j.col(0).z(), 0.0);  // the first joint turns about the vertical
+  }
+  const RobotModel mixed =
+      RobotModel::load(test::writeTempFile("mixed_com.urdf", test::mixedJointsUrdf()));
+  EXPECT_THROW(Kinematics(mixed).centerOfMass(), Error);  // no <inertial>: no mass
+}
+
 TEST(Kinematics, RejectsWrongConfigurations) {
   Kinematics kin(test::pandaWithHand());
   try {

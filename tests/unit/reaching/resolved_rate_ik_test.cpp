@@ -163,6 +163,24 @@ TEST(ResolvedRateIK, RelativeTaskToAMovingReferenceConverges) {
   EXPECT_LT(e.norm(), 1e-6);
 }
 
+TEST(ResolvedRateIK, CenterOfMassAndJointTasksConverge) {
+  // Centre of mass shifted 3 cm sideways while joint 7 holds its value (eq. 1.6 + joint task).
+  const RobotModel& robot = test::pandaWithHand();
+  const ResolvedRateIK ik(robot,
+                          {{TaskKind::kCenterOfMass, -1, -1, -1}, {TaskKind::kJoint, -1, -1, 6}},
+                          nullptr, IkOptions{});
+  EXPECT_EQ(ik.taskRows(), 4);
+  Kinematics kin(robot);
+  std::mt19937 rng(48);
+  kin.update(test::randomConfiguration(robot, rng, 0.2));
+  std::vector<TaskGoal> goals(2);
+  goals[0].position = kin.centerOfMass() + Eigen::Vector3d(0.0, 0.03, 0.0);
+  goals[1].value = kin.q()[6];
+  for (int it = 0; it < 1000; ++it) kin.update(ik.step(kin, goals, 0.02));
+  EXPECT_LT((kin.centerOfMass() - goals[0].position).norm(), 1e-6);
+  EXPECT_NEAR(kin.q()[6], goals[1].value, 1e-6);
+}
+
 TEST(ResolvedRateIK, SingularConfigurationGivesFiniteBoundedVelocities) {
   const RobotModel& robot = test::pandaWithHand();
   const ResolvedRateIK ik(robot, palmPoseTasks(robot), nullptr, IkOptions{});

@@ -56,6 +56,12 @@ class Kinematics {
   /// eq. 1.5: A_10 (J_R2 - J_R1).
   Eigen::Matrix3Xd relativeAngularJacobian(int body, int reference) const;
 
+  /// Centre of mass of the robot and hand bodies (world, metres), eq. 1.6: sum m_i r_i / M.
+  /// Throws Error when the model has no mass (a URDF without <inertial>).
+  Eigen::Vector3d centerOfMass() const;
+  /// Its Jacobian (3 x dofs), eq. 1.6: sum m_i J_T(r_i) / M.
+  Eigen::Matrix3Xd centerOfMassJacobian() const;
+
  private:
   const RobotModel* robot_;
   Eigen::VectorXd q_;

@@ -19,7 +19,8 @@ namespace taskmap {
 enum class TaskKind {
   kPosition,     ///< 3 rows: position of body relative to reference, reference frame (eq. 1.4)
   kOrientation,  ///< 3 rows: angular velocity of body relative to reference (eq. 1.5)
-  kJoint         ///< 1 row: a single joint value
+  kJoint,        ///< 1 row: a single joint value
+  kCenterOfMass  ///< 3 rows: centre of mass of the robot, world frame (eq. 1.6)
 };
 
 /// One task descriptor.

@@ -57,6 +57,8 @@ struct RobotBody {
   int dof = -1;                   ///< index into the configuration vector q, -1 if fixed
   std::vector<Primitive> shapes;  ///< collision primitives, body frame
   int chain_depth = 0;            ///< number of moving joints between this body and the world
+  double mass = 0.0;  ///< kg, from the URDF <inertial> (0 for hand links and the environment)
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();  ///< centre of mass, body frame, metres
 };
 
 /// How a hand is mounted: the hand's palm frame in the flange body frame (the adapter).
