@@ -79,7 +79,9 @@ int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot
   }
   addSceneTo(scene, robot);
   if (robot.palmBody() >= 0) return robot.palmBody();
-  return robot.requireBody(args.flange.empty() ? (panda ? "fer_link8" : "") : args.flange);
+  if (args.flange.empty() && !panda)
+    throw Error("--hand none on " + args.robot + ": give --flange LINK, the body to move");
+  return robot.requireBody(args.flange.empty() ? "fer_link8" : args.flange);
 }
 
 Eigen::VectorXd startConfiguration(const ReachArgs& args, const RobotModel& robot) {
