@@ -22,6 +22,7 @@ struct ImportArgs {
   double scale = 0.0;  // 0: object/scale of the file
   bool successful_only = false;
   bool no_cluster = false;
+  bool timestamp = false;
   std::string linkage = toString(ClusteringOptions{}.method);  // the library default
   double rotation_scale = kDefaultRotationScale;
   std::optional<double> threshold;
@@ -69,7 +70,8 @@ void runImport(const ImportArgs& args) {
   MeshLoadOptions load;
   load.scale = args.scale > 0 ? args.scale : grasps.object_scale;
   const ObjectModel model = ObjectModel::load(args.object, load);
-  const TaskMapData map = acronymToMap(grasps, mapObjectOf(model), options);
+  TaskMapData map = acronymToMap(grasps, mapObjectOf(model), options);
+  if (args.timestamp) map.created_utc = mapCreationTime(true);
   writeMap(args.output, map);
   std::size_t successes = 0;
   for (auto fc : map.grasps.force_closure) successes += fc;
@@ -98,6 +100,9 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
   cmd->add_flag("--successful-only", args->successful_only,
                 "keep only grasps with object_in_gripper = 1");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the imported grasps");
+  cmd->add_flag("--timestamp", args->timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none)");
   cmd->add_option("--linkage", args->linkage, "single, average or complete")->capture_default_str();
   cmd->add_option("--rotation-scale", args->rotation_scale,
                   "rho of the pose metric in metres per radian")
