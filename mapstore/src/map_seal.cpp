@@ -151,9 +151,10 @@ std::string readVerified(const std::string& path) {
   if (p.version < 1) throw Error("its seal (the first 512 bytes) is damaged (version 0)");
   const std::size_t content = size - kSealBytes;
   if (content != p.bytes)
-    throw Error((content < p.bytes ? "truncated or changed: " : "extended or changed: ") +
-                std::to_string(content) + " bytes follow the seal, which declares " +
-                std::to_string(p.bytes) + kResealHint);
+    throw Error("its length does not match its seal (" + std::to_string(content) +
+                " bytes follow the seal, which declares " + std::to_string(p.bytes) +
+                "): " + (content < p.bytes ? "truncated" : "extended") +
+                ", or changed by another tool" + kResealHint);
   bytes.resize(size);
   if (!readAt(f.fd, bytes.data() + kSealBytes, content, static_cast<off_t>(kSealBytes)))
     throw Error("the file changed while being read");
