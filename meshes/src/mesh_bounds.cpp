@@ -89,55 +89,159 @@ std::uint64_t plyTypeBytes(const std::string& type) {
   return 0;
 }
 
-void checkPly(const std::string& path, const std::string& head, std::uintmax_t size) {
+struct PlyProperty {
+  bool list = false;
+  std::uint64_t count_bytes = 0;  // list: size of the count
+  bool count_signed = false;      // list: signed count type
+  std::uint64_t bytes = 0;        // scalar: size; list: size of one item
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+  // Minimal bytes of one element: binary sizes (lists empty), or 2 per value in ASCII.
+  std::uint64_t minBytes(bool binary) const {
+    std::uint64_t b = 0;
+    for (const PlyProperty& p : properties) b += binary ? (p.list ? p.count_bytes : p.bytes) : 2;
+    return std::max<std::uint64_t>(1, b);
+  }
+};
+
+struct PlyHeader {
+  std::string format;
+  std::vector<PlyElement> elements;
+  std::size_t body = 0;  // offset of the first byte after end_header's line
+};
+
+PlyProperty plyProperty(const std::string& path, std::istringstream& words) {
+  PlyProperty p;
+  std::string type;
+  words >> type;
+  if (type == "list") {
+    std::string count_type, item_type;
+    words >> count_type >> item_type;
+    p.list = true;
+    p.count_bytes = plyTypeBytes(count_type);
+    p.count_signed = !count_type.empty() && count_type[0] != 'u';
+    p.bytes = plyTypeBytes(item_type);
+    if (p.count_bytes == 0 || p.bytes == 0) refuse(path, "PLY list of an unknown type");
+  } else {
+    p.bytes = plyTypeBytes(type);
+    if (p.bytes == 0) refuse(path, "PLY property of unknown type '" + type + "'");
+  }
+  return p;
+}
+
+PlyHeader plyHeader(const std::string& path, const std::string& head) {
   const auto end = head.find("end_header");
   if (end == std::string::npos)
     refuse(path, "PLY header has no end_header within its first 64 KiB");
-  const auto body_start = head.find('\n', end);
-  const std::uintmax_t body =
-      body_start == std::string::npos || body_start + 1 > size ? 0 : size - (body_start + 1);
+  PlyHeader h;
+  const auto newline = head.find('\n', end);
+  h.body = newline == std::string::npos ? head.size() : newline + 1;
   std::istringstream in(head.substr(0, end));
-  std::string line, format;
-  struct Element {
-    std::string name;
-    std::uint64_t count = 0;
-    std::uint64_t bytes = 0;  // minimal bytes of one element
-  };
-  std::vector<Element> elements;
+  std::string line;
   while (std::getline(in, line)) {
     std::istringstream words(line);
     std::string key;
     words >> key;
     if (key == "format") {
-      words >> format;
+      words >> h.format;
     } else if (key == "element") {
-      Element e;
+      PlyElement e;
       std::string count;
       words >> e.name >> count;
       if (!parseCount(count, &e.count)) refuse(path, "PLY element " + e.name + " has no count");
-      elements.push_back(e);
+      h.elements.push_back(e);
     } else if (key == "property") {
-      if (elements.empty()) refuse(path, "PLY property before any element");
-      std::string type;
-      words >> type;
-      const bool binary = format != "ascii";
-      if (type == "list") {
-        std::string count_type;
-        words >> count_type;
-        if (plyTypeBytes(count_type) == 0) refuse(path, "PLY list with an unknown count type");
-        elements.back().bytes += binary ? plyTypeBytes(count_type) : 2;
-      } else {
-        if (plyTypeBytes(type) == 0) refuse(path, "PLY property of unknown type '" + type + "'");
-        elements.back().bytes += binary ? plyTypeBytes(type) : 2;
-      }
+      if (h.elements.empty()) refuse(path, "PLY property before any element");
+      h.elements.back().properties.push_back(plyProperty(path, words));
     }
   }
-  if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+  if (h.format != "ascii" && h.format != "binary_little_endian" && h.format != "binary_big_endian")
     refuse(path, "PLY header has no valid format line");
-  std::uintmax_t left = body;
-  for (const Element& e : elements) {
-    requireFits(path, "'" + e.name + "' elements", e.count, e.bytes, left);
-    left -= e.count * std::max<std::uint64_t>(1, e.bytes);
+  return h;
+}
+
+[[noreturn]] void refuseList(const std::string& path, const PlyElement& e, std::uint64_t row,
+                             const std::string& what) {
+  refuse(path, "PLY " + e.name + " " + std::to_string(row) + ": " + what +
+                   " (truncated or corrupt file)");
+}
+
+// Walks an ASCII body: every list count must be a plain integer no larger than the values
+// left in the file (assimp reserves the count before reading the values).
+void walkAsciiPly(const std::string& path, const PlyHeader& h, const std::string& bytes) {
+  // assimp's ASCII PLY parser reads past a NUL byte (and crashes): text has none.
+  const auto nul = bytes.find('\0', h.body);
+  if (nul != std::string::npos)
+    refuse(path, "ASCII PLY holds a NUL byte at offset " + std::to_string(nul) +
+                     " (truncated or corrupt file)");
+  std::size_t at = h.body;
+  auto token = [&](std::string* out) {
+    while (at < bytes.size() && std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+    const std::size_t start = at;
+    while (at < bytes.size() && !std::isspace(static_cast<unsigned char>(bytes[at]))) ++at;
+    *out = bytes.substr(start, at - start);
+    return at > start;
+  };
+  std::string t;
+  for (const PlyElement& e : h.elements)
+    for (std::uint64_t row = 0; row < e.count; ++row)
+      for (const PlyProperty& p : e.properties) {
+        if (!token(&t)) return;  // truncated: assimp reports it
+        if (!p.list) continue;
+        std::uint64_t n = 0;
+        if (!parseCount(t, &n)) refuseList(path, e, row, "list count '" + t + "' is not a count");
+        if (n > (bytes.size() - at) / 2)
+          refuseList(path, e, row, "list of " + t + " values, more than the file has bytes for");
+        for (std::uint64_t k = 0; k < n; ++k)
+          if (!token(&t)) return;
+      }
+}
+
+// Walks a binary body the same way (counts read with their declared size and byte order).
+void walkBinaryPly(const std::string& path, const PlyHeader& h, const std::string& bytes) {
+  const bool little = h.format == "binary_little_endian";
+  std::size_t at = h.body;
+  for (const PlyElement& e : h.elements)
+    for (std::uint64_t row = 0; row < e.count; ++row)
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          at += p.bytes;
+          continue;
+        }
+        if (at + p.count_bytes > bytes.size()) return;  // truncated: assimp reports it
+        std::uint64_t n = 0;
+        for (std::uint64_t i = 0; i < p.count_bytes; ++i) {
+          const std::size_t k = little ? at + p.count_bytes - 1 - i : at + i;
+          n = (n << 8) | static_cast<unsigned char>(bytes[k]);
+        }
+        at += p.count_bytes;
+        if (p.count_signed && (n >> (8 * p.count_bytes - 1)) != 0)
+          refuseList(path, e, row, "negative list count");
+        if (n > (bytes.size() - at) / p.bytes)
+          refuseList(path, e, row,
+                     "list of " + std::to_string(n) + " values, more than the file has bytes for");
+        at += n * p.bytes;
+      }
+}
+
+void checkPly(const std::string& path, const std::string& head, std::uintmax_t size) {
+  const PlyHeader h = plyHeader(path, head);
+  const bool binary = h.format != "ascii";
+  std::uintmax_t left = size > h.body ? size - h.body : 0;
+  for (const PlyElement& e : h.elements) {
+    requireFits(path, "'" + e.name + "' elements", e.count, e.minBytes(binary), left);
+    left -= e.count * e.minBytes(binary);
+  }
+  // The counts fit: walk the body for list counts (assimp holds the whole file anyway).
+  const std::string bytes = readHead(path, static_cast<std::size_t>(size));
+  if (binary) {
+    walkBinaryPly(path, h, bytes);
+  } else {
+    walkAsciiPly(path, h, bytes);
   }
 }
 
