@@ -138,8 +138,15 @@ PlyHeader plyHeader(const std::string& path, const std::string& head) {
   if (end == std::string::npos)
     refuse(path, "PLY header has no end_header within its first 64 KiB");
   PlyHeader h;
-  const auto newline = head.find('\n', end);
-  h.body = newline == std::string::npos ? head.size() : newline + 1;
+  // assimp misparses (and may crash on) a body glued to end_header: a line break must follow.
+  const std::size_t after = end + std::string("end_header").size();
+  if (head.compare(after, 1, "\n") == 0) {
+    h.body = after + 1;
+  } else if (head.compare(after, 2, "\r\n") == 0) {
+    h.body = after + 2;
+  } else {
+    refuse(path, "PLY end_header is not followed by a line break (truncated or corrupt file)");
+  }
   std::istringstream in(head.substr(0, end));
   std::string line;
   while (std::getline(in, line)) {
