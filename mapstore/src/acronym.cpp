@@ -313,7 +313,7 @@ AcronymGrasps readAcronym(const std::string& path) {
   } catch (const Error& e) {
     throw Error("ACRONYM file '" + path + "': " + e.what());
   }
-  if (bytes.compare(0, 8, "\x89HDF\r\n\x1a\n") != 0) {
+  if (!seal::hasHdf5Signature(bytes)) {
     throw Error("'" + path + "' is not an HDF5 file; give an ACRONYM grasp file (.h5)");
   }
   std::lock_guard<std::mutex> lock(h5::hdf5Mutex());

@@ -116,6 +116,13 @@ std::string blockFor(const char* content, std::size_t size) {
   return block;
 }
 
+bool hasHdf5Signature(const std::string& bytes) {
+  if (hdf5At(bytes, 0)) return true;
+  for (std::size_t at = kSealBytes; at < bytes.size(); at *= 2)
+    if (hdf5At(bytes, at)) return true;
+  return false;
+}
+
 std::string readWhole(const std::string& path, std::size_t max_bytes) {
   std::size_t size = 0;
   Fd f = openForReading(path, &size);

@@ -18,6 +18,10 @@ constexpr std::size_t kSealBytes = 512;
 /// truncated or extended, content not matching the seal.
 std::string readVerified(const std::string& path);
 
+/// True when bytes hold an HDF5 superblock signature where HDF5 looks for one: offset 0, 512,
+/// 1024, 2048, ... (after a user block).
+bool hasHdf5Signature(const std::string& bytes);
+
 /// Reads the file whole (any content), refusing files larger than max_bytes.
 std::string readWhole(const std::string& path, std::size_t max_bytes);
 

@@ -232,6 +232,24 @@ class FuzzTest(unittest.TestCase):
         self.report("mesh mutants (%d per format through taskmap mesh-info)" % MESH_MUTANTS, table)
         print("[fuzz]   worst peak RSS over loading the original, KiB: %s" % worst, file=sys.stderr)
 
+    def test_acronym_import_bounds_what_it_reads(self):
+        """A foreign HDF5 file declaring 1.6e9 values in a few KiB is refused, not allocated."""
+        import h5py
+        src = os.path.join(self.tmp, "bomb.h5")
+        with h5py.File(src, "w") as f:
+            f.create_dataset("grasps/transforms", shape=(10 ** 8, 4, 4), dtype="f8",
+                             chunks=(1024, 4, 4), compression="gzip")
+            f["grasps/qualities/flex/object_in_gripper"] = np.zeros(10 ** 8 // 10 ** 6)
+        self.assertLess(os.path.getsize(src), 64 * 1024)
+        out = os.path.join(self.tmp, "never.h5")
+        rc, _, err, kib = run_limited([CLI, "import", "--acronym", src, "--object",
+                                       os.path.join(DATA, "meshes", "fuzz", "box.obj"), "-o", out])
+        self.assertEqual(rc, 1, err)
+        self.assertIn("bomb.h5", err)
+        self.assertIn("grasps/transforms declares more values than the file holds", err)
+        self.assertLess(kib, 512 * 1024)
+        self.assertFalse(os.path.exists(out))
+
 
 if __name__ == "__main__":
     unittest.main()
