@@ -98,12 +98,16 @@ Parsed parse(const std::string& block) {
   const std::string text = block.substr(0, nul);
   if (nul == std::string::npos || block.find_first_not_of('\0', nul) != std::string::npos)
     throw Error("its seal (the first 512 bytes) is damaged; the file is corrupt");
-  if (std::sscanf(text.c_str(), "TASKMAP-SEAL %d\nsha256 %64[0-9a-f]\nbytes %llu\n%n", &p.version,
-                  digest, &p.bytes, &consumed) != 3 ||
+  if (std::sscanf(text.c_str(), "TASKMAP-SEAL %4d\nsha256 %64[0-9a-f]\nbytes %19llu\n%n",
+                  &p.version, digest, &p.bytes, &consumed) != 3 ||
       consumed != static_cast<int>(text.size()))
     throw Error("its seal (the first 512 bytes) is damaged; the file is corrupt");
   p.sha256 = digest;
-  if (p.sha256.size() != 64) throw Error("its seal (the first 512 bytes) is damaged");
+  // Exactly the text the writer produces (sscanf alone would accept other spacing).
+  const std::string canonical = std::string(kMagic) + std::to_string(p.version) + "\nsha256 " +
+                                p.sha256 + "\nbytes " + std::to_string(p.bytes) + "\n";
+  if (p.sha256.size() != 64 || canonical != text)
+    throw Error("its seal (the first 512 bytes) is damaged; the file is corrupt");
   return p;
 }
 
