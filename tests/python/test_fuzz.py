@@ -232,6 +232,32 @@ class FuzzTest(unittest.TestCase):
         self.report("mesh mutants (%d per format through taskmap mesh-info)" % MESH_MUTANTS, table)
         print("[fuzz]   worst peak RSS over loading the original, KiB: %s" % worst, file=sys.stderr)
 
+    def test_every_reader_refuses_a_damaged_map(self):
+        """inspect, cluster, export and taskmap.load all go through the verified reader."""
+        with open(MAP, "rb") as f:
+            data = bytearray(f.read())
+        data[len(data) // 2] ^= 0x01
+        path = os.path.join(self.tmp, "one_bit.h5")
+        with open(path, "wb") as f:
+            f.write(data)
+        out = os.path.join(self.tmp, "out.ply")
+        for args in (["inspect", path], ["cluster", path], ["export", path, "--format", "ply",
+                                                             "-o", out]):
+            rc, _, err, _ = run_limited([CLI, *args])
+            self.assertEqual(rc, 1, args)
+            self.assertIn("one_bit.h5", err)
+            self.assertIn("does not match its seal", err)
+        self.assertFalse(os.path.exists(out))
+        worker = PythonWorker(MAP)
+        try:
+            reply = worker.load(path)
+        finally:
+            worker.stop()
+        self.assertEqual(reply["outcome"], "refused")
+        self.assertIn("does not match its seal", reply["message"])
+        with open(path, "rb") as f:
+            self.assertEqual(f.read(), bytes(data))  # cluster wrote nothing
+
     def test_acronym_import_bounds_what_it_reads(self):
         """A foreign HDF5 file declaring 1.6e9 values in a few KiB is refused, not allocated."""
         import h5py
