@@ -46,6 +46,7 @@ function(taskmap_add_module stage)
     OUTPUT_NAME taskmap_${stage}
     VERSION ${PROJECT_VERSION}
     SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
+  target_compile_definitions(${target} PRIVATE TASKMAP_VERSION="${PROJECT_VERSION}")
   taskmap_set_warnings(${target})
   install(TARGETS ${target} EXPORT TaskMapTargets
     LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}

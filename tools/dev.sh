@@ -75,7 +75,7 @@ consumer() {
     [ -f "$ROOT/$c/CMakeLists.txt" ] || continue
     local d="$BUILD/consumer-$(basename "$c")"
     rm -rf "$d"
-    cmake -S "$ROOT/$c" -B "$d" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+    cmake -S "$ROOT/$c" -B "$d" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTASKMAP_SOURCE_ROOT="$ROOT" \
       -DCMAKE_PREFIX_PATH="$BUILD/install" >/dev/null
     cmake --build "$d" -j "$JOBS" >/dev/null
     ctest --test-dir "$d" --output-on-failure

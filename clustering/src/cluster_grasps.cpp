@@ -9,7 +9,7 @@
 
 #include "linkage_internal.hpp"
 #include "taskmap/clustering/clustering.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

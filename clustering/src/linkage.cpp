@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "linkage_internal.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

@@ -16,7 +16,7 @@
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
 #include <BulletCollision/NarrowPhaseCollision/btRaycastCallback.h>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 static_assert(sizeof(btScalar) == sizeof(double),
               "taskmap needs Bullet built with double precision");

@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "taskmap/core/triangle_mesh.hpp"
 #include "taskmap/meshes/hand_model.hpp"
-#include "taskmap/meshes/triangle_mesh.hpp"
 
 namespace taskmap {
 

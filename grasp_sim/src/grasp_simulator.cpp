@@ -12,7 +12,7 @@
 
 #include "collision_scene.hpp"
 #include "squeeze.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

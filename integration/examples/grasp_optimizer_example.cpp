@@ -11,14 +11,14 @@
 #include <cstdio>
 #include <string>
 
+#include <taskmap/core/error.hpp>
+#include <taskmap/core/random.hpp>
 #include <taskmap/integration/criteria.hpp>
 #include <taskmap/integration/evaluation_session.hpp>
 #include <taskmap/integration/frames.hpp>
 #include <taskmap/integration/initialisation.hpp>
 #include <taskmap/integration/task_map.hpp>
 #include <taskmap/mapstore/map_file.hpp>
-#include <taskmap/meshes/error.hpp>
-#include <taskmap/meshes/random.hpp>
 
 using namespace taskmap;
 

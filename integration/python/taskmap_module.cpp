@@ -9,13 +9,13 @@
 #include <algorithm>
 
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/evaluation_session.hpp"
 #include "taskmap/integration/frames.hpp"
 #include "taskmap/integration/initialisation.hpp"
 #include "taskmap/integration/task_map.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace py = pybind11;
 using namespace taskmap;
@@ -97,7 +97,7 @@ py::tuple neighbours(const std::vector<Neighbor>& v) {
   return py::make_tuple(idx, d);
 }
 
-py::dict qualityDict(const QualityResult& q) {
+py::dict qualityDict(const QualityCriterion& q) {
   py::dict d;
   d["value"] = q.value;
   d["gradient"] = Eigen::VectorXd(q.gradient);

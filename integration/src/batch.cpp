@@ -4,8 +4,8 @@
 #include <exception>
 #include <thread>
 
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -9,7 +9,7 @@
 #include "kernels.hpp"
 #include "nn_index.hpp"
 #include "task_map_impl.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "term_batch.hpp"
 
 namespace taskmap {

@@ -1,6 +1,6 @@
 #include "taskmap/integration/frames.hpp"
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

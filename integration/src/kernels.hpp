@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 namespace detail {

@@ -9,8 +9,8 @@
 #include "kernels.hpp"
 #include "nn_index.hpp"
 #include "task_map_impl.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap {
 
@@ -159,8 +159,8 @@ ProximityResult TaskMap::proximity(const Pose& x, std::optional<int> cluster) co
   return impl_->proximityTo(impl_->query(x), n);
 }
 
-QualityResult TaskMap::quality(const Pose& x, std::optional<int> cluster,
-                               std::optional<QualityMode> mode) const {
+QualityCriterion TaskMap::quality(const Pose& x, std::optional<int> cluster,
+                                  std::optional<QualityMode> mode) const {
   const auto& set = impl_->set(cluster);
   const Impl::Query q = impl_->query(x);
   if (mode.value_or(impl_->options.quality_mode) == QualityMode::kExact) {
@@ -239,9 +239,9 @@ ProximityResult TaskMap::Impl::proximityTo(const Query& x, const Neighbor& n) co
 //   dg_q/dw = (scale / (2 sr^2)) v(R sum c_i R_i^T)  = (scale / (2 sr^2)) v(R S^T),
 // S = sum c_i (R_i - R) = (sqrt2 / rho) moment_R (v(R R^T) = v(I) = 0 drops the c_i R part;
 // sums of differences avoid cancellation).
-QualityResult TaskMap::Impl::finish(const detail::MixtureSum& m, const Query& x,
-                                    const SampleSet& s) const {
-  QualityResult out;
+QualityCriterion TaskMap::Impl::finish(const detail::MixtureSum& m, const Query& x,
+                                       const SampleSet& s) const {
+  QualityCriterion out;
   if (s.total_weight <= 0) return out;
   const double scale = inv_z / s.total_weight;
   out.value = -m.sum * scale;
@@ -252,16 +252,16 @@ QualityResult TaskMap::Impl::finish(const detail::MixtureSum& m, const Query& x,
   return out;
 }
 
-QualityResult TaskMap::Impl::qualityExact(const Query& x, const SampleSet& s) const {
+QualityCriterion TaskMap::Impl::qualityExact(const Query& x, const SampleSet& s) const {
   detail::MixtureSum m;
   for (std::size_t k = 0; k < s.size(); ++k)
     detail::addMixtureTerm(s.row(k), x.e.data(), inv_sp2, inv_se2, m);
   return finish(m, x, s);
 }
 
-QualityResult TaskMap::Impl::truncated(const detail::MixtureSum& m, const Query& x,
-                                       const SampleSet& s) const {
-  QualityResult out = finish(m, x, s);
+QualityCriterion TaskMap::Impl::truncated(const detail::MixtureSum& m, const Query& x,
+                                          const SampleSet& s) const {
+  QualityCriterion out = finish(m, x, s);
   if (s.total_weight <= 0) return out;
   // Omitted samples have embedding distance D > r_c, so d >= D^2 / s^2 > t_c^2
   // (task_map_build.cpp).

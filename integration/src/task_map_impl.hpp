@@ -66,6 +66,12 @@ struct TaskMap::Impl {
 
   /// Validates data and options, builds indexes, resolves defaults. Throws Error.
   void build();
+  /// build's steps: check the grasps and fill pos/qconj/weight; one sample set per cluster;
+  /// kernel widths (from the sampling density unless given); the cut-off and error bounds.
+  void readGrasps();
+  void buildClusters();
+  void chooseKernelWidths();
+  void setTruncation();
   /// Embeds the given grasps (in leaf order) into s and builds its index.
   void buildSet(SampleSet& s, const std::vector<std::size_t>& members) const;
   const SampleSet& set(std::optional<int> cluster) const;
@@ -94,16 +100,16 @@ struct TaskMap::Impl {
   /// NnIndex::radiusAndNearest.
   detail::IndexHit ballAndNearest(const SampleSet& s, const Query& x, double radius2,
                                   std::vector<detail::IndexHit>& out) const;
-  QualityResult qualityExact(const Query& x, const SampleSet& s) const;
+  QualityCriterion qualityExact(const Query& x, const SampleSet& s) const;
   /// The truncated mixture at x over the samples of s within the cut-off, added to m, and the
   /// nearest sample (a row of s; as ballAndNearest) from the same search.
   detail::IndexHit cutoffMixture(const SampleSet& s, const Query& x, detail::MixtureSum& m) const;
   /// The truncated-mode result of a mixture over the samples within the cut-off: finish()
   /// and the truncation bounds from the weight the mixture left out.
-  QualityResult truncated(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
+  QualityCriterion truncated(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
 
   /// The normalised value and object-frame gradient of an accumulated mixture.
-  QualityResult finish(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
+  QualityCriterion finish(const detail::MixtureSum& m, const Query& x, const SampleSet& s) const;
 };
 
 }  // namespace taskmap

@@ -18,9 +18,9 @@
 
 #include "hdf5_io.hpp"
 #include "map_seal.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 #ifndef TASKMAP_VERSION
 #define TASKMAP_VERSION "unknown"

@@ -5,7 +5,7 @@
 #include <limits>
 #include <new>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::h5 {
 namespace {

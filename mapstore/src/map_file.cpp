@@ -13,8 +13,8 @@
 
 #include "hdf5_io.hpp"
 #include "map_seal.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

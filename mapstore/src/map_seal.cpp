@@ -14,7 +14,7 @@
 #include <string_view>
 #include <utility>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::seal {
 namespace {

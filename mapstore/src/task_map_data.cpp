@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

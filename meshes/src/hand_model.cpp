@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

@@ -18,7 +18,7 @@
 #include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {

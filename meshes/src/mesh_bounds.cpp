@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::detail {
 namespace {

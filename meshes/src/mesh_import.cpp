@@ -16,7 +16,7 @@
 
 #include "mesh_bounds.hpp"
 #include "mesh_soup.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::detail {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

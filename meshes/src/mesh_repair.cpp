@@ -16,7 +16,7 @@
 #include <CGAL/Surface_mesh.h>
 
 #include "mesh_soup.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::detail {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "mesh_bvh.hpp"
 #include "mesh_soup.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

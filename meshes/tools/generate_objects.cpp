@@ -23,7 +23,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Surface_mesh.h>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/meshes/mesh_io.hpp"
 #include "taskmap/meshes/object_model.hpp"
 

@@ -1,4 +1,4 @@
-// Force closure and Ferrari-Canny epsilon of a grasp (shared/TASKMAPS.md §2 step 5, §4).
+// Force closure and Ferrari-Canny epsilon of a grasp (docs/METHOD.md §2 step 5, §4).
 //
 // Cone edges (GraspIt!'s convention): contact with outward unit normal n pushes along -n; edge
 // j of m is  f_j = -n + mu (cos(2 pi j / m) t1 + sin(2 pi j / m) t2),  a unit normal force plus
@@ -29,7 +29,7 @@
 
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/quality/wrench_epsilon.hpp"
 
 namespace taskmap {

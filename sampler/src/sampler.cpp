@@ -5,8 +5,8 @@
 
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap {
 

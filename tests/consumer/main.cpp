@@ -2,7 +2,7 @@
 #include <cmath>
 #include <iostream>
 
-#include <taskmap/meshes/pose.hpp>
+#include <taskmap/core/pose.hpp>
 
 int main() {
   taskmap::Pose a;

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "taskmap/meshes/triangle_mesh.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap::testing {
 

@@ -17,9 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "taskmap/mapstore/map_builder.hpp"
+#include "data_dir.hpp"
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -45,16 +46,10 @@ struct BuildArgs {
   bool timestamp = false;
 };
 
-// Hand argument: a URDF path, or the name of a bundled hand
-// (meshes/hands/<name>/<name>.urdf).
+// Hand argument: a URDF path, or the name of a bundled hand (<data dir>/hands/<name>/).
 std::string resolveHand(const std::string& hand) {
   if (std::filesystem::exists(hand)) return hand;
-  const std::string bundled =
-      std::string(TASKMAP_SOURCE_DIR) + "/meshes/hands/" + hand + "/" + hand + ".urdf";
-  if (hand.find('/') == std::string::npos && std::filesystem::exists(bundled)) return bundled;
-  throw Error("hand '" + hand +
-              "' is neither a URDF file nor a bundled hand name (barrett, "
-              "panda, humanoid under meshes/hands/)");
+  return bundledHandUrdf(hand);
 }
 
 std::string clock(double seconds) {

@@ -9,8 +9,8 @@
 
 #include "command.hpp"
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap::cli {
 namespace {

@@ -7,9 +7,9 @@
 
 #include "command.hpp"
 #include "map_summary.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 #include "taskmap/meshes/mesh_export.hpp"
 
 namespace taskmap::cli {

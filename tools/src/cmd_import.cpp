@@ -10,9 +10,9 @@
 #include "command.hpp"
 #include "isolated.hpp"
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap::cli {

@@ -7,8 +7,8 @@
 #include "command.hpp"
 #include "map_picture.hpp"
 #include "map_summary.hpp"
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 
 namespace taskmap::cli {
 namespace {

@@ -7,10 +7,11 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "data_dir.hpp"
 #include "regression.hpp"
-#include "taskmap/mapstore/map_builder.hpp"
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct RegressArgs {
-  std::string cases = std::string(TASKMAP_SOURCE_DIR) + "/tests/regression/cases.json";
+  std::string cases;       // default: <data dir>/regression/cases.json
   std::string golden_dir;  // default: <cases dir>/golden
   std::vector<std::string> only;
   bool update = false;
@@ -39,7 +40,9 @@ void printTable(const std::vector<ComparisonRow>& rows, const std::string& objec
 }
 
 int run(const RegressArgs& args) {
-  const fs::path cases_path = fs::absolute(args.cases);
+  const fs::path cases_path =
+      fs::absolute(args.cases.empty() ? fs::path(dataDir()) / "regression" / "cases.json"
+                                      : fs::path(args.cases));
   const fs::path root = cases_path.parent_path();
   const fs::path golden_dir = args.golden_dir.empty() ? root / "golden" : fs::path(args.golden_dir);
   const auto cases = readCases(cases_path.string());
@@ -109,7 +112,8 @@ const CommandRegistrar kRegistrar("regress", [](CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "regress", "Build the reference maps and compare them with golden statistics");
   cmd->add_option("--cases", args->cases,
-                  "Case list (JSON); paths in it are relative to its folder")
+                  "Case list (JSON; default <data dir>/regression/cases.json); paths in it are "
+                  "relative to its folder")
       ->capture_default_str();
   cmd->add_option("--golden", args->golden_dir,
                   "Folder of golden files (default: <cases folder>/golden)");

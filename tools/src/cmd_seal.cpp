@@ -9,7 +9,7 @@
 #include "command.hpp"
 #include "isolated.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
 namespace {

@@ -11,7 +11,7 @@
 #include <iostream>
 #include <new>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
 namespace {

@@ -7,7 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "command.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
 

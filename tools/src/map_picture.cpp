@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "taskmap/meshes/atomic_file.hpp"
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>

@@ -6,7 +6,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
 namespace {

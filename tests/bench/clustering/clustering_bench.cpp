@@ -15,7 +15,7 @@
 #include <string>
 
 #include "taskmap/clustering/clustering.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace {
 

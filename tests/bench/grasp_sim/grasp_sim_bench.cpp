@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "taskmap/core/random.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
-#include "taskmap/meshes/random.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

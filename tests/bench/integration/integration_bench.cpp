@@ -45,7 +45,7 @@ struct Fixture {
   // Trajectory set: kTrajectories x kIterates poses, trajectory t at [t kIterates, ...). Each
   // starts 3 kernel widths per axis (position and rotation) from a random map sample and
   // converges to it, x_{k+1} = x_k + 0.25 (target - x_k) (rotation: along the geodesic), plus
-  // noise of 0.1 kernel width per axis: an optimizer's iterates (TASKMAPS.md §3).
+  // noise of 0.1 kernel width per axis: an optimizer's iterates (docs/METHOD.md §3).
   std::vector<Pose> trajectory;
   std::unique_ptr<bench::Baselines> baselines;  // over map, for queries
 
@@ -327,7 +327,7 @@ int main(int argc, char** argv) {
     const Evaluation b = f.baselines->nanoflann12(i);
     const Evaluation b7 = f.baselines->nanoflann7(i);
     const Evaluation c = f.baselines->brute(i);
-    const QualityResult exact = f.map.quality(f.queries[i], std::nullopt, QualityMode::kExact);
+    const QualityCriterion exact = f.map.quality(f.queries[i], std::nullopt, QualityMode::kExact);
     if (a.proximity.nearest.index != c.proximity.nearest.index) ++mismatches;
     if (b.proximity.nearest.index != c.proximity.nearest.index) ++mismatches;
     if (b7.proximity.nearest.index != c.proximity.nearest.index) ++mismatches;

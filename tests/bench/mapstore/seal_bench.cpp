@@ -16,7 +16,7 @@
 
 #include "map_seal.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap {
 namespace {

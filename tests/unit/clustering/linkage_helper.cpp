@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "taskmap/clustering/clustering.hpp"
-#include "taskmap/meshes/error.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace {
 

@@ -1,7 +1,7 @@
 // The fast link-versus-mesh queries (BVH culling, box-triangle separating axes, GJK/EPA)
 // against a brute-force oracle: exact box-triangle distances from feature pairs over every
 // triangle of the mesh.
-#include "../../../grasp_sim/src/collision_scene.hpp"
+#include "collision_scene.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <limits>
 #include <string>
 
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

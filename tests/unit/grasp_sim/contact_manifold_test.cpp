@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include "taskmap/core/random.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
-#include "taskmap/meshes/random.hpp"
 
 namespace taskmap {
 namespace {

@@ -11,7 +11,7 @@
 
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -9,8 +9,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
-#include "taskmap/meshes/contact.hpp"
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/contact.hpp"
+#include "taskmap/core/random.hpp"
 
 namespace taskmap::testing {
 

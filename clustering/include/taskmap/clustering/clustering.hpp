@@ -1,7 +1,7 @@
 #pragma once
 /// @file clustering.hpp
 /// Hierarchical clustering of grasp poses into qualitatively different solutions
-/// (paper 1.6.1), in the pose embedding of shared/TASKMAPS.md §4.
+/// (paper 1.6.1), in the pose embedding of docs/METHOD.md §4.
 
 #include <optional>
 #include <string>
@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "taskmap/meshes/contact.hpp"
+#include "taskmap/core/contact.hpp"
 
 namespace taskmap {
 

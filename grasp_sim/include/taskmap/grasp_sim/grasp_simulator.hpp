@@ -1,6 +1,6 @@
 #pragma once
 /// @file grasp_simulator.hpp
-/// One grasp trial (shared/TASKMAPS.md §2 steps 1-4): put the hand's palm frame at a pose in
+/// One grasp trial (docs/METHOD.md §2 steps 1-4): put the hand's palm frame at a pose in
 /// the object frame with the open preshape, retract it along the approach axis out of the
 /// object, close the fingers (autoGrasp), squeeze, and report the contacts. Collision
 /// detection is Bullet (float64), kept private.
@@ -38,11 +38,11 @@
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/contact.hpp"
+#include "taskmap/core/contact.hpp"
+#include "taskmap/core/pose.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
-#include "taskmap/meshes/pose.hpp"
-#include "taskmap/meshes/triangle_mesh.hpp"
 
 namespace taskmap {
 

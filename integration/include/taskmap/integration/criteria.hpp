@@ -6,7 +6,7 @@
 /// Proximity uses the pose difference below; the quality kernel (gaussianDensity) is a
 /// Gaussian in the 12-D pose embedding instead (no log map), see there.
 ///
-/// Pose difference (shared/TASKMAPS.md §4): e(x, mu) = (p - p_mu, log(R_mu^T R)), a 6-vector
+/// Pose difference (docs/METHOD.md §4): e(x, mu) = (p - p_mu, log(R_mu^T R)), a 6-vector
 /// (metres, radians). Gradients are 6-vectors (linear, angular) in the OBJECT frame with
 /// respect to the perturbation  p <- p + dp,  R <- exp(dw) R  (dw a rotation vector expressed
 /// in the object frame, applied on the left of the hand orientation).
@@ -16,7 +16,7 @@
 /// h(w) is therefore R J_r^{-1}(w)^T dh/dw; for h = c |w|^2 this is 2c R w because
 /// J_r^{-1}(w)^T w = w exactly (the skew terms annihilate w).
 
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 
@@ -31,7 +31,7 @@ double proximityCost(const Pose& x, const Pose& mu, double linear_weight, double
                      Twist* gradient = nullptr);
 
 /// Quality kernel (eq. 1.20) of one sample: a normalised Gaussian in the pose embedding
-/// (p, (rho/sqrt2) vec R) of TASKMAPS.md §4, f = exp(-d/2) / Z with
+/// (p, (rho/sqrt2) vec R) of docs/METHOD.md §4, f = exp(-d/2) / Z with
 ///   d = |p - p_mu|^2 / sp^2 + ||R - R_mu||_F^2 / (2 sr^2),   Z = (2 pi)^3 sp^3 sr^3.
 /// The rotation factor is the isotropic matrix-Fisher distribution on SO(3):
 /// ||R - R_mu||_F^2 = 2 (2 sin(theta/2))^2, so d = |dp|^2/sp^2 + (2 sin(theta/2))^2/sr^2, which

@@ -1,7 +1,7 @@
 #pragma once
 /// @file evaluation_session.hpp
 /// A warm-started TaskMap::evaluate for one optimizer run (issue 7 follow-up). A reaching
-/// optimizer evaluates poses that move a little from one iteration to the next (TASKMAPS.md
+/// optimizer evaluates poses that move a little from one iteration to the next (docs/METHOD.md
 /// §3); the session keeps the samples within R = cutoffRadius() + margin of an anchor pose and
 /// answers queries near the anchor from that cache instead of searching the index.
 ///
@@ -21,8 +21,8 @@
 #include <memory>
 #include <optional>
 
+#include "taskmap/core/pose.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "taskmap/meshes/pose.hpp"
 
 namespace taskmap {
 

@@ -1,11 +1,11 @@
 #pragma once
 /// @file task_map.hpp
-/// The run-time query library (issue 7, shared/TASKMAPS.md §3): a task map loaded once,
+/// The run-time query library (issue 7, docs/METHOD.md §3): a task map loaded once,
 /// queried by a motion optimizer once per iteration. Read-only after construction: every
 /// const method may be called from many threads at once.
 ///
 /// Frames and units: poses are the hand's palm frame in the object frame (metres, unit
-/// quaternion w x y z, q = -q); distances are the pose distance of TASKMAPS.md §4 with the
+/// quaternion w x y z, q = -q); distances are the pose distance of docs/METHOD.md §4 with the
 /// map's rotation scale rho; gradients are 6-vectors (linear 1/m-units, angular 1/rad-units)
 /// in the object frame for the perturbation p <- p + dp, R <- exp(dw) R (criteria.hpp).
 ///
@@ -24,8 +24,8 @@
 
 #include <Eigen/Core>
 
+#include "taskmap/core/pose.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/pose.hpp"
 
 namespace taskmap {
 
@@ -50,7 +50,7 @@ struct TaskMapOptions {
   int checks = 256;  ///< randomized forest: leaves checked per nearest/knn query (>= 1)
   /// w_p of W_map in 1/m^2 (> 0).
   double linear_weight = 1.0;
-  /// w_r of W_map in 1/rad^2 (> 0); default rho^2 * w_p (TASKMAPS.md §4).
+  /// w_r of W_map in 1/rad^2 (> 0); default rho^2 * w_p (docs/METHOD.md §4).
   std::optional<double> angular_weight;
   /// sigma_p of the quality Gaussians, metres (> 0). Default: bandwidth_factor times the
   /// median nearest-neighbour pose distance between map samples (the sampling density).
@@ -85,7 +85,7 @@ struct ProximityResult {
 };
 
 /// Quality criterion (eq. 1.20-1.21) with its analytic gradient.
-struct QualityResult {
+struct QualityCriterion {
   double value = 0.0;              ///< g_q = -sum w_i f_i / sum w_i (0 if all weights are 0)
   Twist gradient = Twist::Zero();  ///< dg_q/dx, object frame
   /// |g_q(truncated) - g_q(exact)| <= value_bound (0 in exact mode). Rigorous: the kernel's
@@ -101,7 +101,7 @@ struct QualityResult {
 /// Everything the optimizer needs per iteration, from one index search.
 struct Evaluation {
   ProximityResult proximity;
-  QualityResult quality;
+  QualityCriterion quality;
   /// g_p + g_q.
   double cost() const { return proximity.value + quality.value; }
   /// d(g_p + g_q)/dx, object frame.
@@ -119,7 +119,7 @@ struct BatchEvaluation {
   TwistRows proximity_gradient;                            ///< dg_p/dx
   Eigen::VectorXd quality;                                 ///< g_q
   TwistRows quality_gradient;                              ///< dg_q/dx
-  Eigen::VectorXd quality_bound;                           ///< QualityResult::value_bound
+  Eigen::VectorXd quality_bound;                           ///< QualityCriterion::value_bound
   Eigen::Matrix<std::int64_t, Eigen::Dynamic, 1> nearest;  ///< grasp index of x_map
   Eigen::VectorXd nearest_distance;                        ///< metres
 };
@@ -166,8 +166,8 @@ class TaskMap {
   ProximityResult proximity(const Pose& x, std::optional<int> cluster = std::nullopt) const;
   /// Quality criterion over the map (or one cluster's samples) in the given mode (default:
   /// options().quality_mode).
-  QualityResult quality(const Pose& x, std::optional<int> cluster = std::nullopt,
-                        std::optional<QualityMode> mode = std::nullopt) const;
+  QualityCriterion quality(const Pose& x, std::optional<int> cluster = std::nullopt,
+                           std::optional<QualityMode> mode = std::nullopt) const;
   /// Nearest sample, proximity and quality with gradients, sharing one search (truncated mode:
   /// the samples within the cut-off give the mixture and, if there are any, the exact nearest;
   /// with none, a branch and bound finds the exact nearest, or with a randomized forest the

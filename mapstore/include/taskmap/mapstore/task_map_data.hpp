@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 
 #include "taskmap/clustering/clustering.hpp"
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
 

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "taskmap/meshes/triangle_mesh.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap {
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "taskmap/meshes/triangle_mesh.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap {
 

@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/random.hpp"
-#include "taskmap/meshes/triangle_mesh.hpp"
+#include "taskmap/core/random.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap {
 

@@ -1,14 +1,14 @@
 #pragma once
 /// @file grasp_quality.hpp
 /// Force closure and Ferrari-Canny epsilon quality of a set of contacts
-/// (shared/TASKMAPS.md §2 step 5 and §4). Thread-safe: no global state, no lock.
+/// (docs/METHOD.md §2 step 5 and §4). Thread-safe: no global state, no lock.
 
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/contact.hpp"
+#include "taskmap/core/contact.hpp"
 
 namespace taskmap {
 

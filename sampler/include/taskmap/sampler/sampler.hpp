@@ -1,6 +1,6 @@
 #pragma once
 /// @file sampler.hpp
-/// Initial hand poses for grasp trials (shared/TASKMAPS.md §2 step 1). Trial i of a run seeded
+/// Initial hand poses for grasp trials (docs/METHOD.md §2 step 1). Trial i of a run seeded
 /// with s draws only from Rng(s, i), so the set of trials never depends on thread count.
 
 #include <cstdint>
@@ -8,8 +8,8 @@
 
 #include <Eigen/Core>
 
+#include "taskmap/core/pose.hpp"
 #include "taskmap/meshes/object_model.hpp"
-#include "taskmap/meshes/pose.hpp"
 
 namespace taskmap {
 

@@ -1,11 +1,11 @@
-#include "taskmap/meshes/atomic_file.hpp"
+#include "taskmap/core/atomic_file.hpp"
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 

@@ -1,4 +1,4 @@
-#include "taskmap/meshes/pose.hpp"
+#include "taskmap/core/pose.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
-#include "taskmap/meshes/error.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

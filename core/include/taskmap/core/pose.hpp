@@ -1,6 +1,6 @@
 #pragma once
 /// @file pose.hpp
-/// Hand poses and the one pose metric of taskmap (shared/TASKMAPS.md §4).
+/// Hand poses and the one pose metric of taskmap (docs/METHOD.md §4).
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>

@@ -9,7 +9,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "taskmap/mapstore/map_builder.hpp"
+#include "taskmap/builder/map_builder.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "test_meshes.hpp"
 

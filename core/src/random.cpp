@@ -1,4 +1,4 @@
-#include "taskmap/meshes/random.hpp"
+#include "taskmap/core/random.hpp"
 
 #include <algorithm>
 #include <cmath>

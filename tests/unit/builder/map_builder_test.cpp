@@ -1,6 +1,6 @@
 // The build pipeline: identical maps for any thread count or block size, the first K valid
 // grasps in trial order (checked against a sequential brute-force oracle), budgets, stop flag.
-#include "taskmap/mapstore/map_builder.hpp"
+#include "taskmap/builder/map_builder.hpp"
 
 #include <unistd.h>
 
@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/error.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {
