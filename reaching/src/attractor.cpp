@@ -76,9 +76,6 @@ void ReachOptions::validate() const {
     throw Error("reach options: tolerances must be > 0");
 }
 
-namespace {
-
-/// Task variables of the palm: position and rotation vector relative to the target rotation.
 Eigen::Matrix<double, 6, 1> taskVariables(const Eigen::Isometry3d& pose,
                                           const Eigen::Matrix3d& target) {
   Eigen::Matrix<double, 6, 1> x;
@@ -87,13 +84,27 @@ Eigen::Matrix<double, 6, 1> taskVariables(const Eigen::Isometry3d& pose,
   return x;
 }
 
-/// Goal pose of the task variables x (inverse of taskVariables).
 Eigen::Isometry3d goalPose(const Eigen::VectorXd& x, const Eigen::Matrix3d& target) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = x.head<3>();
   t.linear() = target * rotationExp(x.tail<3>());
   return t;
 }
+
+Eigen::VectorXd reachStep(const ResolvedRateIK& ik, const Kinematics& kin,
+                          const Eigen::Matrix3d& frame, double dt, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& x_next) {
+  const Eigen::Isometry3d goal = goalPose(x_next, frame);
+  const Eigen::Isometry3d now = goalPose(x, frame);
+  std::vector<TaskGoal> goals(2);
+  goals[0].position = now.translation();  // feedback on the current desired pose
+  goals[0].velocity = (goal.translation() - now.translation()) / dt;
+  goals[1].rotation = now.linear();
+  goals[1].velocity = rotationLog(goal.linear() * now.linear().transpose()) / dt;
+  return ik.step(kin, goals, dt);
+}
+
+namespace {
 
 Eigen::Isometry3d relativePose(const Kinematics& kin, int body, int reference) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -165,17 +176,10 @@ ReachResult reach(const RobotModel& robot, const CollisionModel* collisions, int
   points.push_back(taskVariables(target, target.linear()));
   const double segment_time = options.move_time / static_cast<double>(points.size());
   Eigen::VectorXd x = x0, x_previous = x0;
-  std::vector<TaskGoal> goals(2);
   for (int t = 0; t < options.steps; ++t) {
     const Eigen::VectorXd x_next =
         attractorStep(c, x, x_previous, attractorPoint(x0, points, segment_time, (t + 1) * dt));
-    const Eigen::Isometry3d goal = goalPose(x_next, target.linear());
-    const Eigen::Isometry3d now = goalPose(x, target.linear());
-    goals[0].position = now.translation();  // feedback on the current desired pose
-    goals[0].velocity = (goal.translation() - now.translation()) / dt;
-    goals[1].rotation = now.linear();
-    goals[1].velocity = rotationLog(goal.linear() * now.linear().transpose()) / dt;
-    const Eigen::VectorXd q = ik.step(kin, goals, dt);
+    const Eigen::VectorXd q = reachStep(ik, kin, target.linear(), dt, x, x_next);
     kin.update(q);
     x_previous = x;
     x = x_next;

@@ -87,6 +87,22 @@ struct ReachResult {
   double joint_limit_margin = 0.0;  ///< smallest distance to a joint limit over the rollout
 };
 
+/// Task variables of a pose: position (metres) and rotation vector (radians) of
+/// frame^T pose.linear(), the orientation relative to the fixed rotation `frame`.
+Eigen::Matrix<double, 6, 1> taskVariables(const Eigen::Isometry3d& pose,
+                                          const Eigen::Matrix3d& frame);
+
+/// Pose of the task variables x (inverse of taskVariables): translation x[0:3], rotation
+/// frame * exp(x[3:6]).
+Eigen::Isometry3d goalPose(const Eigen::VectorXd& x, const Eigen::Matrix3d& frame);
+
+/// One control step of the rollout: the IK (tasks: position, orientation of one body) tracks
+/// the attractor state moving from x to x_next (task variables relative to `frame`) with
+/// feedback on x; kin must hold the current configuration. Returns q_{t+1}.
+Eigen::VectorXd reachStep(const ResolvedRateIK& ik, const Kinematics& kin,
+                          const Eigen::Matrix3d& frame, double dt, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& x_next);
+
 /// Moves `body` (usually the palm) to `target` (its pose in the `reference` body frame, -1 =
 /// world) from q0 with attractor dynamics on (position, rotation vector relative to the target)
 /// and resolved-rate IK with the joint-limit and (when given) collision null-space terms.

@@ -1,0 +1,254 @@
+// Trajectory optimisation over attractor points (paper section 1.5, docs/REACHING.md
+// eq. 1.20-1.23): forward rollout, cost terms, backward (adjoint) pass through the IK steps and the
+// attractor.
+#include "taskmap/reaching/trajectory_optimizer.hpp"
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "taskmap/core/error.hpp"
+
+namespace taskmap {
+
+void TrajectoryCostWeights::validate() const {
+  const auto check = [](double v, const char* name) {
+    if (!(v >= 0.0) || !std::isfinite(v))
+      throw Error(std::string("trajectory cost weights: ") + name + " must be finite and >= 0");
+  };
+  check(path_length, "path_length");
+  check(end_velocity, "end_velocity");
+  check(collision, "collision");
+  check(joint_limit, "joint_limit");
+}
+
+void TrajectoryProblem::validate() const {
+  if (!robot) throw Error("trajectory problem: give a robot model");
+  reach.validate();
+  reach.ik.validate(robot->dofs());
+  weights.validate();
+  if (body < 0 || body >= static_cast<int>(robot->bodies().size()) || reference < -1 ||
+      reference >= static_cast<int>(robot->bodies().size()))
+    throw Error("trajectory problem: body or reference is not a body of the robot");
+  if (q0.size() != robot->dofs() || !q0.allFinite())
+    throw Error("trajectory problem: q0 needs " + std::to_string(robot->dofs()) + " finite values");
+  if ((q0 - robot->lower()).minCoeff() < 0.0 || (robot->upper() - q0).minCoeff() < 0.0)
+    throw Error("trajectory problem: q0 is outside the joint limits");
+  if (!(step_jacobian_epsilon > 0.0) || step_jacobian_epsilon > 1e-2)
+    throw Error("trajectory problem: step_jacobian_epsilon must be in (0, 1e-2]");
+}
+
+void TrajectoryOptimizerOptions::validate() const {
+  if (max_iterations < 1) throw Error("trajectory optimizer: max_iterations must be >= 1");
+  if (!(initial_step > 0.0) || !std::isfinite(initial_step))
+    throw Error("trajectory optimizer: initial_step must be > 0");
+  if (!(relative_tolerance >= 0.0)) throw Error("trajectory optimizer: relative_tolerance >= 0");
+}
+
+Eigen::Matrix<double, 6, 1> startTaskVariables(const TrajectoryProblem& problem) {
+  Kinematics kin(*problem.robot);
+  kin.update(problem.q0);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = kin.relativePosition(problem.body, problem.reference);
+  pose.linear() = kin.relativeRotation(problem.body, problem.reference);
+  return taskVariables(pose, problem.frame);
+}
+
+namespace {
+
+/// Weights of the linear attractor: x_t = W(t,0) x0 + sum_k W(t,k+1) p_k (eq. 1.17-1.18 are
+/// linear and act on every component alike), found by running them on unit vectors.
+std::vector<Eigen::VectorXd> attractorWeights(const TrajectoryProblem& p, int points) {
+  std::vector<Eigen::VectorXd> unit(points, Eigen::VectorXd::Zero(points + 1));
+  for (int k = 0; k < points; ++k) unit[k][k + 1] = 1.0;
+  return attractorTrajectory(p.reach.attractor, Eigen::VectorXd::Unit(points + 1, 0), unit,
+                             p.reach.move_time / points, p.reach.steps);
+}
+
+/// Running cost dt (w_c H_coll + w_jl H_jl) at q (kin holds q) and its gradient.
+void addStateCost(const TrajectoryProblem& p, const Kinematics& kin, TrajectoryCost& c,
+                  Eigen::VectorXd* grad) {
+  const double dt = p.reach.attractor.dt;
+  Eigen::VectorXd g;
+  if (p.collisions && p.weights.collision > 0.0) {
+    c.collision += dt * p.weights.collision * p.collisions->cost(kin, grad ? &g : nullptr);
+    if (grad) *grad += dt * p.weights.collision * g;
+  }
+  if (p.weights.joint_limit > 0.0) {
+    c.joint_limit +=
+        dt * p.weights.joint_limit * jointLimitCost(*p.robot, kin.q(), grad ? &g : nullptr);
+    if (grad) *grad += dt * p.weights.joint_limit * g;
+  }
+}
+
+/// Forward pass: attractor states, joint trajectory, cost terms, direct dC/dq_t per step.
+void forwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
+                 const std::vector<Eigen::VectorXd>& x, TrajectoryCost& c,
+                 std::vector<Eigen::VectorXd>* dq) {
+  const int steps = p.reach.steps, n = p.robot->dofs();
+  const double dt = p.reach.attractor.dt;
+  Kinematics kin(*p.robot);
+  kin.update(p.q0);
+  c.q.assign(1, p.q0);
+  if (dq) dq->assign(steps + 1, Eigen::VectorXd::Zero(n));
+  Eigen::Vector3d previous_position = kin.relativePosition(p.body, p.reference);
+  Eigen::Matrix3Xd previous_jacobian;
+  for (int t = 0; t < steps; ++t) {
+    if (t == steps - 1) previous_jacobian = kin.relativePositionJacobian(p.body, p.reference);
+    if (t == steps - 1) previous_position = kin.relativePosition(p.body, p.reference);
+    const Eigen::VectorXd q = reachStep(ik, kin, p.frame, dt, x[t], x[t + 1]);
+    kin.update(q);
+    const Eigen::VectorXd delta = q - c.q.back();
+    c.path_length += p.weights.path_length * delta.squaredNorm() / dt;
+    if (dq) {
+      (*dq)[t + 1] += 2.0 * p.weights.path_length * delta / dt;
+      (*dq)[t] -= 2.0 * p.weights.path_length * delta / dt;
+    }
+    addStateCost(p, kin, c, dq ? &(*dq)[t + 1] : nullptr);
+    c.q.push_back(q);
+  }
+  const Eigen::Vector3d v = (kin.relativePosition(p.body, p.reference) - previous_position) / dt;
+  c.end_velocity = p.weights.end_velocity * v.squaredNorm();
+  if (dq) {
+    const Eigen::Vector3d f = 2.0 * p.weights.end_velocity * v / dt;
+    (*dq)[steps] += kin.relativePositionJacobian(p.body, p.reference).transpose() * f;
+    (*dq)[steps - 1] -= previous_jacobian.transpose() * f;
+  }
+  if (p.terminal) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    c.terminal = p.terminal(kin, dq ? &g : nullptr);
+    if (dq) (*dq)[steps] += g;
+  }
+  c.total = c.path_length + c.end_velocity + c.collision + c.joint_limit + c.terminal;
+}
+
+/// lambda^T F for the IK step F(q, x, x_next).
+double projectedStep(const ResolvedRateIK& ik, Kinematics& kin, const TrajectoryProblem& p,
+                     const Eigen::VectorXd& lambda, const Eigen::VectorXd& q,
+                     const Eigen::VectorXd& x, const Eigen::VectorXd& x_next) {
+  kin.update(q);
+  return lambda.dot(reachStep(ik, kin, p.frame, p.reach.attractor.dt, x, x_next));
+}
+
+/// Backward pass: lambda_t = dC/dq_t + (dF/dq_t)^T lambda_{t+1}, dC/dx_t accumulated from
+/// (dF/dx_t)^T lambda_{t+1}; each IK step linearised by central differences (eq. 1.23).
+std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
+                                          const std::vector<Eigen::VectorXd>& x,
+                                          const TrajectoryCost& c,
+                                          const std::vector<Eigen::VectorXd>& dq) {
+  const int steps = p.reach.steps, n = p.robot->dofs();
+  const double h = p.step_jacobian_epsilon;
+  Kinematics kin(*p.robot);
+  std::vector<Eigen::VectorXd> dx(steps + 1, Eigen::VectorXd::Zero(6));
+  Eigen::VectorXd lambda = dq[steps];
+  for (int t = steps - 1; t >= 0; --t) {
+    for (int i = 0; i < 6; ++i) {
+      for (int which = 0; which < 2; ++which) {
+        Eigen::VectorXd plus = x[t + which], minus = x[t + which];
+        plus[i] += h;
+        minus[i] -= h;
+        const double fp = which == 0 ? projectedStep(ik, kin, p, lambda, c.q[t], plus, x[t + 1])
+                                     : projectedStep(ik, kin, p, lambda, c.q[t], x[t], plus);
+        const double fm = which == 0 ? projectedStep(ik, kin, p, lambda, c.q[t], minus, x[t + 1])
+                                     : projectedStep(ik, kin, p, lambda, c.q[t], x[t], minus);
+        dx[t + which][i] += (fp - fm) / (2.0 * h);
+      }
+    }
+    if (t == 0) break;
+    Eigen::VectorXd next = dq[t];
+    for (int i = 0; i < n; ++i) {
+      Eigen::VectorXd plus = c.q[t], minus = c.q[t];
+      plus[i] += h;
+      minus[i] -= h;
+      next[i] += (projectedStep(ik, kin, p, lambda, plus, x[t], x[t + 1]) -
+                  projectedStep(ik, kin, p, lambda, minus, x[t], x[t + 1])) /
+                 (2.0 * h);
+    }
+    lambda = next;
+  }
+  return dx;
+}
+
+}  // namespace
+
+TrajectoryCost evaluateTrajectory(const TrajectoryProblem& problem,
+                                  const std::vector<Eigen::VectorXd>& points, bool gradient) {
+  problem.validate();
+  if (points.empty()) throw Error("trajectory: give at least one attractor point");
+  for (const Eigen::VectorXd& point : points)
+    if (point.size() != 6 || !point.allFinite())
+      throw Error("trajectory: every attractor point needs 6 finite task variables");
+  const ResolvedRateIK ik(*problem.robot,
+                          {{TaskKind::kPosition, problem.body, problem.reference, -1},
+                           {TaskKind::kOrientation, problem.body, problem.reference, -1}},
+                          problem.collisions, problem.reach.ik);
+  const int k = static_cast<int>(points.size());
+  const std::vector<Eigen::VectorXd> x =
+      attractorTrajectory(problem.reach.attractor, Eigen::VectorXd(startTaskVariables(problem)),
+                          points, problem.reach.move_time / k, problem.reach.steps);
+  TrajectoryCost c;
+  std::vector<Eigen::VectorXd> dq;
+  forwardPass(problem, ik, x, c, gradient ? &dq : nullptr);
+  if (!gradient) return c;
+  const std::vector<Eigen::VectorXd> dx = backwardPass(problem, ik, x, c, dq);
+  const std::vector<Eigen::VectorXd> w = attractorWeights(problem, k);
+  c.gradient = Eigen::VectorXd::Zero(6 * k);
+  for (std::size_t t = 0; t < dx.size(); ++t)
+    for (int j = 0; j < k; ++j) c.gradient.segment<6>(6 * j) += w[t][j + 1] * dx[t];
+  return c;
+}
+
+TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
+                                          std::vector<Eigen::VectorXd> points,
+                                          const TrajectoryOptimizerOptions& options) {
+  options.validate();
+  TrajectoryOptimization r;
+  TrajectoryCost current = evaluateTrajectory(problem, points, true);
+  const auto record = [&r](TrajectoryCost c) {
+    c.gradient.resize(0);
+    c.q.clear();
+    r.history.push_back(std::move(c));
+  };
+  record(current);
+  double step = options.initial_step;
+  r.status = TrajectoryStatus::kIterationLimit;
+  for (r.iterations = 0; r.iterations < options.max_iterations;) {
+    const double gnorm = current.gradient.norm();
+    if (!(gnorm > 0.0)) {
+      r.status = TrajectoryStatus::kConverged;
+      break;
+    }
+    bool accepted = false;
+    std::vector<Eigen::VectorXd> trial = points;
+    TrajectoryCost candidate;
+    for (int tries = 0; tries < 30 && !accepted; ++tries, step *= 0.5) {
+      for (std::size_t j = 0; j < points.size(); ++j)
+        trial[j] = points[j] - step * current.gradient.segment<6>(6 * j) / gnorm;
+      candidate = evaluateTrajectory(problem, trial, false);
+      accepted = candidate.total < current.total - 1e-4 * step * gnorm;
+    }
+    if (!accepted) {
+      r.status = TrajectoryStatus::kConverged;
+      break;
+    }
+    step *= 4.0;  // undo the last halving and grow: the step adapts to the landscape
+    const double previous = current.total;
+    points = trial;
+    current = evaluateTrajectory(problem, points, true);
+    ++r.iterations;
+    record(current);
+    if (options.on_iteration) options.on_iteration(r.iterations, current);
+    if (previous - current.total < options.relative_tolerance * std::abs(previous)) {
+      r.status = TrajectoryStatus::kConverged;
+      break;
+    }
+  }
+  r.message = r.status == TrajectoryStatus::kConverged
+                  ? "converged after " + std::to_string(r.iterations) + " iterations"
+                  : "stopped at the iteration limit (" + std::to_string(r.iterations) + ")";
+  r.points = std::move(points);
+  r.cost = std::move(current);
+  return r;
+}
+
+}  // namespace taskmap

@@ -1,0 +1,138 @@
+// Trajectory optimisation over attractor points (section 1.5): the gradient of the whole cost
+// (path length, end velocity, collisions, joint limits, a terminal cost) with respect to the
+// attractor points against central finite differences of complete rollouts; the descent lowers
+// the cost; invalid input is refused with a message.
+#include "taskmap/reaching/trajectory_optimizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "reaching_fixtures.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/reaching/reach_scene.hpp"
+
+namespace taskmap {
+namespace {
+
+Eigen::VectorXd readyPose() {
+  Eigen::VectorXd q(7);
+  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
+  return q;
+}
+
+/// Side grasp of the default scene's cylinder (object frame), as in attractor_test.cpp.
+Eigen::Isometry3d sideGrasp() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(-0.07, 0.0, 0.02);
+  t.linear().col(0) = -Eigen::Vector3d::UnitZ();
+  t.linear().col(1) = Eigen::Vector3d::UnitY();
+  t.linear().col(2) = Eigen::Vector3d::UnitX();
+  return t;
+}
+
+struct Fixture {
+  RobotModel robot = test::pandaWithHand();
+  ReachScene scene = defaultReachScene();
+  CollisionModel* collisions = nullptr;
+  std::unique_ptr<CollisionModel> owned;
+  TrajectoryProblem problem;
+  std::vector<Eigen::VectorXd> points;
+
+  explicit Fixture(int steps) {
+    addSceneTo(scene, robot);
+    CollisionOptions co;
+    co.hand_may_touch = {scene.object};
+    co.boundary_distance = 0.3;  // pairs inside the cost's range along the path
+    owned = std::make_unique<CollisionModel>(robot, co);
+    problem.robot = &robot;
+    problem.collisions = owned.get();
+    problem.body = robot.palmBody();
+    problem.reference = robot.requireBody("object");
+    problem.q0 = readyPose();
+    problem.frame = sideGrasp().linear();
+    problem.reach.steps = steps;
+    problem.reach.move_time = 0.4;
+    problem.weights.collision = 10.0;
+    const Eigen::Vector3d goal = sideGrasp().translation() + Eigen::Vector3d(-0.05, 0.0, 0.03);
+    const int palm = problem.body, object = problem.reference;
+    problem.terminal = [goal, palm, object](const Kinematics& kin, Eigen::VectorXd* g) {
+      const Eigen::Vector3d e = kin.relativePosition(palm, object) - goal;
+      if (g) *g = 20.0 * kin.relativePositionJacobian(palm, object).transpose() * e;
+      return 10.0 * e.squaredNorm();
+    };
+    const Eigen::Matrix<double, 6, 1> x0 = startTaskVariables(problem);
+    Eigen::Matrix<double, 6, 1> target = Eigen::Matrix<double, 6, 1>::Zero();
+    target.head<3>() = sideGrasp().translation();
+    Eigen::Matrix<double, 6, 1> via = 0.5 * (x0 + target);
+    via[2] += 0.05;
+    points = {via, target};
+  }
+};
+
+TEST(TrajectoryOptimizer, GradientMatchesCentralDifferencesOfWholeRollouts) {
+  Fixture f(60);
+  const TrajectoryCost c = evaluateTrajectory(f.problem, f.points, true);
+  std::cout << "cost " << c.total << " (path " << c.path_length << ", end velocity "
+            << c.end_velocity << ", collision " << c.collision << ", joint limit " << c.joint_limit
+            << ", terminal " << c.terminal << ")\n";
+  ASSERT_EQ(c.gradient.size(), 12);
+  EXPECT_GT(c.collision, 0.0);  // the collision term is active, so its chain is checked too
+  EXPECT_GT(c.terminal, 0.0);
+  Eigen::VectorXd fd(12);
+  const double h = 1e-5;
+  for (int i = 0; i < 12; ++i) {
+    std::vector<Eigen::VectorXd> plus = f.points, minus = f.points;
+    plus[i / 6][i % 6] += h;
+    minus[i / 6][i % 6] -= h;
+    fd[i] = (evaluateTrajectory(f.problem, plus, false).total -
+             evaluateTrajectory(f.problem, minus, false).total) /
+            (2.0 * h);
+  }
+  const double rel = (c.gradient - fd).norm() / fd.norm();
+  std::cout << "gradient " << c.gradient.transpose() << "\nfinite d " << fd.transpose()
+            << "\nrelative error " << rel << "\n";
+  EXPECT_LT(rel, 1e-5);
+}
+
+TEST(TrajectoryOptimizer, DescentLowersTheCostMonotonically) {
+  Fixture f(60);
+  TrajectoryOptimizerOptions o;
+  o.max_iterations = 8;
+  int calls = 0;
+  o.on_iteration = [&calls](int, const TrajectoryCost&) { ++calls; };
+  const TrajectoryOptimization r = optimizeTrajectory(f.problem, f.points, o);
+  ASSERT_GE(r.iterations, 1);
+  EXPECT_EQ(calls, r.iterations);
+  ASSERT_EQ(r.history.size(), static_cast<std::size_t>(r.iterations) + 1);
+  for (std::size_t i = 1; i < r.history.size(); ++i)
+    EXPECT_LT(r.history[i].total, r.history[i - 1].total);
+  EXPECT_LT(r.cost.total, 0.7 * r.history.front().total) << r.message;
+  EXPECT_EQ(r.cost.q.size(), 61u);
+}
+
+TEST(TrajectoryOptimizer, RefusesInvalidInputWithAMessage) {
+  Fixture f(10);
+  try {
+    evaluateTrajectory(f.problem, {}, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("attractor point"), std::string::npos);
+  }
+  f.problem.weights.path_length = -1.0;
+  try {
+    evaluateTrajectory(f.problem, f.points, false);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("path_length"), std::string::npos);
+  }
+  f.problem.weights.path_length = 1.0;
+  f.problem.q0[0] = 10.0;
+  EXPECT_THROW(evaluateTrajectory(f.problem, f.points, false), Error);
+  TrajectoryOptimizerOptions o;
+  o.max_iterations = 0;
+  EXPECT_THROW(optimizeTrajectory(f.problem, f.points, o), Error);
+}
+
+}  // namespace
+}  // namespace taskmap
