@@ -210,6 +210,7 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
     r.history.push_back(std::move(c));
   };
   record(current);
+  if (options.on_iteration) options.on_iteration(0, current);
   double step = options.initial_step;
   r.status = TrajectoryStatus::kIterationLimit;
   for (r.iterations = 0; r.iterations < options.max_iterations;) {

@@ -15,6 +15,7 @@
 
 #include "command.hpp"
 #include "data_dir.hpp"
+#include "reach_map.hpp"
 #include "reach_picture.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/pose.hpp"
@@ -28,6 +29,7 @@ struct ReachArgs {
   std::string robot = "panda", hand = "humanoid", flange, mount, target, frame, scene, start, png;
   std::vector<std::string> via;
   ReachOptions options;
+  MapReachArgs map;
   bool json = false;
 };
 
@@ -142,9 +144,28 @@ void printText(const ReachResult& r, const CollisionModel& pairs, const std::str
   std::printf("joint-limit margin %.4f (rad or m)\n", r.joint_limit_margin);
 }
 
+/// The map mode: the object placed at --object-pose, the grasp chosen on the map.
+void runReachWithMap(const ReachArgs& args) {
+  if (!args.target.empty()) throw Error("--target and --map exclude each other");
+  if (args.map.object_pose.empty()) throw Error("--map needs --object-pose \"x y z yaw\"");
+  ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
+  if (scene.object.empty()) throw Error("--map needs a scene with an \"object\" body");
+  for (SceneBody& b : scene.bodies)
+    if (b.name == scene.object) b.pose = parseObjectPose(args.map.object_pose);
+  RobotModel robot;
+  const int body = buildRobot(args, scene, robot);
+  if (body != robot.palmBody()) throw Error("--map needs a hand on the robot (its palm frame)");
+  CollisionOptions co;
+  co.hand_may_touch = {scene.object};
+  const CollisionModel collisions(robot, co);
+  runMapReach(args.map, robot, collisions, body, robot.requireBody(scene.object),
+              startConfiguration(args, robot), args.options, args.json, args.png);
+}
+
 void runReach(const ReachArgs& args) {
   args.options.validate();
-  if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" is required");
+  if (!args.map.map.empty()) return runReachWithMap(args);
+  if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" (or --map) is required");
   const Eigen::Isometry3d target = parsePose(args.target, "--target");
   ReachOptions options = args.options;
   for (const std::string& v : args.via) options.via_points.push_back(parsePose(v, "--via"));
@@ -200,8 +221,21 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
   cmd->add_option("--mount", args->mount,
                   "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the humanoid "
                   "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
-  cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)")
-      ->required();
+  cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
+  cmd->add_option("--map", args->map.map,
+                  "task map of the mounted hand: optimise the reach over attractor points with "
+                  "the map as the target (needs --object-pose)");
+  cmd->add_option("--object-pose", args->map.object_pose,
+                  "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
+  cmd->add_flag("--all-clusters", args->map.all_clusters,
+                "with --map: optimise from every reachable cluster and keep the cheapest");
+  cmd->add_option("--iterations", args->map.iterations, "with --map: optimiser iterations")
+      ->capture_default_str();
+  cmd->add_option("--proximity-weight", args->map.proximity_weight, "with --map: w_map,p")
+      ->capture_default_str();
+  cmd->add_option("--quality-weight", args->map.quality_weight,
+                  "with --map: w_map,q (0 switches the quality criterion off)")
+      ->capture_default_str();
   cmd->add_option("--via", args->via,
                   "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
                   "attractor point passes through; repeat for several");
@@ -223,7 +257,10 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                 "print JSON: status, message, steps, dt_s, position_error_m, "
                 "orientation_error_rad, collision_pairs, min_clearance_m (null without pairs), "
                 "min_clearance_pair, min_clearance_step, joint_limit_margin, q_start, q_final, "
-                "palm_final [x y z qw qx qy qz], compute_time_s");
+                "palm_final [x y z qw qx qy qz], compute_time_s; with --map: iterations, "
+                "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
+                "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
+                "cost_history, plans (per cluster), ranking");
   cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
   cmd->callback([args] { runReach(*args); });
 });

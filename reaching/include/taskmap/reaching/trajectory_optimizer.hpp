@@ -77,7 +77,8 @@ struct TrajectoryOptimizerOptions {
   int max_iterations = 40;           ///< iterations (>= 1)
   double initial_step = 1e-2;        ///< first step length along -gradient, metres/radians (> 0)
   double relative_tolerance = 1e-6;  ///< stop when the cost decreases by less than this fraction
-  /// Called after every iteration with its number (1-based) and the accepted rollout's cost.
+  /// Called with 0 and the start's cost, then after every iteration with its number (1-based)
+  /// and the accepted rollout's cost (its terminal cost was the last one evaluated).
   std::function<void(int, const TrajectoryCost&)> on_iteration;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;

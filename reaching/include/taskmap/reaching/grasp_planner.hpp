@@ -1,0 +1,72 @@
+#pragma once
+/// @file grasp_planner.hpp
+/// Reaching and grasping with a task map (paper section 1.6.2-1.6.3, docs/REACHING.md): the
+/// clusters are ranked by end-state comfort (IK to each representative, rankClusters), the
+/// trajectory over attractor points is optimised with the map as terminal cost from the best
+/// (or every reachable) cluster, and the cheapest plan is kept. Units: metres, radians, s.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "taskmap/integration/initialisation.hpp"
+#include "taskmap/reaching/map_cost.hpp"
+
+namespace taskmap {
+
+/// Options of planGrasp.
+struct GraspPlanOptions {
+  TrajectoryOptimizerOptions optimizer;  ///< descent (on_iteration is used internally)
+  MapCostWeights map_weights;            ///< w_map,p and w_map,q
+  bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
+  bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
+  double via_height = 0.05;          ///< a via point this high (metres) above the straight line
+  /// Throws Error naming the field when a value is out of range.
+  void validate() const;
+};
+
+/// The plan started from one cluster.
+struct ClusterPlan {
+  int cluster = -1;                      ///< start cluster
+  double comfort = 0.0;                  ///< its end-state comfort (rankClusters)
+  TrajectoryOptimization optimization;   ///< the optimised trajectory
+  std::vector<double> proximity;         ///< weighted g_p per iteration, 0 first
+  std::vector<double> quality;           ///< weighted g_q per iteration, 0 first
+  std::vector<double> nearest_distance;  ///< pose distance to the nearest sample per iteration
+  std::vector<std::int64_t> nearest;     ///< nearest grasp index per iteration
+  int grasp_cluster = -1;                ///< cluster of the final nearest grasp
+  std::int64_t grasp_index = -1;         ///< final nearest grasp
+  int iterations_to_manifold = -1;       ///< first iteration from which nearest_distance <= sigma_p
+  int iterations_to_quality = -1;   ///< first iteration from which g_q stays within 1% of final
+  double min_clearance = 0.0;       ///< smallest signed pair distance over the trajectory, m
+  double joint_limit_margin = 0.0;  ///< smallest distance to a position limit, rad
+  double velocity_ratio = 0.0;      ///< max |dq/dt| / velocity limit over the trajectory
+  bool collision_free = false;      ///< min_clearance >= 0 (hand-object pairs excluded)
+  double milliseconds = 0.0;        ///< wall time of the optimisation
+};
+
+/// Outcome of planGrasp.
+enum class GraspPlanStatus {
+  kPlanned,     ///< a plan ends on the manifold, collision-free and within the limits
+  kUnsafe,      ///< the best plan collides, leaves a limit or misses the manifold
+  kUnreachable  ///< no cluster's representative was reachable by IK
+};
+
+/// Result of planGrasp.
+struct GraspPlan {
+  GraspPlanStatus status = GraspPlanStatus::kUnreachable;  ///< outcome
+  std::string message;                                     ///< one line for people
+  std::vector<ClusterRank> ranking;                        ///< every cluster, best comfort first
+  std::vector<ClusterPlan> plans;                          ///< optimised clusters in ranking order
+  int best = -1;  ///< index into plans of the cheapest, -1 if none
+};
+
+/// Plans a reach-and-grasp of the object body `problem.reference` (a fixed body of the robot
+/// model) with the palm `problem.body`: problem carries robot, collisions (the hand may touch
+/// the object), q0, dynamics and trajectory weights; its frame and terminal are set here.
+/// The map's hand poses are palm poses in the object frame. Throws Error on invalid input or a
+/// map without clustering.
+GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
+                    const GraspPlanOptions& options);
+
+}  // namespace taskmap

@@ -1,0 +1,162 @@
+// `taskmap reach --map`: rank the clusters, optimise the trajectory over attractor points with
+// the map as terminal cost, print the measures of the issue (JSON or text), draw snapshots.
+#include "reach_map.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "reach_picture.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/reaching/grasp_planner.hpp"
+
+namespace taskmap::cli {
+
+Eigen::Isometry3d parseObjectPose(const std::string& text) {
+  std::istringstream in(text);
+  double v[4];
+  for (double& x : v)
+    if (!(in >> x) || !std::isfinite(x))
+      throw Error("--object-pose needs 4 finite numbers \"x y z yaw\" (metres, radians)");
+  std::string extra;
+  if (in >> extra) throw Error("--object-pose needs exactly 4 numbers \"x y z yaw\"");
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  t.linear() = Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return t;
+}
+
+namespace {
+
+const char* statusName(GraspPlanStatus s) {
+  return s == GraspPlanStatus::kPlanned  ? "planned"
+         : s == GraspPlanStatus::kUnsafe ? "unsafe"
+                                         : "unreachable";
+}
+
+nlohmann::json costHistory(const ClusterPlan& c) {
+  nlohmann::json h = nlohmann::json::array();
+  for (std::size_t i = 0; i < c.optimization.history.size(); ++i) {
+    const TrajectoryCost& t = c.optimization.history[i];
+    h.push_back({{"total", t.total},
+                 {"path_length", t.path_length},
+                 {"end_velocity", t.end_velocity},
+                 {"collision", t.collision},
+                 {"joint_limit", t.joint_limit},
+                 {"proximity", c.proximity.at(i)},
+                 {"quality", c.quality.at(i)},
+                 {"nearest_distance_m", c.nearest_distance.at(i)}});
+  }
+  return h;
+}
+
+nlohmann::json clusterJson(const ClusterPlan& c) {
+  const int it = c.optimization.iterations;
+  return {{"start_cluster", c.cluster},
+          {"comfort", c.comfort},
+          {"cluster", c.grasp_cluster},
+          {"grasp_index", c.grasp_index},
+          {"iterations", it},
+          {"iterations_to_manifold", c.iterations_to_manifold},
+          {"iterations_to_quality", c.iterations_to_quality},
+          {"min_clearance_m", c.min_clearance},
+          {"joint_limit_margin_rad", c.joint_limit_margin},
+          {"velocity_ratio", c.velocity_ratio},
+          {"collision_free", c.collision_free},
+          {"cost", c.optimization.cost.total},
+          {"ms", c.milliseconds},
+          {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
+}
+
+nlohmann::json toJson(const GraspPlan& plan, double plan_ms) {
+  nlohmann::json j;
+  j["status"] = statusName(plan.status);
+  j["message"] = plan.message;
+  j["ms_per_plan"] = plan_ms;
+  nlohmann::json clusters = nlohmann::json::array();
+  for (const ClusterRank& r : plan.ranking)
+    clusters.push_back(
+        {{"cluster", r.cluster},
+         {"reachable", r.reachable},
+         {"comfort", std::isfinite(r.comfort) ? nlohmann::json(r.comfort) : nullptr}});
+  j["ranking"] = clusters;
+  nlohmann::json plans = nlohmann::json::array();
+  for (const ClusterPlan& c : plan.plans) plans.push_back(clusterJson(c));
+  j["plans"] = plans;
+  if (plan.best < 0) return j;
+  const ClusterPlan& b = plan.plans[plan.best];
+  j.update(clusterJson(b));
+  j["cost_history"] = costHistory(b);
+  const auto& q = b.optimization.cost.q;
+  j["q_final"] = std::vector<double>(q.back().data(), q.back().data() + q.back().size());
+  return j;
+}
+
+void printText(const GraspPlan& plan, double plan_ms) {
+  std::printf("status            %s (%s)\n", statusName(plan.status), plan.message.c_str());
+  for (const ClusterPlan& c : plan.plans)
+    std::printf(
+        "from cluster %-4d -> cluster %d grasp %lld: %d iterations (manifold %d, quality "
+        "%d), clearance %.4f m, joint margin %.4f rad, %.1f ms/iteration\n",
+        c.cluster, c.grasp_cluster, static_cast<long long>(c.grasp_index),
+        c.optimization.iterations, c.iterations_to_manifold, c.iterations_to_quality,
+        c.min_clearance, c.joint_limit_margin,
+        c.milliseconds / std::max(1, c.optimization.iterations));
+  std::printf("plan time         %.1f ms\n", plan_ms);
+}
+
+}  // namespace
+
+void runMapReach(const MapReachArgs& args, const RobotModel& robot,
+                 const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,
+                 const ReachOptions& options, bool json, const std::string& png) {
+  if (args.iterations < 1) throw Error("--iterations must be >= 1");
+  const TaskMap map = TaskMap::load(args.map);
+  TrajectoryProblem p;
+  p.robot = &robot;
+  p.collisions = &collisions;
+  p.body = palm;
+  p.reference = object;
+  p.q0 = q0;
+  p.reach = options;
+  GraspPlanOptions o;
+  o.all_clusters = args.all_clusters;
+  o.optimizer.max_iterations = args.iterations;
+  o.map_weights.proximity = args.proximity_weight;
+  o.map_weights.quality = args.quality_weight;
+  const auto t0 = std::chrono::steady_clock::now();
+  const GraspPlan plan = planGrasp(p, map, o);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  if (json)
+    std::cout << toJson(plan, ms).dump(2) << "\n";
+  else
+    printText(plan, ms);
+  if (!png.empty() && plan.best >= 0) {
+    const ClusterPlan& b = plan.plans[plan.best];
+    ReachResult r;
+    r.q = b.optimization.cost.q;
+    Kinematics kin(robot);
+    for (const Eigen::VectorXd& q : r.q) {
+      kin.update(q);
+      r.palm.push_back(kin.pose(palm));
+    }
+    kin.update(q0);
+    const Eigen::Isometry3d grasp =
+        kin.pose(object) * map.pose(static_cast<std::size_t>(b.grasp_index)).toIsometry();
+    const int n = static_cast<int>(r.q.size()) - 1;
+    writeReachPicture(robot, r, palm, {0, n / 3, 2 * n / 3, n}, grasp, png);
+  }
+  if (plan.status != GraspPlanStatus::kPlanned) {
+    std::cerr << "taskmap reach: " << plan.message << "\n";
+    exitCode() = 1;
+  }
+}
+
+}  // namespace taskmap::cli

@@ -1,0 +1,32 @@
+#pragma once
+// `taskmap reach --map MAP --object-pose "x y z yaw"`: reaching and grasping with a task map
+// (reaching/grasp_planner.hpp, docs/REACHING.md).
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "taskmap/reaching/attractor.hpp"
+
+namespace taskmap::cli {
+
+/// Options of the map mode of `taskmap reach`.
+struct MapReachArgs {
+  std::string map;                ///< task map file (palm poses of the mounted hand, object frame)
+  std::string object_pose;        ///< "x y z yaw" of the object body in the world (metres, radians)
+  bool all_clusters = false;      ///< optimise from every reachable cluster
+  int iterations = 40;            ///< optimiser iterations
+  double proximity_weight = 1.0;  ///< w_map,p
+  double quality_weight = 1.0;    ///< w_map,q
+};
+
+/// Pose of the object from "x y z yaw" (yaw about world z). Throws Error naming the option.
+Eigen::Isometry3d parseObjectPose(const std::string& text);
+
+/// Plans and prints (text or JSON), draws snapshots to png when given; sets the exit code to 1
+/// when the plan is not safe or nothing is reachable.
+void runMapReach(const MapReachArgs& args, const RobotModel& robot,
+                 const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,
+                 const ReachOptions& options, bool json, const std::string& png);
+
+}  // namespace taskmap::cli
