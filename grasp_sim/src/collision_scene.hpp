@@ -28,8 +28,14 @@ constexpr double kOverlapping = -1e-300;
 
 class CollisionScene {
  public:
+  /// How link-versus-object queries find their triangles. Both give the same results bit for
+  /// bit (same triangles, same order, same GJK/EPA calls on the ones that matter).
+  enum class Mode {
+    kBullet,  ///< Bullet's BVH, every triangle in the shape's padded bounding box (baseline)
+    kCulled,  ///< our tree, nodes and triangles culled by the shape's k-DOP and face planes
+  };
   /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
-  CollisionScene(const TriangleMesh& mesh, const HandModel& hand);
+  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kCulled);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;
@@ -58,8 +64,10 @@ class CollisionScene {
   const Eigen::Vector3d& objectCentre() const;
   double objectRadius() const;
 
- private:
+  /// Bullet-side data (collision_data.hpp; opaque outside it).
   struct Data;
+
+ private:
   std::unique_ptr<Data> d_;
 };
 
