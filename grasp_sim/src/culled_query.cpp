@@ -209,15 +209,22 @@ void branchAndBound(const CollisionScene::Data& d, std::vector<Candidate>* cand,
                    [](const Candidate& x, const Candidate& y) { return x.lb < y.lb; });
   for (const Candidate& c : *cand) {
     if (q->overlap_found || c.lb > q->min_distance + kCullSlack) break;
+    if (q->is_box && q->min_distance < kInf) {  // the 13-axis gap bounds tighter than 6 faces
+      const auto& v = d.corners[static_cast<std::size_t>(c.tri)];
+      const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+      if (boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) >
+          q->min_distance + kCullSlack)
+        continue;
+    }
     runTriangle(d, c.tri, q);
   }
 }
 
 /// Overlap query of a box or a hull (distances >= 0 unless overlapping). In Bullet's order:
 /// a box triangle whose separating-axis gap is <= 0 (or a triangle corner inside a hull) is the
-/// first overlap; the baseline's result then follows from it and from the GJK runs of the near
-/// triangles before it, replayed in order. Without an overlap, the near triangles go through
-/// branchAndBound.
+/// first overlap; the baseline's result then follows from it and from the triangles before it
+/// (TriangleQuery skips those beyond the threshold by their gap, runs GJK on the others),
+/// replayed in order. Without an overlap, the near triangles go through branchAndBound.
 void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Planes& pl,
                   TriangleQuery* q) {
   thread_local std::vector<Candidate> near;
@@ -228,14 +235,15 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Plan
       bvh, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        double lb = pl.bound(v);
+        const double lb = pl.bound(v);
         if (lb > pl.cut) return true;
-        if (e.is_box) {
+        // A face plane separating the triangle rules out an overlap: only the others need the
+        // box's 13-axis test or the hull's corner test.
+        if (lb <= 0.0 && e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          lb = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners);
-          if (lb > q->threshold) return true;
-          if (lb <= 0.0) first = tri;
-        } else if (pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0)) {
+          if (boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0)
+            first = tri;
+        } else if (lb <= 0.0 && (pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0))) {
           first = tri;
         }
         near.push_back({tri, lb});

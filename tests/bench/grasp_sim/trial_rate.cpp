@@ -6,7 +6,8 @@
 // that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
 // Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
 // second of simulation, and whether both modes gave the same results on the trials both ran.
-//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING]
+//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
+// (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -150,7 +151,7 @@ bool same(const GraspResult& a, const GraspResult& b) {
   return true;
 }
 
-void benchPair(const Item& h, const Item& o, double seconds) {
+void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds) {
   const ObjectModel object = loadObject(o);
   const HandModel hand = HandModel::load(h.path);
   SamplerOptions so;
@@ -161,7 +162,7 @@ void benchPair(const Item& h, const Item& o, double seconds) {
   base.culled_queries = false;
   const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
   const Rate rn = run(sim_new, object, poses, seconds, 32);
-  const Rate ro = run(sim_old, object, poses, seconds, 4);
+  const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1);
   std::size_t n = std::min(rn.results.size(), ro.results.size()), agree = 0, ok = 0;
   for (std::size_t i = 0; i < n; ++i) {
     agree += same(rn.results[i], ro.results[i]);
@@ -177,7 +178,7 @@ void benchPair(const Item& h, const Item& o, double seconds) {
 
 int mainImpl(int argc, char** argv) {
   std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
-  double seconds = 2.0;
+  double seconds = 2.0, baseline_seconds = -1.0;
   std::string only;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
@@ -187,8 +188,12 @@ int mainImpl(int argc, char** argv) {
       seconds = std::stod(argv[i + 1]);
     else if (a == "--only")
       only = argv[i + 1];
+    else if (a == "--baseline-seconds")
+      baseline_seconds = std::stod(argv[i + 1]);
     else
-      throw Error("usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING]");
+      throw Error(
+          "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
+          "[--baseline-seconds S]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;
@@ -213,7 +218,7 @@ int mainImpl(int argc, char** argv) {
     for (const auto& o : os) {
       if (!only.empty() && (h.name + "/" + o.name).find(only) == std::string::npos) continue;
       try {
-        benchPair(h, o, seconds);
+        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds);
       } catch (const std::exception& e) {
         std::printf("%-10s %-16s skipped: %s\n", h.name.c_str(), o.name.c_str(), e.what());
       }
