@@ -158,23 +158,30 @@ struct Planes {
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
   }
-  bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
-    if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return false;
+  /// Lower bound of the distance of a tree node's box from the shape (planes only); +inf
+  /// outside the query box; stops early once above `limit`.
+  double nodeBound(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double limit) const {
+    if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return kInf;
     const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-    for (std::size_t i = 0; i < wn.size(); ++i)
-      if (wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i] > cut) return false;
-    return true;
+    double lb = -kInf;
+    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
+      lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
+    return lb;
   }
-  /// Lower bound of the triangle's distance from the planes; > cut when culled (stops early).
-  double bound(const std::array<Eigen::Vector3d, 3>& v) const {
+  bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    return nodeBound(lo, hi, cut) <= cut;
+  }
+  /// Lower bound of the triangle's distance from the planes; > limit when culled (stops early).
+  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit) const {
     const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
     const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
     if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any()) return kInf;
     double lb = -kInf;
-    for (std::size_t i = 0; i < wn.size() && lb <= cut; ++i)
+    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
       lb = std::max(lb, std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i]);
     return lb;
   }
+  double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
   bool inside(const Eigen::Vector3d& p, std::size_t first) const {
     for (std::size_t i = first; i < wn.size(); ++i)
@@ -201,67 +208,85 @@ void walkAll(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) 
       });
 }
 
-/// No overlap among `cand` in order so far: the minimum of GJK distances does not depend on
-/// the order, so candidates go by increasing bound and stop once the bound exceeds the best
-/// distance (their GJK distance, an upper bound of the true one, could not be smaller).
-void branchAndBound(const CollisionScene::Data& d, std::vector<Candidate>* cand, TriangleQuery* q) {
-  std::stable_sort(cand->begin(), cand->end(),
-                   [](const Candidate& x, const Candidate& y) { return x.lb < y.lb; });
-  for (const Candidate& c : *cand) {
-    if (q->overlap_found || c.lb > q->min_distance + kCullSlack) break;
-    if (q->is_box && q->min_distance < kInf) {  // the 13-axis gap bounds tighter than 6 faces
-      const auto& v = d.corners[static_cast<std::size_t>(c.tri)];
-      const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-      if (boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) >
-          q->min_distance + kCullSlack)
-        continue;
+/// Skips a box triangle whose 13-axis gap exceeds the best distance (GJK could not beat it).
+bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
+  if (!q.is_box || q.min_distance == kInf) return false;
+  const auto& v = d.corners[static_cast<std::size_t>(tri)];
+  const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+  return boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) >
+         q.min_distance + kCullSlack;
+}
+
+/// No overlap: the minimum of GJK distances does not depend on the order, so the tree is
+/// searched best first by the planes' bound, and the search stops once the bound exceeds the
+/// best distance found (GJK distances are upper bounds of the true ones: nothing beyond could
+/// be smaller).
+void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+  thread_local std::vector<std::pair<double, int>> heap;  // (bound, node), min-heap
+  heap.clear();
+  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  const auto later = [](const std::pair<double, int>& x, const std::pair<double, int>& y) {
+    return x.first > y.first || (x.first == y.first && x.second > y.second);
+  };
+  auto push = [&](int i) {
+    const btQuantizedBvhNode& n = nodes[i];
+    const double lb = pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                                   eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+    if (lb > pl.cut || lb > q->min_distance + kCullSlack) return;
+    heap.emplace_back(lb, i);
+    std::push_heap(heap.begin(), heap.end(), later);
+  };
+  push(0);
+  while (!heap.empty() && !q->overlap_found) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const auto [lb, i] = heap.back();
+    heap.pop_back();
+    if (lb > q->min_distance + kCullSlack) break;
+    const btQuantizedBvhNode& n = nodes[i];
+    if (n.isLeafNode()) {
+      const int tri = n.getTriangleIndex();
+      const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
+      if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
+        runTriangle(d, tri, q);
+      continue;
     }
-    runTriangle(d, c.tri, q);
+    const int left = i + 1;
+    push(left);
+    push(left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex()));
   }
 }
 
-/// Overlap query of a box or a hull (distances >= 0 unless overlapping). In Bullet's order:
-/// a box triangle whose separating-axis gap is <= 0 (or a triangle corner inside a hull) is the
-/// first overlap; the baseline's result then follows from it and from the triangles before it
-/// (TriangleQuery skips those beyond the threshold by their gap, runs GJK on the others),
-/// replayed in order. Without an overlap, the near triangles go through branchAndBound.
+/// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
+/// walked in Bullet's order for a proof of overlap, visiting only what the planes do not put
+/// beyond contact: a box triangle whose separating-axis gap is <= 0, or a triangle corner
+/// inside every face plane of a hull. With a proof, the baseline loop runs (it stops at its
+/// first overlap, at the latest at the proven one unless GJK misses it on a sliver
+/// triangle); without, branchAndBound finds the nearest triangle.
 void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Planes& pl,
                   TriangleQuery* q) {
-  thread_local std::vector<Candidate> near;
-  near.clear();
-  int first = -1;
-  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  bool proven = false;
   walkInBulletOrder(
-      bvh, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return pl.nodeBound(lo, hi, kCullSlack) <= kCullSlack;
+      },
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        const double lb = pl.bound(v);
-        if (lb > pl.cut) return true;
-        // A face plane separating the triangle rules out an overlap: only the others need the
-        // box's 13-axis test or the hull's corner test.
-        if (lb <= 0.0 && e.is_box) {
+        if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
+        if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          if (boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0)
-            first = tri;
-        } else if (lb <= 0.0 && (pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0))) {
-          first = tri;
+          proven = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0;
+        } else {
+          proven = pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0);
         }
-        near.push_back({tri, lb});
-        return first < 0;
+        return !proven;
       });
-  if (first < 0) {
-    branchAndBound(d, &near, q);
-    return;
-  }
-  for (const Candidate& c : near) {  // Bullet's order; the last one is `first`
-    if (q->overlap_found) return;
-    runTriangle(d, c.tri, q);
-  }
-  if (q->overlap_found) return;
-  // Bullet's GJK missed the overlap that the corner inside the hull proves (it happens on
-  // sliver triangles): run everything as the baseline does.
-  q->min_distance = kInf;
-  walkAll(d, pl, q);
+  if (proven)
+    walkAll(d, pl, q);
+  else
+    branchAndBound(d, pl, q);
 }
 
 }  // namespace
