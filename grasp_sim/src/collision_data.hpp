@@ -86,6 +86,7 @@ struct CollisionScene::Data {
   // Culled queries (CollisionScene::Mode::kCulled) walk Bullet's tree with their own node test
   // and read the triangle corners from here.
   bool culled = false;
+  bool culled_boxes = false;  // boxes, cylinders and spheres too (else hulls only; kAuto)
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
 };
 
@@ -101,14 +102,20 @@ TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts
 /// Adds the culling data (k-DOP, facets) of `e` built from its Bullet shape and, for a hull,
 /// its points.
 void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e);
-/// Prepares `d` for culled queries (triangle corners).
+/// Prepares `d` for culled queries (triangle corners) of hull shapes, and of every shape when
+/// `all_shapes`.
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
-                  const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d);
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d);
 /// Link query through Bullet's BVH (the baseline): GJK/EPA on every triangle in the shape's
 /// padded bounding box. `exact` computes EPA depths and fills `hits`.
 double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits);
+/// One shape (at pose `ts`, object frame) of queryLinkBullet: its minimum distance.
+double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
+                        const Eigen::Isometry3d& ts, double threshold, bool exact,
+                        std::vector<TriangleHit>* hits);
 /// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
 /// triangle test, GJK only where the baseline's result depends on it.
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,

@@ -97,7 +97,9 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
 }
 
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
-                  const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d) {
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d) {
+  d->culled_boxes = all_shapes;
   d->corners.resize(faces.size());
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int k = 0; k < 3; ++k)
@@ -297,6 +299,11 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     const Eigen::Vector3d c = ts.translation();
     const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
     if (out.norm() > e.bounding_radius + threshold) continue;
+    if (!e.is_hull && !d.culled_boxes) {
+      best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
+      if (!exact && best < 0.0) break;
+      continue;
+    }
     TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
     btVector3 amin, amax;
     e.shape->getAabb(q.xf, amin, amax);
