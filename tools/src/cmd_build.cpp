@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -42,6 +43,7 @@ struct BuildArgs {
   double friction = 0.5;
   int cone_edges = 8;
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
+  bool timestamp = false;
 };
 
 // Hand argument: a URDF path, or the name of a bundled hand (<data dir>/hands/<name>/).
@@ -167,6 +169,7 @@ void runBuild(const BuildArgs& args) {
     exitCode() = 130;
     return;
   }
+  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short
@@ -191,6 +194,10 @@ void runBuild(const BuildArgs& args) {
     os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
   }
   os << "\n";
+  const int threads = args.threads > 0
+                          ? args.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  os << "  threads   " << threads << " (not stored: the map does not depend on it)\n";
   const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
   const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
   char line[512];
@@ -258,6 +265,9 @@ const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
   cmd->add_flag("--keep-invalid", args->keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--timestamp", args->timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none, so the same arguments give the same bytes)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary");
   cmd->add_flag("--progress", args->progress, "draw the progress bar even when not a terminal");
   cmd->callback([args]() { runBuild(*args); });
