@@ -64,11 +64,12 @@ struct ShapeEntry {
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
   // Culled queries: separating planes of the shape in its frame, max over the shape of
   // axes[i] . x is reach[i] (a point set beyond any one plane by g is at least g away).
-  // Boxes: their 6 faces; hulls: their own face planes (also an inside test for points, from
-  // facet_begin on); cylinders and spheres: a 26-DOP.
+  // Boxes: their 6 faces; hulls: a 26-DOP, then their own face planes (an inside test for points,
+  // from facet_begin on); cylinders and spheres: a 26-DOP.
   std::vector<Eigen::Vector3d> axes;
   std::vector<double> reach;
   int facet_begin = 0;  ///< hulls: axes[facet_begin..] are the hull's face planes
+  int node_planes = 0;  ///< axes[0..node_planes) are tested on tree nodes
   bool is_hull = false;
 };
 
