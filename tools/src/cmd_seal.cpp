@@ -8,8 +8,8 @@
 
 #include "command.hpp"
 #include "isolated.hpp"
-#include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {
 namespace {

@@ -15,8 +15,8 @@
 #include <benchmark/benchmark.h>
 
 #include "map_seal.hpp"
-#include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/core/random.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap {
 namespace {
