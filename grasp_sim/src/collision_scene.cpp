@@ -1,5 +1,7 @@
-// The only translation unit that includes Bullet (double precision).
+// CollisionScene: construction of the Bullet shapes, inside test, link-link distances; the
+// link-versus-object queries are in triangle_query.cpp (Bullet's BVH) and culled_query.cpp.
 #include "collision_scene.hpp"
+#include "collision_data.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -29,75 +31,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// exact shapes (spheres keep their radius as margin; distances subtract it).
 constexpr double kConvexMargin = 0.0;
 
-btVector3 bt(const Eigen::Vector3d& v) {
-  return btVector3(v.x(), v.y(), v.z());
-}
-Eigen::Vector3d eig(const btVector3& v) {
-  return Eigen::Vector3d(v.x(), v.y(), v.z());
-}
-
-btTransform bt(const Eigen::Isometry3d& t) {
-  const Eigen::Matrix3d& r = t.linear();
-  btMatrix3x3 m(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2));
-  return btTransform(m, bt(Eigen::Vector3d(t.translation())));
-}
-
-/// Signed distance between two convex shapes with GJK (separated) or EPA (overlapping).
-/// Returns false when the depth of an overlap is not wanted (`need_depth` false) or EPA failed;
-/// `r` then holds what is known. Distances are between the full shapes (margins included).
-bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConvexShape* b,
-                    const btTransform& tb, bool need_depth, double* distance,
-                    btGjkEpaSolver2::sResults* r, bool* overlap) {
-  const btVector3 guess = tb.getOrigin() - ta.getOrigin();
-  *overlap = false;
-  if (btGjkEpaSolver2::Distance(a, ta, b, tb, guess, *r)) {
-    // Distance() measures the cores: subtract the margins (sphere radius). The solver returns
-    // the normal in the frame of shape a; witnesses are in world coordinates.
-    *distance = r->distance - a->getMargin() - b->getMargin();
-    r->normal = ta.getBasis() * r->normal;
-    return true;
-  }
-  *overlap = true;
-  if (!need_depth) return false;
-  if (btGjkEpaSolver2::Penetration(a, ta, b, tb, guess, *r)) {
-    *distance = r->distance;
-    r->normal = ta.getBasis() * r->normal;
-    return true;
-  }
-  return false;
-}
-
-/// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r,
-/// half extents e) and a triangle: the largest separation over the 13 axes of the box-triangle
-/// SAT. A value > 0 is a lower bound on their distance; a value <= 0 means they intersect
-/// (the 13 axes are complete for a box and a triangle).
-double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
-                             const Eigen::Vector3d& e, const btVector3* tri) {
-  Eigen::Vector3d v[3];
-  for (int i = 0; i < 3; ++i)
-    v[i] = r.transpose() * (Eigen::Vector3d(tri[i].x(), tri[i].y(), tri[i].z()) - c);
-  double best = -std::numeric_limits<double>::infinity();
-  auto axis = [&](const Eigen::Vector3d& l) {
-    const double len = l.norm();
-    if (len < 1e-12) return;
-    const double p0 = l.dot(v[0]), p1 = l.dot(v[1]), p2 = l.dot(v[2]);
-    const double rad = e.x() * std::abs(l.x()) + e.y() * std::abs(l.y()) + e.z() * std::abs(l.z());
-    const double lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});
-    best = std::max(best, std::max(lo - rad, -rad - hi) / len);
-  };
-  axis(Eigen::Vector3d::UnitX());
-  axis(Eigen::Vector3d::UnitY());
-  axis(Eigen::Vector3d::UnitZ());
-  const Eigen::Vector3d f[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
-  axis(f[0].cross(f[1]));
-  for (const auto& edge : f) {
-    axis(Eigen::Vector3d(0, -edge.z(), edge.y()));
-    axis(Eigen::Vector3d(edge.z(), 0, -edge.x()));
-    axis(Eigen::Vector3d(-edge.y(), edge.x(), 0));
-  }
-  return best;
-}
-
 /// Separating-axis bound between two oriented boxes (15 axes): > 0 is a lower bound on their
 /// distance, <= 0 means they intersect.
 double boxBoxSeparation(const Eigen::Vector3d& ca, const Eigen::Matrix3d& ra,
@@ -122,69 +55,6 @@ double boxBoxSeparation(const Eigen::Vector3d& ca, const Eigen::Matrix3d& ra,
   return best;
 }
 
-/// Runs GJK/EPA of one convex shape against every triangle the BVH reports near it.
-struct TriangleQuery : btTriangleCallback {
-  const btConvexShape* shape = nullptr;
-  btTransform xf;
-  double threshold = 0.0;
-  bool exact = false;  // EPA depth and witnesses for overlapping triangles
-  std::vector<TriangleHit>* hits = nullptr;
-  double min_distance = kInf;
-  bool overlap_found = false;
-
-  // Boxes: the separating-axis test decides far and overlapping triangles without GJK.
-  bool is_box = false;
-  Eigen::Vector3d box_centre, box_half;
-  Eigen::Matrix3d box_axes;
-
-  void processTriangle(btVector3* tri, int, int index) override {
-    if (overlap_found && !exact) return;
-    if (is_box) {
-      const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri);
-      if (sep > threshold) return;
-      if (sep <= 0.0 && !exact) {
-        // The 13 axes give the exact minimum translation distance of the pair: a lower bound
-        // of the link's penetration of the whole mesh.
-        overlap_found = true;
-        min_distance = std::min(min_distance, std::min(sep, kOverlapping));
-        return;
-      }
-    }
-    btTriangleShape ts(tri[0], tri[1], tri[2]);
-    ts.setMargin(0.0);
-    btGjkEpaSolver2::sResults r;
-    double d = 0.0;
-    bool overlap = false;
-    const bool known =
-        signedDistance(shape, xf, &ts, btTransform::getIdentity(), exact, &d, &r, &overlap);
-    if (!known) {
-      if (!exact) {
-        overlap_found = true;
-        min_distance = std::min(min_distance, kOverlapping);
-        return;
-      }
-      // EPA failed on an overlapping pair: treat as touching at the triangle centroid.
-      d = 0.0;
-      r.witnesses[1] = (tri[0] + tri[1] + tri[2]) / 3.0;
-      r.normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalized();
-    }
-    if (d > threshold) return;
-    min_distance = std::min(min_distance, d);
-    if (d < 0.0 && !exact) {
-      overlap_found = true;
-      return;
-    }
-    if (hits) {
-      TriangleHit h;
-      h.distance = d;
-      h.point = eig(r.witnesses[1]);
-      h.normal = eig(r.normal);
-      h.triangle = index;
-      hits->push_back(h);
-    }
-  }
-};
-
 /// Counts ray crossings with the mesh (parity test).
 struct CrossingCounter : btTriangleRaycastCallback {
   CrossingCounter(const btVector3& from, const btVector3& to)
@@ -198,28 +68,7 @@ struct CrossingCounter : btTriangleRaycastCallback {
 
 }  // namespace
 
-struct ShapeEntry {
-  std::unique_ptr<btConvexShape> shape;
-  Eigen::Isometry3d origin;  // shape frame in the link frame
-  double bounding_radius = 0.0;
-  bool is_box = false;
-  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
-};
-
-struct CollisionScene::Data {
-  std::vector<double> vertices;
-  std::vector<int> indices;
-  std::unique_ptr<btTriangleIndexVertexArray> arrays;
-  std::unique_ptr<btBvhTriangleMeshShape> mesh_shape;
-  std::vector<Eigen::Vector3d> normals;
-  Eigen::Vector3d lo, hi, centre;
-  double radius = 0.0;
-  std::vector<std::vector<ShapeEntry>> links;
-  std::vector<Eigen::Vector3d> link_centre;  // bounding sphere of each link, link frame
-  std::vector<double> link_radius;
-};
-
-CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand)
+CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode)
     : d_(std::make_unique<Data>()) {
   if (mesh.faces.empty() || mesh.vertices.size() < 3)
     throw Error("grasp simulation needs a non-empty triangle mesh");
@@ -258,6 +107,9 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand)
   d.arrays->addIndexedMesh(im, PHY_INTEGER);
   d.mesh_shape = std::make_unique<btBvhTriangleMeshShape>(d.arrays.get(), true, true);
   d.mesh_shape->setMargin(0.0);
+  if (mode != Mode::kBullet)
+    buildCulling(mesh.vertices, mesh.faces,
+                 mode == Mode::kCulled || mesh.faces.size() >= kCulledMinFaces, &d);
 
   for (const HandLink& link : hand.links()) {
     std::vector<ShapeEntry> entries;
@@ -289,6 +141,7 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand)
           break;
         }
       }
+      addCullingData(s.type == ShapeType::kConvex ? s.points : std::vector<Eigen::Vector3d>{}, &e);
       entries.push_back(std::move(e));
     }
     // Bounding sphere of the link: centred at the mean of its shape centres.
@@ -316,53 +169,19 @@ double CollisionScene::objectRadius() const {
   return d_->radius;
 }
 
-namespace {
-
-double queryLink(const std::vector<ShapeEntry>& entries, const btBvhTriangleMeshShape& mesh,
-                 const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Isometry3d& t,
-                 double threshold, bool exact, std::vector<TriangleHit>* hits) {
-  double best = kInf;
-  for (const ShapeEntry& e : entries) {
-    const Eigen::Isometry3d ts = t * e.origin;
-    // Cull by the shape's bounding sphere against the object's bounding box.
-    const Eigen::Vector3d c = ts.translation();
-    const Eigen::Vector3d out = (lo - c).cwiseMax(c - hi).cwiseMax(0.0);
-    if (out.norm() > e.bounding_radius + threshold) continue;
-    TriangleQuery q;
-    q.shape = e.shape.get();
-    q.xf = bt(ts);
-    q.threshold = threshold;
-    q.exact = exact;
-    q.hits = hits;
-    if (e.is_box) {
-      q.is_box = true;
-      q.box_centre = c;
-      q.box_axes = ts.linear();
-      q.box_half = e.half_extents;
-    }
-    btVector3 amin, amax;
-    e.shape->getAabb(q.xf, amin, amax);
-    const btVector3 pad(threshold, threshold, threshold);
-    mesh.processAllTriangles(&q, amin - pad, amax + pad);
-    best = std::min(best, q.min_distance);
-    if (!exact && best < 0.0) break;
-  }
-  return best;
-}
-
-}  // namespace
-
 double CollisionScene::linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const {
   const Data& d = *d_;
-  return queryLink(d.links[static_cast<std::size_t>(link)], *d.mesh_shape, d.lo, d.hi, t, threshold,
-                   false, nullptr);
+  const auto& entries = d.links[static_cast<std::size_t>(link)];
+  return d.culled ? queryLinkCulled(d, entries, t, threshold, false, nullptr)
+                  : queryLinkBullet(d, entries, t, threshold, false, nullptr);
 }
 
 double CollisionScene::linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                                 std::vector<TriangleHit>* hits) const {
   const Data& d = *d_;
-  return queryLink(d.links[static_cast<std::size_t>(link)], *d.mesh_shape, d.lo, d.hi, t, threshold,
-                   true, hits);
+  const auto& entries = d.links[static_cast<std::size_t>(link)];
+  return d.culled ? queryLinkCulled(d, entries, t, threshold, true, hits)
+                  : queryLinkBullet(d, entries, t, threshold, true, hits);
 }
 
 bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {

@@ -4,6 +4,7 @@
 // queries run Bullet's stateless GJK/EPA (btGjkEpaSolver2) on the triangles the BVH reports,
 // all state on the stack; the shapes and the BVH are shared read-only.
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -28,8 +29,19 @@ constexpr double kOverlapping = -1e-300;
 
 class CollisionScene {
  public:
+  /// How link-versus-object queries find their triangles. Both give the same results bit for
+  /// bit (same triangles, same order, same GJK/EPA calls on the ones that matter).
+  enum class Mode {
+    kBullet,  ///< Bullet's BVH, every triangle in the shape's padded bounding box (baseline)
+    kCulled,  ///< Bullet's tree walked with the link shape's planes (culled_query.cpp)
+    kAuto,    ///< kCulled for hull shapes, and for every shape from kCulledMinFaces faces on
+  };
+  /// Below this many faces Bullet's box query meets few triangles and, for boxes, cylinders
+  /// and spheres, the planes cost more than they save (measured with tests/bench/grasp_sim on
+  /// the 172-face basket and 256-face cylinder; hulls gain 3x there).
+  static constexpr std::size_t kCulledMinFaces = 1000;
   /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
-  CollisionScene(const TriangleMesh& mesh, const HandModel& hand);
+  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;
@@ -58,8 +70,10 @@ class CollisionScene {
   const Eigen::Vector3d& objectCentre() const;
   double objectRadius() const;
 
- private:
+  /// Bullet-side data (collision_data.hpp; opaque outside it).
   struct Data;
+
+ private:
   std::unique_ptr<Data> d_;
 };
 

@@ -89,7 +89,8 @@ class Writer {
  private:
   void write(const std::string& name, hid_t space, hid_t file_type, hid_t mem_type,
              const void* data) {
-    Handle ds(H5Dcreate2(file_, name.c_str(), file_type, space, lcpl_, H5P_DEFAULT, H5P_DEFAULT),
+    createParents(name);
+    Handle ds(H5Dcreate2(file_, name.c_str(), file_type, space, lcpl_, dcpl_, H5P_DEFAULT),
               H5Dclose);
     // Empty datasets are created without writing (HDF5 refuses a null buffer).
     const bool empty = H5Sget_simple_extent_npoints(space) == 0;
@@ -99,9 +100,28 @@ class Writer {
     }
   }
 
+  // Groups on the way to name, created without modification times (same export, same bytes).
+  void createParents(const std::string& name) {
+    for (auto slash = name.find('/'); slash != std::string::npos;
+         slash = name.find('/', slash + 1)) {
+      const std::string group = name.substr(0, slash);
+      if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) > 0) continue;
+      Handle g(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, gcpl_, H5P_DEFAULT), H5Gclose);
+      if (!g.valid()) throw Error("cannot write '" + path_ + "': cannot create group " + group);
+    }
+  }
+
+  static hid_t untimed(hid_t cls) {
+    const hid_t plist = H5Pcreate(cls);
+    H5Pset_obj_track_times(plist, 0);
+    return plist;
+  }
+
   hid_t file_;
   std::string path_;
   Handle lcpl_{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
+  Handle gcpl_{untimed(H5P_GROUP_CREATE), H5Pclose};
+  Handle dcpl_{untimed(H5P_DATASET_CREATE), H5Pclose};
 };
 
 // ---------------------------------------------------------------- reading
@@ -269,7 +289,8 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
   {
     std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
     h5::silenceErrors();
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    const h5::Id fcpl = h5::mapFileCreation(0);  // no user block; no root-group times
+    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) {
       throw Error("cannot write '" + path + "': cannot create '" + tmp +
                   "'; check that the directory exists and is writable");

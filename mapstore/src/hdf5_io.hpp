@@ -47,7 +47,8 @@ void check(herr_t status, const std::string& what);
 /// File access properties of every map this library writes: file-format bounds of HDF5 1.10
 /// (superblock, object headers and chunk indexes carry checksums HDF5 verifies).
 Id mapFileAccess();
-/// File creation properties of every map: a user block of user_block bytes (for the seal).
+/// File creation properties of every map: a user block of user_block bytes (for the seal; 0
+/// for the ACRONYM export), no root-group modification times.
 Id mapFileCreation(std::size_t user_block);
 /// Opens an HDF5 file image held in memory, read-only, without copying it (core driver).
 /// bytes must stay alive and unchanged until the file and every object opened from it are

@@ -59,7 +59,8 @@ struct AcronymGrasps {
 };
 
 /// Writes the map's grasps in ACRONYM's layout, atomically (temporary file beside path, then
-/// rename). Inertia is computed from the map's mesh at the given density.
+/// rename). Inertia is computed from the map's mesh at the given density. No HDF5 object
+/// times: the same map and options give the same bytes.
 /// Throws Error naming the file when it cannot be written.
 void writeAcronym(const std::string& path, const TaskMapData& map,
                   const AcronymExportOptions& options = {});

@@ -1,0 +1,126 @@
+#pragma once
+// Private to grasp_sim (included by collision_scene.cpp and culled_query.cpp only): the Bullet
+// shapes and the object data behind CollisionScene, and the two query paths.
+
+#include <array>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include <BulletCollision/CollisionShapes/btBvhTriangleMeshShape.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <BulletCollision/CollisionShapes/btTriangleIndexVertexArray.h>
+#include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "collision_scene.hpp"
+
+namespace taskmap {
+
+inline btVector3 bt(const Eigen::Vector3d& v) {
+  return btVector3(v.x(), v.y(), v.z());
+}
+inline Eigen::Vector3d eig(const btVector3& v) {
+  return Eigen::Vector3d(v.x(), v.y(), v.z());
+}
+
+inline btTransform bt(const Eigen::Isometry3d& t) {
+  const Eigen::Matrix3d& r = t.linear();
+  btMatrix3x3 m(r(0, 0), r(0, 1), r(0, 2), r(1, 0), r(1, 1), r(1, 2), r(2, 0), r(2, 1), r(2, 2));
+  return btTransform(m, bt(Eigen::Vector3d(t.translation())));
+}
+
+/// Signed distance between two convex shapes with GJK (separated) or EPA (overlapping).
+/// Returns false when the depth of an overlap is not wanted (`need_depth` false) or EPA failed;
+/// `r` then holds what is known. Distances are between the full shapes (margins included).
+bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConvexShape* b,
+                    const btTransform& tb, bool need_depth, double* distance,
+                    btGjkEpaSolver2::sResults* r, bool* overlap);
+
+/// Runs GJK/EPA of one convex shape against every triangle the BVH reports near it.
+struct TriangleQuery : btTriangleCallback {
+  const btConvexShape* shape = nullptr;
+  btTransform xf;
+  double threshold = 0.0;
+  bool exact = false;  // EPA depth and witnesses for overlapping triangles
+  std::vector<TriangleHit>* hits = nullptr;
+  double min_distance = std::numeric_limits<double>::infinity();
+  bool overlap_found = false;
+
+  // Boxes: the separating-axis test decides far and overlapping triangles without GJK.
+  bool is_box = false;
+  Eigen::Vector3d box_centre, box_half;
+  Eigen::Matrix3d box_axes;
+
+  void processTriangle(btVector3* tri, int part, int index) override;
+};
+
+struct ShapeEntry {
+  std::unique_ptr<btConvexShape> shape;
+  Eigen::Isometry3d origin;  // shape frame in the link frame
+  double bounding_radius = 0.0;
+  bool is_box = false;
+  Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+  // Culled queries: separating planes of the shape in its frame, max over the shape of
+  // axes[i] . x is reach[i] (a point set beyond any one plane by g is at least g away).
+  // Boxes: their 6 faces; hulls: a 26-DOP, then their own face planes (an inside test for points,
+  // from facet_begin on); cylinders and spheres: a 26-DOP.
+  std::vector<Eigen::Vector3d> axes;
+  std::vector<double> reach;
+  int facet_begin = 0;  ///< hulls: axes[facet_begin..] are the hull's face planes
+  int node_planes = 0;  ///< axes[0..node_planes) are tested on tree nodes
+  bool is_hull = false;
+};
+
+struct CollisionScene::Data {
+  std::vector<double> vertices;
+  std::vector<int> indices;
+  std::unique_ptr<btTriangleIndexVertexArray> arrays;
+  std::unique_ptr<btBvhTriangleMeshShape> mesh_shape;
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::Vector3d lo, hi, centre;
+  double radius = 0.0;
+  std::vector<std::vector<ShapeEntry>> links;
+  std::vector<Eigen::Vector3d> link_centre;  // bounding sphere of each link, link frame
+  std::vector<double> link_radius;
+  // Culled queries (CollisionScene::Mode::kCulled) walk Bullet's tree with their own node test
+  // and read the triangle corners from here.
+  bool culled = false;
+  bool culled_boxes = false;  // boxes, cylinders and spheres too (else hulls only; kAuto)
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+};
+
+/// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r, half
+/// extents e) and a triangle: the largest separation over the 13 axes of the box-triangle SAT.
+/// A value > 0 is a lower bound on their distance; a value <= 0 means they intersect (the 13
+/// axes are complete for a box and a triangle).
+double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
+                             const Eigen::Vector3d& e, const btVector3* tri);
+/// A TriangleQuery of shape `e` at pose `ts` (object frame).
+TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts, double threshold,
+                                bool exact, std::vector<TriangleHit>* hits);
+/// Adds the culling data (k-DOP, facets) of `e` built from its Bullet shape and, for a hull,
+/// its points.
+void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e);
+/// Prepares `d` for culled queries (triangle corners) of hull shapes, and of every shape when
+/// `all_shapes`.
+void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d);
+/// Link query through Bullet's BVH (the baseline): GJK/EPA on every triangle in the shape's
+/// padded bounding box. `exact` computes EPA depths and fills `hits`.
+double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
+                       const Eigen::Isometry3d& t, double threshold, bool exact,
+                       std::vector<TriangleHit>* hits);
+/// One shape (at pose `ts`, object frame) of queryLinkBullet: its minimum distance.
+double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
+                        const Eigen::Isometry3d& ts, double threshold, bool exact,
+                        std::vector<TriangleHit>* hits);
+/// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
+/// triangle test, GJK only where the baseline's result depends on it.
+double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
+                       const Eigen::Isometry3d& t, double threshold, bool exact,
+                       std::vector<TriangleHit>* hits);
+
+}  // namespace taskmap

@@ -1,0 +1,330 @@
+// Culled link-versus-object queries (CollisionScene::Mode::kCulled). Same results as the Bullet
+// path bit for bit: a triangle is skipped only when a separating plane proves it farther than
+// the threshold (so GJK, whose distances are upper bounds, would have skipped it too), and the
+// rest go through the same TriangleQuery in the order Bullet's BVH would report them.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <LinearMath/btConvexHullComputer.h>
+
+#include "collision_data.hpp"
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// A triangle is culled when a plane puts it farther than threshold + kCullSlack, metres (GJK
+/// in double precision is accurate to ~1e-12 relative; this leaves three orders of margin).
+constexpr double kCullSlack = 1e-9;
+/// A triangle corner deeper than this inside a hull's face planes proves an overlap, metres.
+constexpr double kInsideSlack = 1e-6;
+
+/// The 26 directions of a k-DOP: faces, edges and corners of the unit cube.
+const std::vector<Eigen::Vector3d>& dopAxes() {
+  static const std::vector<Eigen::Vector3d> kAxes = [] {
+    std::vector<Eigen::Vector3d> a;
+    for (int x = -1; x <= 1; ++x)
+      for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 1; ++z)
+          if (x != 0 || y != 0 || z != 0) a.push_back(Eigen::Vector3d(x, y, z).normalized());
+    // Faces first: they cull most.
+    std::stable_sort(a.begin(), a.end(), [](const Eigen::Vector3d& p, const Eigen::Vector3d& q) {
+      return (p.array() != 0.0).count() < (q.array() != 0.0).count();
+    });
+    return a;
+  }();
+  return kAxes;
+}
+
+/// Max over the shape of n . x (margin included), shape frame.
+double supportOf(const btConvexShape& s, const Eigen::Vector3d& n) {
+  return n.dot(eig(s.localGetSupportingVertex(bt(n))));
+}
+
+/// Outward unit normals of the faces of the convex hull of `points`.
+std::vector<Eigen::Vector3d> hullFaceNormals(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector3d> normals;
+  if (points.size() < 4) return normals;
+  btConvexHullComputer hc;
+  hc.compute(points.front().data(), static_cast<int>(sizeof(Eigen::Vector3d)),
+             static_cast<int>(points.size()), 0.0, 0.0);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int v = 0; v < hc.vertices.size(); ++v) centre += eig(hc.vertices[v]);
+  if (hc.vertices.size() > 0) centre /= hc.vertices.size();
+  for (int f = 0; f < hc.faces.size(); ++f) {
+    const btConvexHullComputer::Edge* e0 = &hc.edges[hc.faces[f]];
+    const btConvexHullComputer::Edge* e = e0;
+    Eigen::Vector3d n = Eigen::Vector3d::Zero(), on = Eigen::Vector3d::Zero();
+    int guard = 0;
+    do {  // Newell's normal of the face polygon
+      const Eigen::Vector3d a = eig(hc.vertices[e->getSourceVertex()]);
+      const Eigen::Vector3d b = eig(hc.vertices[e->getTargetVertex()]);
+      n += a.cross(b);
+      on = a;
+      e = e->getNextEdgeOfFace();
+    } while (e != e0 && ++guard < 1000);
+    if (n.norm() < 1e-15) continue;
+    n.normalize();
+    if (n.dot(on - centre) < 0.0) n = -n;
+    normals.push_back(n);
+  }
+  return normals;
+}
+
+}  // namespace
+
+void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e) {
+  // Boxes: their 6 face planes are exact. Hulls: the 26-DOP (cheap, for tree nodes), then their
+  // own face planes (exact, for triangles; none when the hull is degenerate). Cylinders and
+  // spheres: the 26-DOP.
+  const auto& dop = dopAxes();
+  e->is_hull = !hull_points.empty();
+  if (e->is_box) {
+    e->axes.assign(dop.begin(), dop.begin() + 6);
+  } else {
+    e->axes = dop;
+  }
+  e->facet_begin = static_cast<int>(e->axes.size());
+  e->node_planes = e->facet_begin;
+  if (e->is_hull) {
+    const auto faces = hullFaceNormals(hull_points);
+    if (faces.size() >= 4)
+      e->axes.insert(e->axes.end(), faces.begin(), faces.end());
+    else
+      e->is_hull = false;  // no face planes: no inside proof
+  }
+  e->reach.clear();
+  for (const auto& n : e->axes) e->reach.push_back(supportOf(*e->shape, n));
+}
+
+void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d) {
+  d->culled_boxes = all_shapes;
+  d->corners.resize(faces.size());
+  for (std::size_t t = 0; t < faces.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      d->corners[t][static_cast<std::size_t>(k)] = vertices[static_cast<std::size_t>(faces[t][k])];
+  btOptimizedBvh* bvh = d->mesh_shape->getOptimizedBvh();
+  // Without a quantized tree (not built by this constructor) the queries stay on Bullet's path.
+  d->culled = bvh != nullptr && bvh->isQuantized();
+}
+
+namespace {
+
+/// Walks Bullet's quantized tree as its stackless walk does (node array order, skipping a
+/// rejected subtree by its escape index), with our node test: leaves come in Bullet's order.
+/// `leaf(triangle)` returns false to stop. (Bullet's accessors are non-const; nothing is changed.)
+template <class Accept, class Leaf>
+void walkInBulletOrder(btQuantizedBvh& bvh, const Accept& accept, const Leaf& leaf) {
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  const int end = nodes[0].isLeafNode() ? 1 : nodes[0].getEscapeIndex();
+  int cur = 0;
+  while (cur < end) {
+    const btQuantizedBvhNode& n = nodes[cur];
+    const bool pass = accept(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                             eig(bvh.unQuantize(n.m_quantizedAabbMax)));
+    if (n.isLeafNode()) {
+      if (pass && !leaf(n.getTriangleIndex())) return;
+      ++cur;
+    } else {
+      cur += pass ? 1 : n.getEscapeIndex();
+    }
+  }
+}
+
+/// A triangle that no plane could cull, with the best plane bound on its distance, metres.
+struct Candidate {
+  int tri;
+  double lb;
+};
+
+/// The separating planes of one shape in the object frame: max over the shape of wn[i] . x is
+/// wh[i]; a point set beyond one plane by more than `cut` is farther than the threshold.
+struct Planes {
+  std::vector<Eigen::Vector3d> wn;
+  std::vector<double> wh;
+  std::size_t node_planes = 0;  // the first ones, tested on tree nodes
+  std::size_t facet_begin = 0;  // hulls: the face planes from here on
+  double cut = 0.0;
+  Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
+
+  void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
+           const btVector3& amax, double threshold) {
+    const Eigen::Vector3d c = ts.translation();
+    wn.resize(e.axes.size());
+    wh.resize(e.axes.size());
+    for (std::size_t i = 0; i < e.axes.size(); ++i) {
+      wn[i] = ts.linear() * e.axes[i];
+      wh[i] = e.reach[i] + wn[i].dot(c);
+    }
+    node_planes = static_cast<std::size_t>(e.node_planes);
+    facet_begin = static_cast<std::size_t>(e.facet_begin);
+    cut = threshold + kCullSlack;
+    qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
+    qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
+  }
+  /// Lower bound of the distance of a tree node's box from the shape (planes only); +inf
+  /// outside the query box; stops early once above `limit`.
+  double nodeBound(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double limit) const {
+    if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return kInf;
+    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    double lb = -kInf;
+    for (std::size_t i = 0; i < node_planes && lb <= limit; ++i)
+      lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
+    return lb;
+  }
+  bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    return nodeBound(lo, hi, cut) <= cut;
+  }
+  /// Lower bound of the triangle's distance from the planes; > limit when culled (stops early).
+  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit) const {
+    const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
+    const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any()) return kInf;
+    double lb = -kInf;
+    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
+      lb = std::max(lb, std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i]);
+    return lb;
+  }
+  double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
+  /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
+  bool inside(const Eigen::Vector3d& p, std::size_t first) const {
+    for (std::size_t i = first; i < wn.size(); ++i)
+      if (wn[i].dot(p) - wh[i] >= -kInsideSlack) return false;
+    return true;
+  }
+};
+
+void runTriangle(const CollisionScene::Data& d, int tri, TriangleQuery* q) {
+  const auto& v = d.corners[static_cast<std::size_t>(tri)];
+  btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+  q->processTriangle(corners, 0, tri);
+}
+
+/// The baseline's loop with culling: every triangle the planes keep, in Bullet's order (stops
+/// at the first overlap unless q is exact).
+void walkAll(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+  walkInBulletOrder(
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
+      [&](int tri) {
+        if (pl.bound(d.corners[static_cast<std::size_t>(tri)]) <= pl.cut) runTriangle(d, tri, q);
+        return q->exact || !q->overlap_found;
+      });
+}
+
+/// Skips a box triangle whose 13-axis gap exceeds the best distance (GJK could not beat it).
+bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
+  if (!q.is_box || q.min_distance == kInf) return false;
+  const auto& v = d.corners[static_cast<std::size_t>(tri)];
+  const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+  return boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) >
+         q.min_distance + kCullSlack;
+}
+
+/// No overlap: the minimum of GJK distances does not depend on the order, so the tree is
+/// searched depth first, nearer child first by the planes' bound, skipping every node whose
+/// bound exceeds the best distance found (GJK distances are upper bounds of the true ones:
+/// nothing there could be smaller).
+void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  auto bound = [&](int i) {
+    const btQuantizedBvhNode& n = nodes[i];
+    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+  };
+  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
+  stack.clear();
+  stack.emplace_back(bound(0), 0);
+  while (!stack.empty() && !q->overlap_found) {
+    const auto [lb, i] = stack.back();
+    stack.pop_back();
+    if (lb > pl.cut || lb > q->min_distance + kCullSlack) continue;
+    const btQuantizedBvhNode& n = nodes[i];
+    if (n.isLeafNode()) {
+      const int tri = n.getTriangleIndex();
+      const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
+      if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
+        runTriangle(d, tri, q);
+      continue;
+    }
+    const int left = i + 1;
+    const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
+    std::pair<double, int> a{bound(left), left}, b{bound(right), right};
+    if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
+    stack.push_back(a);
+    stack.push_back(b);
+  }
+}
+
+/// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
+/// walked in Bullet's order for a proof of overlap, visiting only what the planes do not put
+/// beyond contact: a box triangle whose separating-axis gap is <= 0, or a triangle corner
+/// inside every face plane of a hull. With a proof, the baseline loop runs (it stops at its
+/// first overlap, at the latest at the proven one unless GJK misses it on a sliver
+/// triangle); without, branchAndBound finds the nearest triangle.
+void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Planes& pl,
+                  TriangleQuery* q) {
+  bool proven = false;
+  walkInBulletOrder(
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return pl.nodeBound(lo, hi, kCullSlack) <= kCullSlack;
+      },
+      [&](int tri) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
+        if (e.is_box) {
+          const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+          proven = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0;
+        } else {
+          proven = pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
+                   pl.inside(v[2], pl.facet_begin);
+        }
+        return !proven;
+      });
+  if (proven)
+    walkAll(d, pl, q);
+  else
+    branchAndBound(d, pl, q);
+}
+
+}  // namespace
+
+double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
+                       const Eigen::Isometry3d& t, double threshold, bool exact,
+                       std::vector<TriangleHit>* hits) {
+  thread_local Planes pl;
+  double best = kInf;
+  for (const ShapeEntry& e : entries) {
+    const Eigen::Isometry3d ts = t * e.origin;
+    const Eigen::Vector3d c = ts.translation();
+    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
+    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (!e.is_hull && !d.culled_boxes) {
+      best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
+      if (!exact && best < 0.0) break;
+      continue;
+    }
+    TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
+    btVector3 amin, amax;
+    e.shape->getAabb(q.xf, amin, amax);
+    pl.set(e, ts, amin, amax, threshold);
+    if (!exact && (e.is_box || e.is_hull)) {
+      overlapQuery(d, e, pl, &q);
+    } else {
+      // Exact hits (in Bullet's order), and spheres and cylinders as the baseline runs them.
+      walkAll(d, pl, &q);
+    }
+    best = std::min(best, q.min_distance);
+    if (!exact && best < 0.0) break;
+  }
+  return best;
+}
+
+}  // namespace taskmap

@@ -1,0 +1,34 @@
+#pragma once
+// Private to grasp_sim: what every trial of one GraspSimulator reads (built once, shared
+// read-only by all threads): the hand, the options, the collision scene and the derived
+// per-link and per-joint tables.
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "collision_scene.hpp"
+#include "taskmap/core/triangle_mesh.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+
+namespace taskmap {
+
+/// The simulator's fixed data (docs/METHOD.md §2).
+struct SimModel {
+  HandModel hand;                         ///< the hand simulated
+  GraspSimOptions opt;                    ///< validated options
+  std::unique_ptr<CollisionScene> scene;  ///< object BVH and link shapes
+  double squeeze = 0.0;                   ///< squeeze distance in force, metres
+  double retract_step = 0.0;              ///< coarse retraction step, metres
+  std::vector<int> shaped;                ///< links with collision shapes
+  std::vector<double> thickness;          ///< per link, metres; +inf without shapes
+  std::vector<int> closing_of;            ///< actuated joint -> index in hand.closing(), or -1
+  std::vector<std::pair<int, int>> self_pairs;  ///< link pairs checked for self-collision
+  std::vector<std::vector<int>> partners;       ///< per link: its self-collision partners
+
+  /// Validates `o`, builds the scene and the tables. Throws Error on bad input.
+  SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o);
+};
+
+}  // namespace taskmap

@@ -1,0 +1,235 @@
+// Trial: construction, retraction, palm placement, contacts and the verdict. Closing and squeeze
+// are in trial_closing.cpp. Semantics are documented in grasp_simulator.hpp.
+#include "trial.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "taskmap/grasp_sim/contact_manifold.hpp"
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Contacts of one link closer than this are merged (the deepest is kept), metres.
+constexpr double kMergeRadius = 1e-3;
+
+}  // namespace
+
+Trial::Trial(const SimModel& model, const Pose& initial)
+    : m_(model), tol_(model.opt.contact_tolerance), st_(res_.stats) {
+  if (m_.opt.profile) t0_ = Clock::now();
+  palm_ = initial.toIsometry();
+  p0_ = palm_.translation();
+  a_ = (palm_.linear() * m_.hand.approachAxis()).normalized();
+  q_ = m_.hand.preshape();
+  lp_ = m_.hand.linkPoses(q_);
+  dist_.assign(m_.hand.links().size(), kInf);
+}
+
+double Trial::lap() {
+  const Clock::time_point now = Clock::now();
+  const double s = std::chrono::duration<double>(now - t0_).count();
+  t0_ = now;
+  return s;
+}
+
+void Trial::finish(GraspStatus status, const std::string& msg) {
+  res_.status = status;
+  res_.message = msg;
+  res_.pose = Pose::fromIsometry(palm_);
+  res_.joints = q_;
+}
+
+// Signed distance of every shaped link at palm pose `pm` (threshold-limited); -inf when a link
+// lies wholly inside the object (checked only when `inside_check`). With `inside_check` the
+// evaluation stops at the first penetrating link, trying the last one found first (`dist_` is
+// then complete only for collision-free poses).
+double Trial::evalAll(const Eigen::Isometry3d& pm, double threshold, bool inside_check) {
+  double mn = kInf;
+  const auto& shaped = m_.shaped;
+  for (std::size_t k = 0; k < shaped.size(); ++k) {
+    const std::size_t idx = (first_ + k) % shaped.size();
+    const int l = shaped[idx];
+    const auto u = static_cast<std::size_t>(l);
+    const Eigen::Isometry3d t = pm * lp_[u];
+    double d = m_.scene->linkDistance(l, t, threshold);
+    ++st_.queries;
+    if (inside_check && d == kInf && m_.scene->linkInside(l, t)) d = -kInf;
+    dist_[u] = d;
+    mn = std::min(mn, d);
+    if (inside_check && d < 0.0) {
+      first_ = idx;
+      break;
+    }
+  }
+  return mn;
+}
+
+Eigen::Isometry3d Trial::at(double s) const {
+  Eigen::Isometry3d pm = palm_;
+  pm.translation() = p0_ - s * a_;
+  return pm;
+}
+
+bool Trial::retract() {
+  const double s_max = m_.opt.max_retraction > 0.0
+                           ? m_.opt.max_retraction
+                           : (p0_ - m_.scene->objectCentre()).norm() + m_.scene->objectRadius() +
+                                 m_.hand.reach() + 0.01;
+  double s = 0.0;
+  const double m = evalAll(at(0.0), tol_, true);
+  if (m < 0.0) {
+    if (!leaveObject(m, s_max, &s)) return false;
+  } else if (m > tol_) {
+    if (!approachObject(s_max, &s)) return false;
+  }
+  palm_ = at(s);
+  st_.retraction = s;
+  return true;
+}
+
+// The hand penetrates at s = 0: coarse steps out along -a, then bisection until the free side
+// touches within the tolerance.
+bool Trial::leaveObject(double m, double s_max, double* s) {
+  double lo = 0.0, hi = 0.0;
+  while (true) {
+    const double step = std::max(m_.retract_step, std::isfinite(m) ? -m : 0.0);
+    hi = std::min(lo + step, s_max);
+    m = evalAll(at(hi), tol_, true);
+    if (m >= 0.0) break;
+    lo = hi;
+    if (hi >= s_max) {
+      palm_ = at(s_max);
+      st_.retraction = s_max;
+      finish(GraspStatus::kNotRetractable,
+             "the hand still penetrates the object after retracting " + std::to_string(s_max) +
+                 " m along its approach axis");
+      return false;
+    }
+  }
+  // Bisection: lo penetrates, hi is free; stop when the free side touches within tol.
+  std::vector<double> dist_hi = dist_;
+  while (m > tol_ && hi - lo > 1e-9) {
+    const double mid = 0.5 * (lo + hi);
+    const double mm = evalAll(at(mid), tol_, true);
+    if (mm < 0.0) {
+      lo = mid;
+    } else {
+      hi = mid;
+      m = mm;
+      dist_hi = dist_;
+    }
+  }
+  dist_ = dist_hi;
+  *s = hi;
+  return true;
+}
+
+// The hand is free at s = 0: advance along +a (conservative advancement) until touching.
+bool Trial::approachObject(double s_max, double* s) {
+  const double far = std::max(4.0 * m_.retract_step, 0.02);
+  while (true) {
+    const double m = evalAll(at(*s), far, false);
+    if (m <= tol_) return true;
+    const double step = std::isfinite(m) ? m - 0.25 * tol_ : far;
+    *s -= step;
+    if (-*s > s_max) {
+      palm_ = at(*s);
+      st_.retraction = *s;
+      finish(GraspStatus::kNoPalmContact,
+             "the hand touches nothing when advanced along its approach axis");
+      return false;
+    }
+  }
+}
+
+bool Trial::placePalm() {
+  bool palm_touch = false;
+  double palm_gap = kInf;
+  for (int l : m_.shaped) {
+    const auto u = static_cast<std::size_t>(l);
+    if (m_.hand.links()[u].palm && dist_[u] <= tol_) {
+      palm_touch = true;
+      palm_gap = std::min(palm_gap, dist_[u]);
+    }
+  }
+  if (m_.opt.profile) st_.retract_seconds = lap();
+  if (!palm_touch && m_.opt.require_palm_contact) {
+    finish(GraspStatus::kNoPalmContact,
+           "a finger touches the object before the palm when the hand leaves it");
+    return false;
+  }
+  if (palm_touch) palm_.translation() += (m_.squeeze + std::max(palm_gap, 0.0)) * a_;
+  return true;
+}
+
+// Contacts of one link after the squeeze: every pressed triangle that faces the link, merged
+// within kMergeRadius (deepest first), reduced to the contact manifold.
+void Trial::linkContacts(int l, std::vector<char>* finger_touch) {
+  const auto u = static_cast<std::size_t>(l);
+  const CollisionScene& scene = *m_.scene;
+  std::vector<TriangleHit> hits;
+  scene.linkHits(l, palm_ * lp_[u], tol_, &hits);
+  ++st_.queries;
+  std::stable_sort(hits.begin(), hits.end(), [](const TriangleHit& x, const TriangleHit& y) {
+    return x.distance < y.distance || (x.distance == y.distance && x.triangle < y.triangle);
+  });
+  std::vector<Contact> candidates;  // deepest first
+  for (const auto& hh : hits) {
+    if (!(hh.distance < 0.0)) break;
+    // A triangle the link presses from the side (its separation direction far from the face
+    // normal, e.g. a side face under a palm lying on the top face) is no contact.
+    if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
+    bool near = false;
+    for (const auto& k : candidates)
+      if ((k.point - hh.point).norm() < kMergeRadius) near = true;
+    if (near) continue;
+    Contact ct;
+    ct.point = hh.point;
+    ct.normal = scene.faceNormal(hh.triangle);
+    ct.depth = -hh.distance;
+    ct.link = l;
+    candidates.push_back(ct);
+  }
+  const HandLink& link = m_.hand.links()[u];
+  for (const auto& ct : contactManifold(candidates, m_.opt.max_contacts_per_link)) {
+    res_.contacts.push_back(ct);
+    if (link.palm) res_.palm_contact = true;
+    if (link.finger >= 0) (*finger_touch)[static_cast<std::size_t>(link.finger)] = 1;
+  }
+}
+
+bool Trial::selfPenetrating() const {
+  for (const auto& pr : m_.self_pairs) {
+    const auto ua = static_cast<std::size_t>(pr.first), ub = static_cast<std::size_t>(pr.second);
+    if (m_.scene->linkLinkDistance(pr.first, palm_ * lp_[ua], pr.second, palm_ * lp_[ub], tol_) <
+        -tol_)
+      return true;
+  }
+  return false;
+}
+
+void Trial::collectContacts() {
+  std::vector<char> finger_touch(m_.hand.fingerNames().size(), 0);
+  for (int l : m_.shaped) linkContacts(l, &finger_touch);
+  for (std::size_t f = 0; f < finger_touch.size(); ++f)
+    if (finger_touch[f]) res_.fingers_in_contact.push_back(m_.hand.fingerNames()[f]);
+  self_ = m_.opt.check_self_collision && selfPenetrating();
+  if (m_.opt.profile) st_.contacts_seconds = lap();
+}
+
+void Trial::judge() {
+  if (step_limit_)
+    finish(GraspStatus::kStepLimit, "closing did not settle within max_closing_steps");
+  else if (self_)
+    finish(GraspStatus::kSelfCollision, "hand links penetrate each other after closing");
+  else if (res_.fingers_in_contact.empty())
+    finish(GraspStatus::kNoFingerContact,
+           "the fingers closed to their limits without pressing the object");
+  else
+    finish(GraspStatus::kOk, "");
+}
+
+}  // namespace taskmap

@@ -1,0 +1,97 @@
+#pragma once
+// Private to grasp_sim: one grasp trial as named steps over a SimModel (semantics in
+// grasp_simulator.hpp). GraspSimulator::simulate is the driver:
+//   retract -> placePalm -> close -> squeeze -> collectContacts -> judge.
+// A step that ends the trial early sets the status and returns false.
+
+#include <chrono>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "sim_model.hpp"
+#include "squeeze.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+
+namespace taskmap {
+
+/// State of one trial: palm pose, joint values, link poses and the closing bookkeeping.
+class Trial {
+ public:
+  /// Starts a trial at `initial` (palm pose, object frame) with the open preshape.
+  Trial(const SimModel& model, const Pose& initial);
+
+  /// Moves the hand along -approach out of the object (or along +approach onto it) to the
+  /// first touching pose. False (status set) when not retractable or nothing is touched.
+  bool retract();
+  /// Checks that the palm touches and presses it by the squeeze distance along +approach.
+  /// False (kNoPalmContact) when a finger touches first and the palm is required.
+  bool placePalm();
+  /// autoGrasp: closes every closing joint until contact or limit.
+  void close();
+  /// Presses each contact-stopped joint's contact point the squeeze distance deeper.
+  void squeeze();
+  /// Extracts the pressed contacts (per link, merged, manifold-reduced) and the fingers.
+  void collectContacts();
+  /// Sets the final status (step limit, self-collision, no finger contact or ok).
+  void judge();
+  /// The result (valid after a step returned false or after judge()).
+  GraspResult takeResult() { return std::move(res_); }
+
+  /// Minimum cosine between a triangle's normal and the separation direction for a contact.
+  static constexpr double kMinNormalAgreement = 0.5;
+
+ private:
+  using Clock = std::chrono::steady_clock;
+
+  // Retraction parts.
+  double evalAll(const Eigen::Isometry3d& pm, double threshold, bool inside_check);
+  Eigen::Isometry3d at(double s) const;
+  bool leaveObject(double m, double s_max, double* s);
+  bool approachObject(double s_max, double* s);
+  // Closing parts.
+  bool moving(int link) const;
+  Eigen::VectorXd advance(const Eigen::VectorXd& from, double dt) const;
+  double evalMoving(const Eigen::VectorXd& qq);
+  void stopTouching(const std::vector<int>& touching);
+  void refreshMoving();
+  void closingStep();
+  void bisectStep(double dt, double rate, std::vector<int>* touching);
+  // Squeeze parts.
+  std::vector<SqueezeContact> pressingContacts();
+  double deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq);
+  void limitSqueeze(const Eigen::VectorXd& q_contact);
+  // Contacts parts.
+  void linkContacts(int link, std::vector<char>* finger_touch);
+  bool selfPenetrating() const;
+  // Ends the trial with `status`.
+  void finish(GraspStatus status, const std::string& msg);
+  double lap();
+
+  const SimModel& m_;
+  const double tol_;
+  GraspResult res_;
+  GraspStats& st_;
+  Clock::time_point t0_;
+
+  Eigen::Isometry3d palm_;
+  Eigen::Vector3d p0_, a_;
+  Eigen::VectorXd q_;
+  std::vector<Eigen::Isometry3d> lp_;  // link poses in the palm frame at q_ (or last evaluated)
+  std::vector<double> dist_;           // last signed distance per link
+  std::size_t first_ = 0;              // evalAll: the shaped link tried first
+
+  // Closing bookkeeping, per closing joint and per link.
+  std::vector<char> active_;
+  std::vector<int> stop_link_;
+  std::vector<double> dir_;
+  std::vector<int> mov_;
+  std::vector<Eigen::Isometry3d> world_;
+  bool step_limit_ = false;
+  bool self_ = false;
+};
+
+}  // namespace taskmap

@@ -1,0 +1,257 @@
+// Trial: closing (GraspIt!'s autoGrasp) and the squeeze. Semantics in grasp_simulator.hpp.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "trial.hpp"
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Deepest penetration the squeeze may cause, in multiples of the squeeze distance.
+constexpr double kMaxSqueezeFactor = 2.0;
+/// Bisection steps when the squeeze has to be scaled back.
+constexpr int kSqueezeBisections = 6;
+
+}  // namespace
+
+bool Trial::moving(int l) const {
+  for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)]) {
+    const int c = m_.closing_of[static_cast<std::size_t>(j)];
+    if (c >= 0 && active_[static_cast<std::size_t>(c)]) return true;
+  }
+  return false;
+}
+
+Eigen::VectorXd Trial::advance(const Eigen::VectorXd& from, double dt) const {
+  const auto& closing = m_.hand.closing();
+  Eigen::VectorXd out = from;
+  for (std::size_t c = 0; c < closing.size(); ++c) {
+    if (!active_[c]) continue;
+    const int j = closing[c].joint;
+    const double v = from[j] + dir_[c] * closing[c].speed * dt;
+    out[j] = dir_[c] > 0 ? std::min(v, closing[c].target) : std::max(v, closing[c].target);
+  }
+  return out;
+}
+
+// Distances of the moving links at joint values qq, to the object and (self-contact stops a
+// link like an object contact) to the hand links it may collide with; returns the minimum.
+double Trial::evalMoving(const Eigen::VectorXd& qq) {
+  lp_ = m_.hand.linkPoses(qq);
+  for (int l : m_.shaped)
+    world_[static_cast<std::size_t>(l)] = palm_ * lp_[static_cast<std::size_t>(l)];
+  double mn = kInf;
+  for (int l : mov_) {
+    const auto u = static_cast<std::size_t>(l);
+    const Eigen::Isometry3d& tl = world_[u];
+    double d = m_.scene->linkDistance(l, tl, tol_);
+    ++st_.queries;
+    if (m_.opt.check_self_collision)
+      for (int o : m_.partners[u])
+        d = std::min(
+            d, m_.scene->linkLinkDistance(l, tl, o, world_[static_cast<std::size_t>(o)], tol_));
+    dist_[u] = d;
+    mn = std::min(mn, d);
+  }
+  ++st_.closing_steps;
+  return mn;
+}
+
+void Trial::stopTouching(const std::vector<int>& touching) {
+  for (int l : touching)
+    for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)]) {
+      const int c = m_.closing_of[static_cast<std::size_t>(j)];
+      if (c >= 0 && active_[static_cast<std::size_t>(c)]) {
+        active_[static_cast<std::size_t>(c)] = 0;
+        stop_link_[static_cast<std::size_t>(c)] = l;
+      }
+    }
+}
+
+void Trial::refreshMoving() {
+  mov_.clear();
+  for (int l : m_.shaped)
+    if (moving(l)) mov_.push_back(l);
+}
+
+void Trial::close() {
+  const auto& closing = m_.hand.closing();
+  const std::size_t nc = closing.size();
+  active_.assign(nc, 0);
+  stop_link_.assign(nc, -1);
+  dir_.assign(nc, 0.0);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const double diff = closing[c].target - q_[closing[c].joint];
+    dir_[c] = diff > 0 ? 1.0 : -1.0;
+    active_[c] = std::abs(diff) > 1e-12;
+  }
+  world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
+  refreshMoving();
+  evalMoving(q_);
+  std::vector<int> touching;
+  for (int l : mov_)
+    if (dist_[static_cast<std::size_t>(l)] <= tol_) touching.push_back(l);
+  stopTouching(touching);
+  while (true) {
+    refreshMoving();
+    if (mov_.empty()) break;
+    if (st_.closing_steps >= m_.opt.max_closing_steps) {
+      step_limit_ = true;
+      break;
+    }
+    closingStep();
+  }
+  lp_ = m_.hand.linkPoses(q_);
+}
+
+// One coarse closing step: no point of a moving link moves more than half its thickness (or
+// the closing joints reach their limits); a step into penetration is bisected.
+void Trial::closingStep() {
+  const auto& closing = m_.hand.closing();
+  const auto& levers = m_.hand.jointLevers();
+  // `rate` bounds the speed (metres per unit time) of every point of every moving link.
+  double rate = 0.0, dt_lim = kInf, dt_step = kInf;
+  for (std::size_t c = 0; c < closing.size(); ++c) {
+    if (!active_[c]) continue;
+    const int j = closing[c].joint;
+    dt_lim = std::min(dt_lim, std::abs(closing[c].target - q_[j]) / closing[c].speed);
+  }
+  for (int l : mov_) {
+    double link_rate = 0.0;
+    for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)]) {
+      const int c = m_.closing_of[static_cast<std::size_t>(j)];
+      if (c >= 0 && active_[static_cast<std::size_t>(c)])
+        link_rate +=
+            closing[static_cast<std::size_t>(c)].speed * levers[static_cast<std::size_t>(j)];
+    }
+    rate = std::max(rate, link_rate);
+    const double h = std::clamp(0.5 * m_.thickness[static_cast<std::size_t>(l)], 2.0 * tol_, 0.02);
+    dt_step = std::min(dt_step, h / std::max(link_rate, 1e-12));
+  }
+  const double dt = std::min(dt_step, dt_lim);
+  const Eigen::VectorXd q1 = advance(q_, dt);
+  const double m1 = evalMoving(q1);
+  std::vector<int> touching;
+  if (m1 < 0.0) {
+    bisectStep(dt, rate, &touching);
+  } else {
+    q_ = q1;
+    for (int l : mov_)
+      if (dist_[static_cast<std::size_t>(l)] <= tol_) touching.push_back(l);
+  }
+  stopTouching(touching);
+  for (std::size_t c = 0; c < closing.size(); ++c)
+    if (active_[c] && std::abs(q_[closing[c].joint] - closing[c].target) <= 1e-12) active_[c] = 0;
+}
+
+// Bisection on a step that ends in penetration: lo is free (moving links > tol apart at its
+// start), hi penetrates. Ends when a free state touches, or when the Lipschitz bound
+// rate * (hi - lo) <= tol proves that the links penetrating at hi are within tol of contact at lo.
+void Trial::bisectStep(double dt, double rate, std::vector<int>* touching) {
+  double lo = 0.0, hi = dt;
+  std::vector<double> dist_lo(dist_.size(), kInf), dist_hi = dist_;
+  bool touching_lo = false;
+  while ((hi - lo) * rate > tol_ && st_.closing_steps < m_.opt.max_closing_steps) {
+    const double mid = 0.5 * (lo + hi);
+    const double mm = evalMoving(advance(q_, mid));
+    if (mm < 0.0) {
+      hi = mid;
+      dist_hi = dist_;
+    } else {
+      lo = mid;
+      dist_lo = dist_;
+      if (mm <= tol_) {
+        touching_lo = true;
+        break;
+      }
+    }
+  }
+  q_ = advance(q_, lo);
+  for (int l : mov_) {
+    const auto u = static_cast<std::size_t>(l);
+    if (dist_lo[u] <= tol_ || (!touching_lo && dist_hi[u] < 0.0)) touching->push_back(l);
+  }
+  lp_ = m_.hand.linkPoses(q_);
+}
+
+// The contact each contact-stopped closing joint presses: the closest hit of its stopping link
+// on a triangle that faces the link; none when the link was stopped by the hand itself.
+std::vector<SqueezeContact> Trial::pressingContacts() {
+  const auto& closing = m_.hand.closing();
+  const CollisionScene& scene = *m_.scene;
+  std::vector<SqueezeContact> pressing;
+  for (std::size_t c = 0; c < closing.size(); ++c) {
+    const int l = stop_link_[c];
+    if (l < 0) continue;
+    std::vector<TriangleHit> hits;
+    scene.linkHits(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &hits);
+    ++st_.queries;
+    const TriangleHit* best = nullptr;
+    for (const auto& hh : hits) {
+      if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
+      if (!best || hh.distance < best->distance) best = &hh;
+    }
+    if (!best) continue;
+    SqueezeContact sc;
+    sc.joint = closing[c].joint;
+    sc.link = l;
+    sc.point = best->point;
+    sc.normal = scene.faceNormal(best->triangle);
+    sc.gap = best->distance;
+    sc.dir = dir_[c];
+    sc.target = closing[c].target;
+    pressing.push_back(sc);
+  }
+  return pressing;
+}
+
+double Trial::deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq) {
+  const auto poses = m_.hand.linkPoses(qq);
+  double deep = 0.0;
+  for (int l : squeezed) {
+    std::vector<TriangleHit> hits;
+    m_.scene->linkHits(l, palm_ * poses[static_cast<std::size_t>(l)], tol_, &hits);
+    ++st_.queries;
+    for (const auto& hh : hits)
+      if (hh.normal.dot(m_.scene->faceNormal(hh.triangle)) >= kMinNormalAgreement)
+        deep = std::max(deep, -hh.distance);
+  }
+  return deep;
+}
+
+// The squeeze is first order and moves whole chains: a link farther out on a squeezed chain may
+// press much deeper than its own contact. Scale the squeeze back (bisection) until no link moved
+// by it presses deeper than kMaxSqueezeFactor * squeeze + tolerance.
+void Trial::limitSqueeze(const Eigen::VectorXd& q_contact) {
+  std::vector<int> squeezed;
+  for (int l : m_.shaped)
+    for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)])
+      if (q_[j] != q_contact[j]) {
+        squeezed.push_back(l);
+        break;
+      }
+  const double limit = kMaxSqueezeFactor * m_.squeeze + tol_;
+  if (squeezed.empty() || deepestSqueezed(squeezed, q_) <= limit) return;
+  const Eigen::VectorXd full = q_ - q_contact;
+  double lo = 0.0, hi = 1.0;
+  for (int it = 0; it < kSqueezeBisections; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (deepestSqueezed(squeezed, q_contact + mid * full) > limit ? hi : lo) = mid;
+  }
+  q_ = q_contact + lo * full;
+}
+
+void Trial::squeeze() {
+  if (m_.squeeze > 0.0) {
+    const std::vector<SqueezeContact> pressing = pressingContacts();
+    const Eigen::VectorXd q_contact = q_;
+    applySqueeze(m_.hand, palm_, lp_, pressing, m_.squeeze, &q_);
+    limitSqueeze(q_contact);
+    lp_ = m_.hand.linkPoses(q_);
+  }
+  if (m_.opt.profile) st_.close_seconds = lap();
+}
+
+}  // namespace taskmap

@@ -1,0 +1,239 @@
+// Grasp trials per second per core, culled collision queries (the default) against the baseline
+// (GraspSimOptions::culled_queries = false: Bullet's BVH, GJK on every triangle in each link
+// shape's bounding box), side by side in one process on the same trials, for every hand x object
+// of the reference set (bundled hands and objects) and of the real set (--real DIR, default
+// $TASKMAP_REAL_DIR: hands/franka_hand, hands/allegro_right, objects/*.obj; see the README of
+// that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
+// Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
+// second of simulation, and whether both modes gave the same results on the trials both ran.
+//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
+// (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/meshes/object_model.hpp"
+#include "taskmap/quality/grasp_quality.hpp"
+#include "taskmap/sampler/sampler.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// CPU seconds of the calling thread (trials/s per core, whatever else runs on the machine).
+double threadSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+struct Item {
+  std::string name, path;
+  double scale = 1.0;
+};
+
+/// Reads an OBJ's triangles (polygons fanned), merging equal positions, and drops both faces of
+/// every pair of identical faces with opposite orientation (zero-volume fins of scanned meshes,
+/// which the loader refuses as border edges).
+TriangleMesh readObjWithoutFins(const std::string& path, double scale) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read " + path);
+  TriangleMesh m;
+  std::vector<int> remap;
+  std::map<std::tuple<double, double, double>, int> ids;
+  std::string line;
+  std::vector<Eigen::Vector3i> faces;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "v") {
+      double x = 0, y = 0, z = 0;
+      ls >> x >> y >> z;
+      const auto key = std::make_tuple(x, y, z);
+      auto it = ids.find(key);
+      if (it == ids.end()) {
+        it = ids.emplace(key, static_cast<int>(m.vertices.size())).first;
+        m.vertices.emplace_back(scale * x, scale * y, scale * z);
+      }
+      remap.push_back(it->second);
+    } else if (tag == "f") {
+      std::vector<int> poly;
+      std::string tok;
+      while (ls >> tok) poly.push_back(remap.at(static_cast<std::size_t>(std::stoi(tok) - 1)));
+      for (std::size_t k = 2; k < poly.size(); ++k)
+        faces.emplace_back(poly[0], poly[k - 1], poly[k]);
+    }
+  }
+  std::map<std::array<int, 3>, int> count;
+  auto key = [](const Eigen::Vector3i& f) {
+    std::array<int, 3> k = {f[0], f[1], f[2]};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (const auto& f : faces) ++count[key(f)];
+  for (const auto& f : faces)
+    if (count[key(f)] == 1) m.faces.push_back(f);
+  return m;
+}
+
+ObjectModel loadObject(const Item& o) {
+  MeshLoadOptions lo;
+  lo.scale = o.scale;
+  try {
+    return ObjectModel::load(o.path, lo);
+  } catch (const Error&) {
+    return ObjectModel::fromMesh(readObjWithoutFins(o.path, o.scale), o.name, lo);
+  }
+}
+
+struct Rate {
+  double trials_per_s = 0.0;
+  double valid_per_s = 0.0;
+  std::vector<GraspResult> results;
+};
+
+/// Runs trials 0, 1, ... until `seconds` have passed (at least `min_trials`, at most the poses).
+/// Initial poses of trials 0, 1, ... drawn on demand (seed 1), shared by both modes.
+struct Poses {
+  const Sampler& sampler;
+  std::vector<Pose> drawn;
+  const Pose& at(std::size_t i) {
+    while (drawn.size() <= i) drawn.push_back(sampler.sample(1, drawn.size()));
+    return drawn[i];
+  }
+};
+
+Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
+         std::size_t min_trials) {
+  Rate r;
+  double sim_s = 0.0;
+  int valid = 0;
+  const auto t_end = Clock::now() + std::chrono::duration<double>(seconds);
+  for (std::size_t i = 0; i < 1000000; ++i) {
+    if (i >= min_trials && Clock::now() > t_end) break;
+    const Pose& pose = poses.at(i);
+    const double t0 = threadSeconds();
+    GraspResult g = sim.simulate(pose);
+    sim_s += threadSeconds() - t0;
+    if (g.status == GraspStatus::kOk &&
+        evaluateGrasp(g.contacts, object.massProperties().center_of_mass,
+                      object.massProperties().torque_scale)
+            .force_closure)
+      ++valid;
+    r.results.push_back(std::move(g));
+  }
+  r.trials_per_s = static_cast<double>(r.results.size()) / sim_s;
+  r.valid_per_s = valid / sim_s;
+  return r;
+}
+
+bool same(const GraspResult& a, const GraspResult& b) {
+  if (a.status != b.status || a.contacts.size() != b.contacts.size()) return false;
+  if (!(a.pose.position == b.pose.position) || !(a.joints == b.joints)) return false;
+  for (std::size_t i = 0; i < a.contacts.size(); ++i)
+    if (!(a.contacts[i].point == b.contacts[i].point) || a.contacts[i].depth != b.contacts[i].depth)
+      return false;
+  return true;
+}
+
+void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds) {
+  const ObjectModel object = loadObject(o);
+  const HandModel hand = HandModel::load(h.path);
+  SamplerOptions so;
+  so.approach_axis = hand.approachAxis();
+  const Sampler sampler(object, so);
+  Poses poses{sampler, {}};
+  GraspSimOptions fast, base;
+  base.culled_queries = false;
+  const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
+  const Rate rn = run(sim_new, object, poses, seconds, 32);
+  const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1);
+  std::size_t n = std::min(rn.results.size(), ro.results.size()), agree = 0, ok = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    agree += same(rn.results[i], ro.results[i]);
+    ok += rn.results[i].status == GraspStatus::kOk;
+  }
+  std::printf("%-10s %-16s %6zu %10.1f %10.1f %7.1fx %9.1f %6.1f%% %5zu/%-5zu\n", h.name.c_str(),
+              o.name.c_str(), object.mesh().faces.size(), rn.trials_per_s, ro.trials_per_s,
+              rn.trials_per_s / ro.trials_per_s, rn.valid_per_s,
+              100.0 * static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(n, 1)),
+              agree, n);
+  std::fflush(stdout);
+}
+
+int mainImpl(int argc, char** argv) {
+  std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
+  double seconds = 2.0, baseline_seconds = -1.0;
+  std::string only;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i];
+    if (a == "--real")
+      real = argv[i + 1];
+    else if (a == "--seconds")
+      seconds = std::stod(argv[i + 1]);
+    else if (a == "--only")
+      only = argv[i + 1];
+    else if (a == "--baseline-seconds")
+      baseline_seconds = std::stod(argv[i + 1]);
+    else
+      throw Error(
+          "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
+          "[--baseline-seconds S]");
+  }
+  const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
+  std::vector<Item> hs, os;
+  for (const char* n : {"panda", "barrett", "humanoid"})
+    hs.push_back({n, hands + "/" + n + "/" + n + ".urdf"});
+  for (const char* n : {"cylinder", "basket", "mug"}) os.push_back({n, objects + "/" + n + ".obj"});
+  if (!real.empty() && fs::is_directory(real)) {
+    hs.push_back({"franka", real + "/hands/franka_hand/franka_hand.urdf"});
+    hs.push_back({"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf"});
+    os.push_back({"ycb_banana", real + "/objects/ycb_011_banana.obj"});
+    os.push_back({"ycb_mug", real + "/objects/ycb_025_mug.obj"});
+    os.push_back({"acronym_mug", real + "/objects/acronym_mug_10f6e09036350e92b3f21f1137c3c347.obj",
+                  0.0002682457830986903});
+  } else {
+    std::printf("(no real set: pass --real DIR or set TASKMAP_REAL_DIR)\n");
+  }
+  std::printf("one thread; trials drawn by the mixed sampler, seed 1; %.1f s per mode and pair\n",
+              seconds);
+  std::printf("%-10s %-16s %6s %10s %10s %8s %9s %7s %11s\n", "hand", "object", "faces", "new/s",
+              "base/s", "ratio", "valid/s", "ok", "same");
+  for (const auto& h : hs)
+    for (const auto& o : os) {
+      if (!only.empty() && (h.name + "/" + o.name).find(only) == std::string::npos) continue;
+      try {
+        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds);
+      } catch (const std::exception& e) {
+        std::printf("%-10s %-16s skipped: %s\n", h.name.c_str(), o.name.c_str(), e.what());
+      }
+    }
+  return 0;
+}
+
+}  // namespace
+}  // namespace taskmap
+
+int main(int argc, char** argv) {
+  try {
+    return taskmap::mainImpl(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "grasp_sim_rate: %s\n", e.what());
+    return 2;
+  }
+}
