@@ -1,6 +1,6 @@
 // Trajectory optimisation over attractor points (paper section 1.5, docs/REACHING.md
-// eq. 1.20-1.23): forward rollout, cost terms, backward (adjoint) pass through the IK steps and the
-// attractor.
+// "Trajectory optimisation", T1-T4): forward rollout, cost terms, backward (adjoint) pass through
+// the IK steps and the attractor.
 #include "taskmap/reaching/trajectory_optimizer.hpp"
 
 #include <cassert>
@@ -131,7 +131,7 @@ double projectedStep(const ResolvedRateIK& ik, Kinematics& kin, const Trajectory
 }
 
 /// Backward pass: lambda_t = dC/dq_t + (dF/dq_t)^T lambda_{t+1}, dC/dx_t accumulated from
-/// (dF/dx_t)^T lambda_{t+1}; each IK step linearised by central differences (eq. 1.23).
+/// (dF/dx_t)^T lambda_{t+1}; each IK step linearised by central differences (docs/REACHING.md T3).
 std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
                                           const std::vector<Eigen::VectorXd>& x,
                                           const TrajectoryCost& c,

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <memory>
 
 #include "reaching_fixtures.hpp"
 #include "taskmap/core/error.hpp"

@@ -1,10 +1,10 @@
 #pragma once
 /// @file trajectory_optimizer.hpp
 /// Trajectory optimisation over attractor points (paper section 1.5, Table 1.1, docs/REACHING.md
-/// eq. 1.20-1.23): the reaching rollout (attractor dynamics + resolved-rate IK) is driven by K
-/// attractor points; the cost sums joint-space path length, end-effector velocity at the end,
-/// collision and joint-limit costs along the trajectory and an optional terminal cost (the task
-/// map). The gradient with respect to the attractor points comes from a forward pass and a
+/// "Trajectory optimisation", T1-T4): the reaching rollout (attractor dynamics + resolved-rate IK)
+/// is driven by K attractor points; the cost sums joint-space path length, end-effector velocity at
+/// the end, collision and joint-limit costs along the trajectory and an optional terminal cost (the
+/// task map). The gradient with respect to the attractor points comes from a forward pass and a
 /// backward (adjoint) pass through the attractor dynamics and the IK. Units: metres, radians, s.
 
 #include <functional>
@@ -18,7 +18,7 @@
 
 namespace taskmap {
 
-/// Weights of the trajectory cost terms (eq. 1.20), each >= 0.
+/// Weights of the trajectory cost terms (docs/REACHING.md T1), each >= 0.
 struct TrajectoryCostWeights {
   double path_length = 1.0;   ///< w_p on sum |q_{t+1} - q_t|^2 / dt (rad^2/s)
   double end_velocity = 1.0;  ///< w_v on |v_T|^2, v_T = (p_T - p_{T-1}) / dt (m^2/s^2)
