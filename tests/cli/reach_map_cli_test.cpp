@@ -69,10 +69,11 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
       {"forward", "0.62 0 0 1.5708"},
       {"sideways", "0.5 0.3 0 1.5708"}};
   std::set<int> clusters;
+  const std::string png = tempPath("reach_map.png");
   for (const auto& [name, pose] : cases) {
-    const testing::CliRun r =
-        testing::runTaskmap("reach --map " + basketMap() + " --scene " + kScenes + "basket_" +
-                            name + ".json --object-pose \"" + pose + "\" --all-clusters --json");
+    const testing::CliRun r = testing::runTaskmap(
+        "reach --map " + basketMap() + " --scene " + kScenes + "basket_" + name +
+        ".json --object-pose \"" + pose + "\" --all-clusters --json --png " + png);
     ASSERT_EQ(r.code, 0) << name << "\n" << r.out;
     const nlohmann::json j = parseJson(r.out);
     ASSERT_FALSE(j.is_null()) << r.out;
@@ -94,6 +95,8 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
     clusters.insert(j["cluster"].get<int>());
   }
   EXPECT_GE(clusters.size(), 2u);  // the chosen grasp depends on where the basket stands
+  EXPECT_TRUE(fs::exists(png));    // Fig. 1.17 snapshots
+  EXPECT_TRUE(fs::exists(tempPath("reach_map_costs.png")));  // Fig. 1.16 cost terms
 }
 #endif
 

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "cost_picture.hpp"
 #include "reach_picture.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
@@ -111,6 +112,30 @@ void printText(const GraspPlan& plan, double plan_ms) {
   std::printf("plan time         %.1f ms\n", plan_ms);
 }
 
+/// Fig. 1.16 next to the snapshots: FILE.png -> FILE_costs.png.
+std::string costPicturePath(const std::string& png) {
+  const std::string::size_type dot = png.rfind(".png");
+  return (dot != std::string::npos && dot + 4 == png.size() ? png.substr(0, dot) : png) +
+         "_costs.png";
+}
+
+void drawCosts(const ClusterPlan& b, const std::string& path) {
+  std::vector<double> total, length, velocity, collision, limit;
+  for (const TrajectoryCost& t : b.optimization.history) {
+    total.push_back(t.total);
+    length.push_back(t.path_length);
+    velocity.push_back(t.end_velocity);
+    collision.push_back(t.collision);
+    limit.push_back(t.joint_limit);
+  }
+  writeCostPicture({{"total", total},
+                    {"path length", length},
+                    {"end velocity", velocity},
+                    {"collision", collision},
+                    {"joint limit", limit}},
+                   {{"proximity g_p", b.proximity}, {"quality g_q", b.quality}}, path);
+}
+
 }  // namespace
 
 void runMapReach(const MapReachArgs& args, const RobotModel& robot,
@@ -152,6 +177,7 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
         kin.pose(object) * map.pose(static_cast<std::size_t>(b.grasp_index)).toIsometry();
     const int n = static_cast<int>(r.q.size()) - 1;
     writeReachPicture(robot, r, palm, {0, n / 3, 2 * n / 3, n}, grasp, png);
+    drawCosts(b, costPicturePath(png));
   }
   if (plan.status != GraspPlanStatus::kPlanned) {
     std::cerr << "taskmap reach: " << plan.message << "\n";

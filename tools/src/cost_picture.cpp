@@ -1,0 +1,100 @@
+// Fig. 1.16: cost terms per iteration of the trajectory optimisation, drawn with cairo.
+#include "cost_picture.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+
+#include "taskmap/core/error.hpp"
+
+#ifdef TASKMAP_HAVE_CAIRO
+#include <cairo.h>
+
+#include "map_picture_draw.hpp"
+#include "taskmap/core/atomic_file.hpp"
+#endif
+
+namespace taskmap::cli {
+
+#ifndef TASKMAP_HAVE_CAIRO
+void writeCostPicture(const std::vector<CostSeries>&, const std::vector<CostSeries>&,
+                      const std::string& path) {
+  throw Error("cannot write picture '" + path + "': this taskmap was built without cairo");
+}
+#else
+namespace {
+
+constexpr int kPanelWidth = 640, kHeight = 480, kMargin = 60;
+const draw::Rgb kColors[] = {{0.1, 0.1, 0.1}, {0.0, 0.45, 0.75}, {0.85, 0.35, 0.0},
+                             {0.0, 0.6, 0.3}, {0.6, 0.2, 0.7},   {0.8, 0.1, 0.1}};
+
+void drawPanel(cairo_t* cr, double x0, const std::vector<CostSeries>& series,
+               const std::string& title) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  std::size_t n = 1;
+  for (const CostSeries& s : series) {
+    for (double v : s.second) lo = std::min(lo, v), hi = std::max(hi, v);
+    n = std::max(n, s.second.size());
+  }
+  if (!(hi > lo)) hi = lo + 1.0;
+  const double left = x0 + kMargin, right = x0 + kPanelWidth - 20, top = 40,
+               bottom = kHeight - kMargin;
+  const auto px = [&](std::size_t i) {
+    return left + (right - left) * i / std::max<std::size_t>(1, n - 1);
+  };
+  const auto py = [&](double v) { return bottom - (bottom - top) * (v - lo) / (hi - lo); };
+  draw::setColor(cr, draw::Rgb{0.5, 0.5, 0.5});
+  cairo_set_line_width(cr, 1.0);
+  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_stroke(cr);
+  draw::text(cr, left, 28, title, 16, true);
+  draw::text(cr, x0 + 4, top + 10, draw::format("%.3g", hi), 12);
+  draw::text(cr, x0 + 4, bottom, draw::format("%.3g", lo), 12);
+  draw::text(cr, left, bottom + 20, "0", 12);
+  draw::text(cr, right - 30, bottom + 20, std::to_string(n - 1), 12);
+  draw::text(cr, (left + right) / 2 - 30, bottom + 36, "iteration", 13);
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const auto& v = series[k].second;
+    if (v.empty()) continue;
+    draw::setColor(cr, kColors[k % 6]);
+    cairo_set_line_width(cr, 2.0);
+    cairo_move_to(cr, px(0), py(v[0]));
+    for (std::size_t i = 1; i < v.size(); ++i) cairo_line_to(cr, px(i), py(v[i]));
+    cairo_stroke(cr);
+    const double ly = top + 16 + 18 * k;
+    cairo_move_to(cr, right - 190, ly - 4);
+    cairo_line_to(cr, right - 174, ly - 4);
+    cairo_stroke(cr);
+    draw::text(cr, right - 170, ly, series[k].first, 13);
+  }
+}
+
+}  // namespace
+
+void writeCostPicture(const std::vector<CostSeries>& left, const std::vector<CostSeries>& right,
+                      const std::string& path) {
+  cairo_surface_t* surface =
+      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 2 * kPanelWidth, kHeight);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  drawPanel(cr, 0, left, "trajectory cost terms per iteration");
+  drawPanel(cr, kPanelWidth, right, "task map terms per iteration");
+  cairo_surface_flush(surface);
+  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
+  cairo_destroy(cr);
+  cairo_surface_destroy(surface);
+  if (st != CAIRO_STATUS_SUCCESS) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
+                "; check that the directory exists and is writable");
+  }
+  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+}
+#endif
+
+}  // namespace taskmap::cli
