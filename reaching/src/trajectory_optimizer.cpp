@@ -141,29 +141,31 @@ std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const Reso
   Kinematics kin(*p.robot);
   std::vector<Eigen::VectorXd> dx(steps + 1, Eigen::VectorXd::Zero(6));
   Eigen::VectorXd lambda = dq[steps];
+  const bool central = p.central_step_jacobian;
   for (int t = steps - 1; t >= 0; --t) {
+    // lambda^T F at the inputs (q, x_t, x_{t+1}) shifted along one coordinate by +-h.
+    const auto shifted = [&](int input, double shift) {
+      Eigen::VectorXd q = c.q[t], a = x[t], b = x[t + 1];
+      if (input < 6)
+        a[input] += shift;
+      else if (input < 12)
+        b[input - 6] += shift;
+      else
+        q[input - 12] += shift;
+      return projectedStep(ik, kin, p, lambda, q, a, b);
+    };
+    const double base = central ? 0.0 : shifted(0, 0.0);
+    const auto derivative = [&](int input) {
+      return central ? (shifted(input, h) - shifted(input, -h)) / (2.0 * h)
+                     : (shifted(input, h) - base) / h;
+    };
     for (int i = 0; i < 6; ++i) {
-      for (int which = 0; which < 2; ++which) {
-        Eigen::VectorXd plus = x[t + which], minus = x[t + which];
-        plus[i] += h;
-        minus[i] -= h;
-        const double fp = which == 0 ? projectedStep(ik, kin, p, lambda, c.q[t], plus, x[t + 1])
-                                     : projectedStep(ik, kin, p, lambda, c.q[t], x[t], plus);
-        const double fm = which == 0 ? projectedStep(ik, kin, p, lambda, c.q[t], minus, x[t + 1])
-                                     : projectedStep(ik, kin, p, lambda, c.q[t], x[t], minus);
-        dx[t + which][i] += (fp - fm) / (2.0 * h);
-      }
+      dx[t][i] += derivative(i);
+      dx[t + 1][i] += derivative(6 + i);
     }
     if (t == 0) break;
     Eigen::VectorXd next = dq[t];
-    for (int i = 0; i < n; ++i) {
-      Eigen::VectorXd plus = c.q[t], minus = c.q[t];
-      plus[i] += h;
-      minus[i] -= h;
-      next[i] += (projectedStep(ik, kin, p, lambda, plus, x[t], x[t + 1]) -
-                  projectedStep(ik, kin, p, lambda, minus, x[t], x[t + 1])) /
-                 (2.0 * h);
-    }
+    for (int i = 0; i < n; ++i) next[i] += derivative(12 + i);
     lambda = next;
   }
   return dx;

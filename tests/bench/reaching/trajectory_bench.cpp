@@ -60,6 +60,16 @@ void BM_RolloutCostAndGradient(benchmark::State& state) {
 }
 BENCHMARK(BM_RolloutCostAndGradient)->Unit(benchmark::kMillisecond);
 
+void BM_RolloutCostAndForwardDifferenceGradient(benchmark::State& state) {
+  const Setup& s = setup();
+  TrajectoryProblem p = s.problem;
+  p.central_step_jacobian = false;
+  p.step_jacobian_epsilon = 1e-8;
+  for (auto _ : state) benchmark::DoNotOptimize(evaluateTrajectory(p, s.points, true));
+  state.counters["steps"] = p.reach.steps;
+}
+BENCHMARK(BM_RolloutCostAndForwardDifferenceGradient)->Unit(benchmark::kMillisecond);
+
 void BM_TenIterations(benchmark::State& state) {
   const Setup& s = setup();
   TrajectoryOptimizerOptions o;

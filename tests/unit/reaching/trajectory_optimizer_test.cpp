@@ -94,6 +94,14 @@ TEST(TrajectoryOptimizer, GradientMatchesCentralDifferencesOfWholeRollouts) {
   std::cout << "gradient " << c.gradient.transpose() << "\nfinite d " << fd.transpose()
             << "\nrelative error " << rel << "\n";
   EXPECT_LT(rel, 1e-5);
+  // Forward differences for the step Jacobians: half the cost, error O(eps) plus round-off,
+  // 7e-6 here at eps = 1e-8: near the 1e-5 bound, so the default stays central.
+  f.problem.central_step_jacobian = false;
+  f.problem.step_jacobian_epsilon = 1e-8;
+  const TrajectoryCost forward = evaluateTrajectory(f.problem, f.points, true);
+  const double rel_forward = (forward.gradient - fd).norm() / fd.norm();
+  std::cout << "forward-difference step Jacobians: relative error " << rel_forward << "\n";
+  EXPECT_LT(rel_forward, 2e-5);
 }
 
 TEST(TrajectoryOptimizer, DescentLowersTheCostMonotonically) {

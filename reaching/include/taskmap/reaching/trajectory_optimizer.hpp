@@ -46,6 +46,9 @@ struct TrajectoryProblem {
   TerminalCost terminal;          ///< optional terminal cost (the task map, eq. 1.22)
   /// Step of the central differences that linearise one IK step in the backward pass.
   double step_jacobian_epsilon = 1e-6;
+  /// Central differences (2 step evaluations per input, error O(eps^2)); false: forward
+  /// differences (1 per input, error O(eps), about half the backward pass's time).
+  bool central_step_jacobian = true;
   /// Throws Error naming the problem (missing robot, sizes, limits, options).
   void validate() const;
 };
