@@ -6,6 +6,7 @@
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -14,6 +15,7 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/pose.hpp"
 #include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace py = pybind11;
@@ -35,6 +37,35 @@ Kinematics kinematicsAt(const PyRobot& r, const Eigen::VectorXd& q) {
   Kinematics kin(r.model);
   kin.update(q);
   return kin;
+}
+
+py::dict planDict(const GraspPlan& plan) {
+  py::dict d;
+  d["status"] = plan.status == GraspPlanStatus::kPlanned  ? "planned"
+                : plan.status == GraspPlanStatus::kUnsafe ? "unsafe"
+                                                          : "unreachable";
+  d["message"] = plan.message;
+  if (plan.best < 0) return d;
+  const ClusterPlan& b = plan.plans[plan.best];
+  d["cluster"] = b.grasp_cluster;
+  d["grasp_index"] = b.grasp_index;
+  d["iterations"] = b.optimization.iterations;
+  d["iterations_to_manifold"] = b.iterations_to_manifold;
+  d["iterations_to_quality"] = b.iterations_to_quality;
+  d["min_clearance_m"] = b.min_clearance;
+  d["joint_limit_margin_rad"] = b.joint_limit_margin;
+  d["collision_free"] = b.collision_free;
+  d["ms_per_iteration"] = b.milliseconds / std::max(1, b.optimization.iterations);
+  std::vector<double> total;
+  for (const TrajectoryCost& c : b.optimization.history) total.push_back(c.total);
+  d["cost_history"] = total;
+  d["proximity_history"] = b.proximity;
+  d["quality_history"] = b.quality;
+  Eigen::MatrixXd q(b.optimization.cost.q.size(), b.optimization.cost.q.front().size());
+  for (std::size_t t = 0; t < b.optimization.cost.q.size(); ++t)
+    q.row(static_cast<Eigen::Index>(t)) = b.optimization.cost.q[t].transpose();
+  d["q"] = q;
+  return d;
 }
 
 py::dict reachDict(const ReachResult& res) {
@@ -150,6 +181,39 @@ void bindReaching(py::module_& m) {
       "world). Returns a dict: status, message, q (steps+1 x dofs), position_error, "
       "orientation_error, min_clearance (None without pairs), min_clearance_pair, "
       "joint_limit_margin.");
+
+  m.def(
+      "plan_grasp",
+      [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
+         bool all_clusters, int iterations, double proximity_weight, double quality_weight) {
+        if (r.object.empty())
+          throw Error("plan_grasp: the robot needs a scene with an object (add_scene)");
+        if (r.model.palmBody() < 0) throw Error("plan_grasp: the robot has no hand");
+        CollisionOptions co;
+        co.hand_may_touch = {r.object};
+        const CollisionModel collisions(r.model, co);
+        TrajectoryProblem p;
+        p.robot = &r.model;
+        p.collisions = &collisions;
+        p.body = r.model.palmBody();
+        p.reference = r.model.requireBody(r.object);
+        p.q0 = q0 ? *q0 : r.model.midConfiguration();
+        GraspPlanOptions o;
+        o.all_clusters = all_clusters;
+        o.optimizer.max_iterations = iterations;
+        o.map_weights.proximity = proximity_weight;
+        o.map_weights.quality = quality_weight;
+        return planDict(planGrasp(p, map, o));
+      },
+      py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0,
+      py::arg("quality_weight") = 1.0,
+      "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
+      "planning): clusters ranked by comfort, trajectory over attractor points optimised with "
+      "the map's proximity and quality terms. Returns a dict: status, message, cluster, "
+      "grasp_index, iterations, iterations_to_manifold, iterations_to_quality, min_clearance_m, "
+      "joint_limit_margin_rad, collision_free, ms_per_iteration, cost_history, "
+      "proximity_history, quality_history, q (steps+1 x dofs).");
 }
 
 }  // namespace taskmap

@@ -62,6 +62,26 @@ class ReachingTest(unittest.TestCase):
         self.assertTrue(np.all(r["q"] >= robot.lower - 1e-12))
         self.assertTrue(np.all(r["q"] <= robot.upper + 1e-12))
 
+    def test_plan_grasp_with_a_map(self):
+        robot = panda()
+        # Side grasps of the default object, 1 cm apart in height: two clusters (below, above).
+        poses = np.array([SIDE_GRASP + np.array([0, 0, dz, 0, 0, 0, 0])
+                          for dz in np.linspace(-0.03, 0.03, 12)])
+        labels = [0 if p[2] < 0.02 else 1 for p in poses]
+        eps = np.linspace(0.05, 0.2, 12)
+        m = taskmap.TaskMap.from_arrays(poses, eps, labels)
+        r = taskmap.plan_grasp(robot, m, q0=READY, iterations=5)
+        self.assertIn(r["status"], ("planned", "unsafe"), r["message"])
+        self.assertEqual(len(r["cost_history"]), r["iterations"] + 1)
+        self.assertLess(r["cost_history"][-1], r["cost_history"][0])
+        self.assertEqual(r["q"].shape, (301, 7))
+        self.assertIn(r["cluster"], (0, 1))
+        self.assertTrue(r["collision_free"])
+        with self.assertRaises(ValueError):
+            bare = taskmap.Robot.panda_with_humanoid_hand(os.path.join(SRC, "reaching", "robots"),
+                                                          os.path.join(SRC, "meshes", "hands"))
+            taskmap.plan_grasp(bare, m)
+
     def test_errors_are_value_errors(self):
         robot = panda()
         with self.assertRaises(taskmap.Error):
