@@ -72,6 +72,8 @@ struct BuildProgress {
   std::uint64_t valid_target = 0;  ///< BuildOptions::valid_target
   std::uint64_t max_trials = 0;    ///< BuildOptions::max_trials
   double elapsed_seconds = 0.0;    ///< since the trials started
+  std::uint64_t blocks_done = 0;   ///< work blocks finished (0 when not counted)
+  std::uint64_t blocks_total = 0;  ///< work blocks of the trial budget (0 when not counted)
 };
 
 /// Receives progress reports (on the thread that called buildMap).
