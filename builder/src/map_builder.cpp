@@ -56,6 +56,10 @@ std::string utcNow() {
   return buffer;
 }
 
+int buildThreadCount(int threads) {
+  return detail::threadCount(threads);
+}
+
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
                      const ProgressCallback& progress, const std::atomic<bool>* stop,
                      double progress_interval_seconds) {

@@ -93,6 +93,10 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
                      const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr,
                      double progress_interval_seconds = 0.25);
 
+/// The worker threads BuildOptions::threads means: itself when positive, else the cores this
+/// process may run on (its CPU affinity mask, so taskset or `mpirun --bind-to` are respected).
+int buildThreadCount(int threads);
+
 /// Current UTC time as ISO 8601 ("2026-11-21T12:00:00Z").
 std::string utcNow();
 
