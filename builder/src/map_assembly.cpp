@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "params_json.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
 #include "trial_pool.hpp"
@@ -43,46 +44,6 @@ void fillObject(const ObjectModel& object, MapObject& o) {
     o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
 }
 
-std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
-  nlohmann::json j = nlohmann::json::object();
-  try {
-    const auto extra = nlohmann::json::parse(o.extra_params_json);
-    if (extra.is_object()) j = extra;
-  } catch (const nlohmann::json::exception&) {
-    // validate() already refused malformed extra JSON.
-  }
-  j["sampler"] = toString(o.sampler.kind);
-  j["standoff_min"] = o.sampler.standoff_min;
-  j["standoff_max"] = o.sampler.standoff_max;
-  const Eigen::Vector3d a = hand.approachAxis();
-  j["approach_axis"] = {a.x(), a.y(), a.z()};
-  j["seed"] = o.seed;
-  j["valid"] = o.valid_target;
-  j["max_trials"] = o.max_trials;
-  j["block_size"] = o.block_size;
-  j["keep_invalid"] = o.keep_invalid;
-  j["cluster"] = o.cluster;
-  j["friction"] = o.quality.friction;
-  j["cone_edges"] = o.quality.cone_edges;
-  j["contact_model"] = toString(o.quality.contact_model);
-  j["torsional_friction"] = o.quality.torsional_friction;
-  j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
-  j["contact_tolerance"] = o.simulation.contact_tolerance;
-  j["max_retraction"] = o.simulation.max_retraction;
-  j["squeeze"] = o.simulation.squeeze;
-  j["require_palm_contact"] = o.simulation.require_palm_contact;
-  j["check_self_collision"] = o.simulation.check_self_collision;
-  j["max_closing_steps"] = o.simulation.max_closing_steps;
-  j["cluster_method"] = toString(o.clustering.method);  // requested; /clustering has the one used
-  j["cluster_fallback_to_single"] = o.clustering.fallback_to_single;
-  j["cluster_outlier_budget"] = o.clustering.outlier_budget;
-  j["cluster_min_size_fraction"] = o.clustering.min_size_fraction;
-  j["cluster_min_size"] = o.clustering.min_size;
-  if (o.clustering.threshold) j["cluster_threshold"] = *o.clustering.threshold;
-  if (o.clustering.num_clusters) j["cluster_count"] = *o.clustering.num_clusters;
-  return j.dump();
-}
-
 // Appends a stored grasp as the next row.
 void appendGrasp(const TrialOutcome& t, std::size_t row, MapGrasps& g) {
   const TrialGrasp& r = *t.grasp;
@@ -112,7 +73,7 @@ void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOp
   map.hand.joint_names = hand.jointNames();
   map.sampling.sampler = toString(options.sampler.kind);
   map.sampling.seed = options.seed;
-  map.sampling.params_json = paramsJson(options, hand);
+  map.sampling.params_json = detail::paramsJson(options, hand);
   map.quality.friction = options.quality.friction;
   map.quality.cone_edges = options.quality.cone_edges;
   map.quality.contact_model = toString(options.quality.contact_model);
@@ -210,6 +171,50 @@ void checkConsecutive(const std::vector<TrialBlock>& blocks) {
 }
 
 }  // namespace
+
+namespace detail {
+
+std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
+  nlohmann::json j = nlohmann::json::object();
+  try {
+    const auto extra = nlohmann::json::parse(o.extra_params_json);
+    if (extra.is_object()) j = extra;
+  } catch (const nlohmann::json::exception&) {
+    // validate() already refused malformed extra JSON.
+  }
+  j["sampler"] = toString(o.sampler.kind);
+  j["standoff_min"] = o.sampler.standoff_min;
+  j["standoff_max"] = o.sampler.standoff_max;
+  const Eigen::Vector3d a = hand.approachAxis();
+  j["approach_axis"] = {a.x(), a.y(), a.z()};
+  j["seed"] = o.seed;
+  j["valid"] = o.valid_target;
+  j["max_trials"] = o.max_trials;
+  j["block_size"] = o.block_size;
+  j["keep_invalid"] = o.keep_invalid;
+  j["cluster"] = o.cluster;
+  j["friction"] = o.quality.friction;
+  j["cone_edges"] = o.quality.cone_edges;
+  j["contact_model"] = toString(o.quality.contact_model);
+  j["torsional_friction"] = o.quality.torsional_friction;
+  j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
+  j["contact_tolerance"] = o.simulation.contact_tolerance;
+  j["max_retraction"] = o.simulation.max_retraction;
+  j["squeeze"] = o.simulation.squeeze;
+  j["require_palm_contact"] = o.simulation.require_palm_contact;
+  j["check_self_collision"] = o.simulation.check_self_collision;
+  j["max_closing_steps"] = o.simulation.max_closing_steps;
+  j["cluster_method"] = toString(o.clustering.method);  // requested; /clustering has the one used
+  j["cluster_fallback_to_single"] = o.clustering.fallback_to_single;
+  j["cluster_outlier_budget"] = o.clustering.outlier_budget;
+  j["cluster_min_size_fraction"] = o.clustering.min_size_fraction;
+  j["cluster_min_size"] = o.clustering.min_size;
+  if (o.clustering.threshold) j["cluster_threshold"] = *o.clustering.threshold;
+  if (o.clustering.num_clusters) j["cluster_count"] = *o.clustering.num_clusters;
+  return j.dump();
+}
+
+}  // namespace detail
 
 BuildResult assembleMap(const ObjectModel& object, const HandModel& hand,
                         const BuildOptions& options, const std::vector<TrialBlock>& blocks,
