@@ -123,7 +123,6 @@ inline TaskMapData duplicatedMap(std::size_t n) {
   return twice;
 }
 
-
 // Appends an axis-aligned box [lo, hi] (8 vertices, 12 outward triangles).
 inline void appendBox(std::vector<Eigen::Vector3d>& v, std::vector<Eigen::Vector3i>& f,
                       const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {

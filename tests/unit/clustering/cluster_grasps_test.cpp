@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 
@@ -176,9 +176,10 @@ TEST(ClusterGrasps, FromLinkageReproducesAndRecuts) {
   options.num_clusters = 3;
   const ClusteringResult three = clusterFromLinkage(g.poses, g.epsilon, a.linkage, options);
   EXPECT_LE(three.clusters.size(), 3u);
-  EXPECT_EQ(errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, LinkageMatrix(5, 4), options); }),
-            "clusterFromLinkage: the dendrogram has 5 rows but 123 grasps need 122; recompute it "
-            "with computeLinkage");
+  EXPECT_EQ(
+      errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, LinkageMatrix(5, 4), options); }),
+      "clusterFromLinkage: the dendrogram has 5 rows but 123 grasps need 122; recompute it "
+      "with computeLinkage");
   options.num_clusters = 124;
   EXPECT_EQ(errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, a.linkage, options); }),
             "clusterFromLinkage: num_clusters 124 exceeds the number of grasps (123)");
@@ -215,7 +216,8 @@ TEST(ClusteringOptions, Validation) {
             "clustering option threshold must be a finite distance >= 0 (metres), got -1.000000");
   o = ClusteringOptions{};
   o.num_clusters = 0;
-  EXPECT_EQ(errorMessage([&] { o.validate(); }), "clustering option num_clusters must be >= 1, got 0");
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
+            "clustering option num_clusters must be >= 1, got 0");
   o = ClusteringOptions{};
   o.min_size_fraction = 1.5;
   EXPECT_EQ(errorMessage([&] { o.validate(); }),

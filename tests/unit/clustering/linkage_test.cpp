@@ -10,10 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -145,7 +145,8 @@ TEST(Linkage, NamesRoundTrip) {
   for (Linkage m : {Linkage::kSingle, Linkage::kAverage, Linkage::kComplete}) {
     EXPECT_EQ(linkageFromString(toString(m)), m);
   }
-  EXPECT_EQ(testing::errorMessage([&] { linkageFromString("ward"); }), "unknown linkage method 'ward': use single, average or complete");
+  EXPECT_EQ(testing::errorMessage([&] { linkageFromString("ward"); }),
+            "unknown linkage method 'ward': use single, average or complete");
 }
 
 TEST(SingleLinkage, MatchesPrimOnBlobs) {
@@ -266,16 +267,20 @@ TEST(Cuts, LabelsByFirstAppearance) {
   EXPECT_EQ(cutToCount(z, 5), cutAtDistance(z, 0.5));
   EXPECT_EQ(cutToCount(z, 2), cutAtDistance(z, 3.0));
   EXPECT_EQ(cutToCount(z, 1), cutAtDistance(z, 9.0));
-  EXPECT_EQ(testing::errorMessage([&] { cutToCount(z, 6); }), "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
+  EXPECT_EQ(testing::errorMessage([&] { cutToCount(z, 6); }),
+            "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
   LinkageMatrix bad = z;
   bad(2, 1) = 3;  // point 3 merged twice
-  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }), "cutAtDistance: linkage row 2 merges cluster 3 a second time");
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 2 merges cluster 3 a second time");
   bad = z;
   bad(1, 2) = 0.5;
-  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }), "cutAtDistance: linkage row 1 has a smaller distance than the row before");
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 1 has a smaller distance than the row before");
   bad = z;
   bad(3, 3) = 4;
-  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }), "cutAtDistance: linkage row 3 has size 4.000000, expected 5.000000");
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 3 has size 4.000000, expected 5.000000");
 }
 
 int countClusters(const std::vector<int>& labels, int min_size) {

@@ -7,10 +7,10 @@
 #include <string>
 #include <thread>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {

@@ -11,11 +11,11 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {

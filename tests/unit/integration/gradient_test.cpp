@@ -4,12 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/frames.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -182,7 +182,9 @@ TEST_F(Fixture, WorldFrameGradientsMatchFiniteDifferences) {
 }
 
 TEST(Frames, ChainRejectsWrongJacobianShape) {
-  EXPECT_EQ(testing::errorMessage([&] { chainToJoints(Twist::Zero(), Eigen::MatrixXd::Zero(5, 3)); }), "Jacobian has 5 rows; expected 6 (linear then angular, world frame)");
+  EXPECT_EQ(
+      testing::errorMessage([&] { chainToJoints(Twist::Zero(), Eigen::MatrixXd::Zero(5, 3)); }),
+      "Jacobian has 5 rows; expected 6 (linear then angular, world frame)");
 }
 
 }  // namespace

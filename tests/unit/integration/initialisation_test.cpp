@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -27,7 +27,8 @@ TEST(JointLimitCost, MatchesFormulaAndGradient) {
     EXPECT_NEAR(g[i], (jointLimitCost(a, lo, hi) - jointLimitCost(b, lo, hi)) / 2e-6, 1e-8);
   }
   EXPECT_DOUBLE_EQ(jointLimitCost(Eigen::Vector3d(0, 1, -1), lo, hi), 0.0);
-  EXPECT_EQ(testing::errorMessage([&] { jointLimitCost(q, hi, lo); }), "joint limits of joint 0: need finite lower < upper");
+  EXPECT_EQ(testing::errorMessage([&] { jointLimitCost(q, hi, lo); }),
+            "joint limits of joint 0: need finite lower < upper");
 }
 
 TEST(CollisionCost, PiecewiseFormulaIsC1) {
@@ -91,7 +92,9 @@ TEST(RankClusters, BestComfortFirstUnreachableLast) {
   }
   TaskMapData plain = testing::syntheticMap(30);
   plain.clustering.reset();
-  EXPECT_EQ(testing::errorMessage([&] { rankClusters(TaskMap::fromData(plain), object, ik, comfort); }), "rankClusters: the map has no clusters; cluster the map first");
+  EXPECT_EQ(
+      testing::errorMessage([&] { rankClusters(TaskMap::fromData(plain), object, ik, comfort); }),
+      "rankClusters: the map has no clusters; cluster the map first");
 }
 
 }  // namespace

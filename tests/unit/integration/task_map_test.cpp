@@ -10,11 +10,11 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 
@@ -422,7 +422,8 @@ TEST(TaskMap, InvalidDataAndOptionsGiveClearErrors) {
   unclustered.clustering.reset();
   const TaskMap plain = TaskMap::fromData(unclustered);
   EXPECT_EQ(plain.numClusters(), 0);
-  EXPECT_NE(errorMessage([&] { plain.evaluate(Pose(), 0); }).find("no clustering"), std::string::npos);
+  EXPECT_NE(errorMessage([&] { plain.evaluate(Pose(), 0); }).find("no clustering"),
+            std::string::npos);
   PoseRows bad = PoseRows::Zero(3, 7);
   bad(0, 3) = 1;
   bad(2, 3) = 1;

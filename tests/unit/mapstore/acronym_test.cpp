@@ -12,9 +12,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 
@@ -195,7 +195,8 @@ TEST(AcronymTest, BadInputGivesClearErrors) {
             std::string::npos);
   const std::string text = tempPath("text.h5");
   std::ofstream(text) << "not hdf5\n";
-  EXPECT_NE(errorMessage([&] { readAcronym(text); }).find("is not an HDF5 file"), std::string::npos);
+  EXPECT_NE(errorMessage([&] { readAcronym(text); }).find("is not an HDF5 file"),
+            std::string::npos);
   std::filesystem::remove(text);
 
   // An HDF5 file without grasps: our own task-map-like file with only an object dataset.
@@ -223,12 +224,14 @@ TEST(AcronymTest, BadInputGivesClearErrors) {
   a.success = {0, 0};
   AcronymImportOptions only;
   only.successful_only = true;
-  EXPECT_NE(
-      errorMessage([&] { acronymToMap(a, testing::basketObject(), only); }).find("no successful grasp"),
-      std::string::npos);
-  a.success = {1};
-  EXPECT_NE(errorMessage([&] { acronymToMap(a, testing::basketObject()); }).find("2 transforms but 1"),
+  EXPECT_NE(errorMessage([&] {
+              acronymToMap(a, testing::basketObject(), only);
+            }).find("no successful grasp"),
             std::string::npos);
+  a.success = {1};
+  EXPECT_NE(
+      errorMessage([&] { acronymToMap(a, testing::basketObject()); }).find("2 transforms but 1"),
+      std::string::npos);
   // Unwritable target.
   EXPECT_NE(errorMessage([] {
               writeAcronym("/nonexistent/dir/x.h5", testing::clusteredBasketMap(5, 0));

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <string>
 
-#include "taskmap/core/error.hpp"
 #include "error_matchers.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {

@@ -9,9 +9,9 @@
 #include <gtest/gtest.h>
 #include <assimp/Importer.hpp>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 

@@ -14,10 +14,10 @@
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/mesh_io.hpp"
 #include "taskmap/meshes/object_model.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 

@@ -12,10 +12,10 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "error_matchers.hpp"
 #include "quality_fixtures.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/quality/wrench_hull.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -60,15 +60,18 @@ TEST(QualityOptionsTest, ValidateNamesTheBadOption) {
   o = {};
   o.cone_edges = 1;
   std::vector<Contact> none;
-  EXPECT_TRUE(taskmap::testing::throwsError([&] { evaluateGrasp(none, Eigen::Vector3d::Zero(), 0.1, o); }, {"cone_edges"}));
+  EXPECT_TRUE(taskmap::testing::throwsError(
+      [&] { evaluateGrasp(none, Eigen::Vector3d::Zero(), 0.1, o); }, {"cone_edges"}));
 }
 
 TEST(QualityOptionsTest, TorqueScaleMustBePositiveAndFinite) {
   std::vector<Contact> one{makeContact({0, 0, 1}, {0, 0, 1})};
   for (double r : {0.0, -1.0, std::numeric_limits<double>::infinity(),
                    std::numeric_limits<double>::quiet_NaN()}) {
-    EXPECT_TRUE(taskmap::testing::throwsError([&] { evaluateGrasp(one, Eigen::Vector3d::Zero(), r); }, {"torque_scale"}));
-    EXPECT_TRUE(taskmap::testing::throwsError([&] { contactWrenches(one, Eigen::Vector3d::Zero(), r); }, {"torque_scale"}));
+    EXPECT_TRUE(taskmap::testing::throwsError(
+        [&] { evaluateGrasp(one, Eigen::Vector3d::Zero(), r); }, {"torque_scale"}));
+    EXPECT_TRUE(taskmap::testing::throwsError(
+        [&] { contactWrenches(one, Eigen::Vector3d::Zero(), r); }, {"torque_scale"}));
   }
 }
 

@@ -7,9 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "test_meshes.hpp"
-#include "error_matchers.hpp"
 
 namespace taskmap {
 namespace {
@@ -30,7 +30,8 @@ SamplerOptions optionsOf(SamplerKind kind) {
 TEST(SamplerTest, KindNamesRoundTrip) {
   for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed})
     EXPECT_EQ(samplerKindFromString(toString(k)), k);
-  EXPECT_TRUE(testing::throwsError([&] { samplerKindFromString("random"); }, {"volume, surface or mixed"}));
+  EXPECT_TRUE(
+      testing::throwsError([&] { samplerKindFromString("random"); }, {"volume, surface or mixed"}));
 }
 
 TEST(SamplerTest, InvalidOptionsAreRefused) {
