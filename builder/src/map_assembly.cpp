@@ -190,7 +190,6 @@ std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   j["seed"] = o.seed;
   j["valid"] = o.valid_target;
   j["max_trials"] = o.max_trials;
-  j["block_size"] = o.block_size;
   j["keep_invalid"] = o.keep_invalid;
   j["cluster"] = o.cluster;
   j["friction"] = o.quality.friction;

@@ -9,23 +9,18 @@
 
 #include <benchmark/benchmark.h>
 
+#include "build_fixtures.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
 
 const ObjectModel& box() {
-  static const ObjectModel object =
-      ObjectModel::fromMesh(testing::makeBox(0.04, 0.05, 0.12), "box");
-  return object;
+  return testing::boxObject();
 }
-
 const HandModel& panda() {
-  static const HandModel hand =
-      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
-  return hand;
+  return testing::pandaHand();
 }
 
 BuildOptions options(int threads, std::uint64_t valid) {

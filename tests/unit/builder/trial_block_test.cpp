@@ -11,23 +11,18 @@
 
 #include <gtest/gtest.h>
 
+#include "build_fixtures.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/error.hpp"
-#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
 
 const ObjectModel& box() {
-  static const ObjectModel object =
-      ObjectModel::fromMesh(testing::makeBox(0.04, 0.05, 0.12), "box");
-  return object;
+  return testing::boxObject();
 }
-
 const HandModel& panda() {
-  static const HandModel hand =
-      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
-  return hand;
+  return testing::pandaHand();
 }
 
 BuildOptions smallBuild(int threads) {
