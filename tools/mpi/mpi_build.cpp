@@ -1,43 +1,28 @@
-// taskmap-mpi build: rank 0 hands out fixed blocks of trials on request and runs blocks itself
-// on a second thread; every other rank runs the blocks it gets on the threaded trial pool and
-// sends back the outcomes. Rank 0 applies buildMap's stop rule, keeps a checkpoint of finished
-// blocks beside the output, assembles and writes the map (the same bytes as `taskmap build`).
+// taskmap-mpi build: rank 0 hands out fixed blocks of trials on request (task_farm.hpp) and runs
+// blocks itself on a second thread; every other rank runs the blocks it gets on the threaded
+// trial pool and sends back the outcomes. Rank 0 applies buildMap's stop rule, keeps a checkpoint
+// of finished blocks beside the output, assembles and writes the map (the same bytes as `taskmap
+// build`).
 #include "mpi_build.hpp"
 
 #include <mpi.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
-#include <csignal>
-#include <cstdlib>
-#include <future>
 #include <iostream>
 #include <memory>
-#include <optional>
-#include <thread>
 
 #include "block_ledger.hpp"
 #include "build_command.hpp"
 #include "mpi_common.hpp"
+#include "task_farm.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {
 namespace {
-
-constexpr int kTagResult = 11;  // worker -> 0: an encoded block (empty: first request)
-constexpr int kTagWork = 12;    // 0 -> worker: u64 {first, last}; first == last: stop
-
-// Test hook: TASKMAP_MPI_FAULT="<rank>:<n>" makes that rank kill itself (SIGKILL) when it is
-// handed its (n+1)-th block, as a crashed node would.
-bool faultNow(int rank, std::uint64_t blocks_sent) {
-  const char* fault = std::getenv("TASKMAP_MPI_FAULT");
-  if (fault == nullptr) return false;
-  int r = -1;
-  unsigned long long n = 0;
-  return std::sscanf(fault, "%d:%llu", &r, &n) == 2 && r == rank && blocks_sent == n;
-}
 
 // Everything of a build every rank has.
 struct RankSetup {
@@ -47,123 +32,43 @@ struct RankSetup {
   std::unique_ptr<TrialRunner> runner;
 };
 
-void workerLoop(const MpiWorld& world, TrialRunner& runner) {
-  std::string out;  // the finished block; empty on the first request
-  std::uint64_t sent = 0;
-  for (;;) {
-    MPI_Send(out.data(), static_cast<int>(out.size()), MPI_BYTE, 0, kTagResult, MPI_COMM_WORLD);
-    std::uint64_t work[2] = {0, 0};
-    MPI_Recv(work, 2, MPI_UINT64_T, 0, kTagWork, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (work[0] == work[1]) return;
-    if (faultNow(world.rank, sent)) std::raise(SIGKILL);
+// Rank 0's side of the farm: blocks by index from the ledger, results into the checkpoint.
+FarmTasks buildTasks(RankSetup& setup, BlockLedger* ledger, BuildCheckpoint* checkpoint,
+                     ProgressPrinter* printer, std::uint64_t block_trials,
+                     std::uint64_t* simulated) {
+  FarmTasks tasks;
+  tasks.run = [&setup, block_trials](std::uint64_t b) {
+    const std::uint64_t first = b * block_trials;
+    const std::uint64_t last = std::min(first + block_trials, setup.plan.options.max_trials);
     TrialBlock block;
-    runner.run(work[0], work[1], &block);
-    out = encodeTrialBlock(block);
-    ++sent;
-  }
-}
-
-// Rank 0: hands out blocks, runs blocks on a local thread, records results.
-class Coordinator {
- public:
-  Coordinator(const MpiWorld& world, const RankSetup& setup, BlockLedger& ledger,
-              BuildCheckpoint& checkpoint, ProgressPrinter& printer)
-      : world_(world), setup_(setup), ledger_(ledger), checkpoint_(checkpoint), printer_(printer) {}
-
-  void run() {
-    const auto t0 = std::chrono::steady_clock::now();
-    auto last_report = t0;
-    int active = world_.size - 1;  // workers not yet told to stop
-    for (;;) {
-      bool busy = pollLocal();
-      busy = serveWorker(&active) || busy;
-      if (!local_ && active == 0) break;
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::milliseconds(250)) {
-        report(std::chrono::duration<double>(now - t0).count());
-        last_report = now;
-      }
-      if (!busy) std::this_thread::sleep_for(std::chrono::microseconds(200));
-    }
-    report(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-
-  std::uint64_t simulated() const { return simulated_; }
-
- private:
-  void record(TrialBlock block) {
-    simulated_ += block.trials.size();
-    checkpoint_.append(block);
-    if (!ledger_.record(std::move(block)))
-      throw Error("internal: a rank returned a block that is not one of this build's");
-  }
-
-  // Starts a local block when idle, collects it when finished. True when something happened.
-  bool pollLocal() {
-    bool happened = false;
-    if (local_) {
-      if (local_->wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
-      local_->get();  // rethrows a worker's exception
-      local_.reset();
-      record(std::move(local_block_));
-      happened = true;
-    }
-    std::uint64_t b = 0;
-    if (!ledger_.next(&b)) return happened;
-    const std::uint64_t first = ledger_.blockFirst(b), last = ledger_.blockLast(b);
-    local_ = std::async(std::launch::async,
-                        [this, first, last] { setup_.runner->run(first, last, &local_block_); });
-    return true;
-  }
-
-  // Answers one waiting worker: records its block, sends the next one or stop.
-  bool serveWorker(int* active) {
-    int flag = 0;
-    MPI_Status status;
-    MPI_Iprobe(MPI_ANY_SOURCE, kTagResult, MPI_COMM_WORLD, &flag, &status);
-    if (flag == 0) return false;
-    int count = 0;
-    MPI_Get_count(&status, MPI_BYTE, &count);
-    std::string bytes(static_cast<std::size_t>(count), '\0');
-    MPI_Recv(bytes.data(), count, MPI_BYTE, status.MPI_SOURCE, kTagResult, MPI_COMM_WORLD,
-             MPI_STATUS_IGNORE);
-    if (count > 0) {
-      const std::string what = "block from rank " + std::to_string(status.MPI_SOURCE);
-      record(decodeTrialBlock(bytes, setup_.hand->jointNames().size(), what));
-    }
-    std::uint64_t work[2] = {0, 0};
-    std::uint64_t b = 0;
-    if (ledger_.next(&b)) {
-      work[0] = ledger_.blockFirst(b);
-      work[1] = ledger_.blockLast(b);
-    } else {
-      --*active;
-    }
-    MPI_Send(work, 2, MPI_UINT64_T, status.MPI_SOURCE, kTagWork, MPI_COMM_WORLD);
-    return true;
-  }
-
-  void report(double elapsed) {
+    setup.runner->run(first, last, &block);
+    return encodeTrialBlock(block);
+  };
+  if (ledger == nullptr) return tasks;  // a worker rank only runs
+  tasks.next = [ledger](std::uint64_t* b) { return ledger->next(b); };
+  tasks.accept = [&setup, ledger, checkpoint, simulated](std::uint64_t b, std::string bytes) {
+    TrialBlock block = decodeTrialBlock(bytes, setup.hand->jointNames().size(),
+                                        "result of block " + std::to_string(b));
+    *simulated += block.trials.size();
+    checkpoint->append(block);
+    if (!ledger->record(std::move(block)))
+      throw Error("internal: block " + std::to_string(b) + " came back with other trials");
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  tasks.tick = [&setup, ledger, printer, t0] {
     BuildProgress p;
-    p.trials_done = ledger_.trialsDone();
-    p.valid_found = ledger_.validFound();
-    p.valid_target = setup_.plan.options.valid_target;
-    p.max_trials = setup_.plan.options.max_trials;
-    p.elapsed_seconds = elapsed;
-    p.blocks_done = ledger_.blocksDone();
-    p.blocks_total = ledger_.blockCount();
-    printer_(p);
-  }
-
-  const MpiWorld& world_;
-  const RankSetup& setup_;
-  BlockLedger& ledger_;
-  BuildCheckpoint& checkpoint_;
-  ProgressPrinter& printer_;
-  std::optional<std::future<void>> local_;
-  TrialBlock local_block_;
-  std::uint64_t simulated_ = 0;
-};
+    p.trials_done = ledger->trialsDone();
+    p.valid_found = ledger->validFound();
+    p.valid_target = setup.plan.options.valid_target;
+    p.max_trials = setup.plan.options.max_trials;
+    p.elapsed_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    p.blocks_done = ledger->blocksDone();
+    p.blocks_total = ledger->blockCount();
+    (*printer)(p);
+  };
+  return tasks;
+}
 
 // Loads the inputs on this rank; every rank learns whether all succeeded.
 bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
@@ -202,7 +107,7 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
   RankSetup setup;
   if (!setUp(world, args, setup)) return 1;
   if (world.rank != 0) {
-    workerLoop(world, *setup.runner);
+    runFarm(world, buildTasks(setup, nullptr, nullptr, nullptr, block_trials, nullptr));
     sumTiming(*setup.runner);
     return 0;
   }
@@ -217,8 +122,8 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
   for (TrialBlock& b : checkpoint.takeLoaded()) resumed += ledger.record(std::move(b)) ? 1 : 0;
   ProgressPrinter printer("taskmap-mpi build", ::isatty(STDERR_FILENO) != 0 || args.progress,
                           args.quiet);
-  Coordinator coordinator(world, setup, ledger, checkpoint, printer);
-  coordinator.run();
+  std::uint64_t simulated = 0;
+  runFarm(world, buildTasks(setup, &ledger, &checkpoint, &printer, block_trials, &simulated));
   printer.finish();
   BuildTiming timing = sumTiming(*setup.runner);
   timing.wall_seconds =
@@ -235,7 +140,7 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
                     std::to_string(world.size) + " ranks x " + std::to_string(threads) +
                         " (rank 0; not stored: the map does not depend on it); blocks of " +
                         std::to_string(block_trials) + " trials, " + std::to_string(resumed) +
-                        " resumed from the checkpoint, " + std::to_string(coordinator.simulated()) +
+                        " resumed from the checkpoint, " + std::to_string(simulated) +
                         " trials simulated now");
   return 0;
 }
