@@ -23,13 +23,12 @@ std::string percent(double part, double whole) {
   return buffer;
 }
 
-// Hand argument: a URDF path, or the name of a bundled hand (<data dir>/hands/<name>/).
-std::string resolveHand(const std::string& hand) {
+}  // namespace
+
+std::string resolveHandUrdf(const std::string& hand) {
   if (std::filesystem::exists(hand)) return hand;
   return bundledHandUrdf(hand);
 }
-
-}  // namespace
 
 void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
@@ -41,6 +40,11 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_option("-o,--output", args.output, "task map to write (.h5)")->required();
   cmd->add_option("--scale", args.scale, "multiplies the mesh coordinates (file units -> m)")
       ->capture_default_str();
+  addBuildKnobs(*cmd, args);
+}
+
+void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
+  CLI::App* cmd = &cmd_ref;
   cmd->add_option("--sampler", args.sampler,
                   "initial poses: volume (paper: point inside, uniform "
                   "orientation), surface "
@@ -73,9 +77,8 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_flag("--progress", args.progress, "draw the progress bar even when not a terminal");
 }
 
-BuildPlan planBuild(const BuildArgs& args) {
-  BuildPlan plan;
-  BuildOptions& options = plan.options;
+BuildOptions knobOptions(const BuildArgs& args) {
+  BuildOptions options;
   options.sampler.kind = samplerKindFromString(args.sampler);
   options.valid_target = args.valid;
   options.max_trials = args.trials;
@@ -85,12 +88,19 @@ BuildPlan planBuild(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  return options;
+}
+
+BuildPlan planBuild(const BuildArgs& args) {
+  BuildPlan plan;
+  BuildOptions& options = plan.options;
+  options = knobOptions(args);
   if (!(args.scale > 0.0)) throw Error("--scale must be positive");
   if (args.output.empty()) throw Error("-o MAP.h5 is required");
   const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
-  plan.hand_urdf = resolveHand(args.hand);
+  plan.hand_urdf = resolveHandUrdf(args.hand);
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
   options.extra_params_json = extra.dump();
   options.validate();

@@ -24,8 +24,19 @@ struct BuildArgs {
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
 };
 
-/// Adds the build options (--object, --hand, -o, --sampler, ...) to a subcommand.
+/// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
+
+/// Adds the knobs of a build (--sampler, --valid, --trials, --seed, --threads, --friction,
+/// --cone-edges, --keep-invalid, --no-cluster, -q, --progress) to a subcommand.
+void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
+
+/// The BuildOptions of the knobs (not validated; no extra_params_json).
+BuildOptions knobOptions(const BuildArgs& args);
+
+/// A --hand argument as a URDF path: the path itself if it exists, else the bundled hand of
+/// that name. Throws Error listing the bundled hands.
+std::string resolveHandUrdf(const std::string& hand);
 
 /// A build ready to run: validated options and the resolved hand URDF.
 struct BuildPlan {
