@@ -11,6 +11,7 @@
 #include "build_command.hpp"
 #include "mpi_build.hpp"
 #include "mpi_common.hpp"
+#include "mpi_dataset.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
@@ -49,6 +50,13 @@ int run(const MpiWorld& world, int argc, char** argv) {
                    "trials per block handed to a rank (does not change the map)")
       ->check(CLI::Range(1, 1000000))
       ->capture_default_str();
+  DatasetArgs dataset_args;
+  CLI::App* dataset = app.add_subcommand(
+      "dataset",
+      "Build one task map per (object, hand) on the ranks: jobs handed out largest first, each "
+      "rank writes its maps, rank 0 keeps DIR/manifest.json. The same maps and manifest as "
+      "`taskmap dataset` for any number of ranks; a re-run skips finished maps.");
+  addDatasetOptions(*dataset, dataset_args);
   std::ostringstream quiet_out, quiet_err;
   try {
     app.parse(argc, argv);
@@ -57,6 +65,7 @@ int run(const MpiWorld& world, int argc, char** argv) {
     return world.rank == 0 ? app.exit(e) : app.exit(e, quiet_out, quiet_err);
   }
   if (build->parsed()) return runMpiBuild(world, build_args, block_trials);
+  if (dataset->parsed()) return runMpiDataset(world, dataset_args);
   return 2;
 }
 
