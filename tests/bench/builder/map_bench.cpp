@@ -16,12 +16,8 @@
 namespace taskmap {
 namespace {
 
-const ObjectModel& box() {
-  return testing::boxObject();
-}
-const HandModel& panda() {
-  return testing::pandaHand();
-}
+constexpr auto box = &testing::boxObject;
+constexpr auto panda = &testing::pandaHand;
 
 BuildOptions options(int threads, std::uint64_t valid) {
   BuildOptions o;

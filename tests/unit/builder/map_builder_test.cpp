@@ -18,12 +18,8 @@
 namespace taskmap {
 namespace {
 
-const ObjectModel& box() {
-  return testing::boxObject();
-}
-const HandModel& panda() {
-  return testing::pandaHand();
-}
+constexpr auto box = &testing::boxObject;
+constexpr auto panda = &testing::pandaHand;
 
 // Force-closure grasps per test build (small: these tests also run under sanitizers).
 constexpr std::uint64_t kValid = 4;

@@ -18,12 +18,8 @@
 namespace taskmap {
 namespace {
 
-const ObjectModel& box() {
-  return testing::boxObject();
-}
-const HandModel& panda() {
-  return testing::pandaHand();
-}
+constexpr auto box = &testing::boxObject;
+constexpr auto panda = &testing::pandaHand;
 
 BuildOptions smallBuild(int threads) {
   BuildOptions o;
