@@ -154,7 +154,7 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
     t.epsilon = r.get<double>();
     t.volume = r.get<double>();
-    if ((flags & kFlagGrasp) != 0) t.grasp = decodeGrasp(r, joints);
+    if ((flags & kFlagGrasp) != 0) t.grasp = std::make_unique<TrialGrasp>(decodeGrasp(r, joints));
   }
   if (!r.atEnd()) r.fail("trailing bytes");
   return block;

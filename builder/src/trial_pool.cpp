@@ -67,7 +67,8 @@ TrialOutcome Worker::runTrial(std::uint64_t index) {
   t.epsilon = q.epsilon;
   t.volume = q.volume;
   if (t.force_closure || options.keep_invalid)
-    t.grasp = TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)};
+    t.grasp = std::make_unique<TrialGrasp>(
+        TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
   return t;
 }
 

@@ -48,7 +48,7 @@ void expectSameOutcome(const TrialOutcome& a, const TrialOutcome& b) {
   EXPECT_EQ(a.force_closure, b.force_closure);
   EXPECT_EQ(a.epsilon, b.epsilon);
   EXPECT_EQ(a.volume, b.volume);
-  ASSERT_EQ(a.grasp.has_value(), b.grasp.has_value());
+  ASSERT_EQ(a.grasp != nullptr, b.grasp != nullptr);
   if (!a.grasp) return;
   EXPECT_EQ(a.grasp->pose.position, b.grasp->pose.position);
   EXPECT_EQ(a.grasp->pose.orientation.coeffs(), b.grasp->pose.orientation.coeffs());
@@ -97,7 +97,7 @@ TEST(TrialBlockTest, BlocksMustBeConsecutiveFromZero) {
 TEST(TrialBlockTest, EncodingRoundTripsBitForBit) {
   BuildOptions o = smallBuild(2);
   o.keep_invalid = true;
-  const TrialBlock block = runBlocks(o, 120, 120).front();
+  const TrialBlock block = std::move(runBlocks(o, 120, 120).front());
   ASSERT_GT(block.valid(), 0u);
   const std::size_t joints = panda().jointNames().size();
   const TrialBlock back = decodeTrialBlock(encodeTrialBlock(block), joints, "test");
@@ -108,7 +108,7 @@ TEST(TrialBlockTest, EncodingRoundTripsBitForBit) {
 }
 
 TEST(TrialBlockTest, MalformedBytesAreRefused) {
-  const TrialBlock block = runBlocks(smallBuild(1), 60, 60).front();
+  const TrialBlock block = std::move(runBlocks(smallBuild(1), 60, 60).front());
   const std::size_t joints = panda().jointNames().size();
   const std::string bytes = encodeTrialBlock(block);
   for (std::size_t cut : {std::size_t{0}, std::size_t{7}, bytes.size() / 2, bytes.size() - 1}) {

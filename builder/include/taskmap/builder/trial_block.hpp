@@ -9,7 +9,6 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,7 +34,7 @@ struct TrialOutcome {
   bool force_closure = false;                          ///< status ok and force closure
   double epsilon = 0.0;                                ///< Ferrari-Canny epsilon (status ok)
   double volume = 0.0;                                 ///< GWS volume (status ok)
-  std::optional<TrialGrasp> grasp;                     ///< stored grasp, if any
+  std::unique_ptr<TrialGrasp> grasp;  ///< stored grasp, if any (a pointer: most trials have none)
 };
 
 /// The outcomes of the consecutive trials [first, first + trials.size()).
