@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include <CLI/CLI.hpp>
 
@@ -30,6 +31,19 @@ bool agreeAllOk(const MpiWorld& world, const std::string& error, const std::stri
 }
 
 namespace {
+
+// mpirun binds each rank to a core by default (for 2 ranks or fewer), which would leave
+// `--threads 0` one thread: say so on rank 0.
+void warnAboutBinding(const MpiWorld& world, int threads_option, bool quiet) {
+  if (world.rank != 0 || threads_option != 0 || quiet) return;
+  const int allowed = buildThreadCount(0);
+  const auto cores = static_cast<int>(std::thread::hardware_concurrency());
+  if (allowed >= cores) return;
+  std::cerr << "taskmap-mpi: rank 0 may run on " << allowed << " of " << cores
+            << " cores (its CPU affinity), so --threads 0 starts " << allowed
+            << " thread(s) a rank; to give each rank all cores of its node start with "
+               "`mpirun --bind-to none` (Slurm: --cpus-per-task)\n";
+}
 
 int run(const MpiWorld& world, int argc, char** argv) {
   CLI::App app{"taskmap-mpi " TASKMAP_VERSION
@@ -64,8 +78,14 @@ int run(const MpiWorld& world, int argc, char** argv) {
     // Every rank parses the same command line; only rank 0 speaks.
     return world.rank == 0 ? app.exit(e) : app.exit(e, quiet_out, quiet_err);
   }
-  if (build->parsed()) return runMpiBuild(world, build_args, block_trials);
-  if (dataset->parsed()) return runMpiDataset(world, dataset_args);
+  if (build->parsed()) {
+    warnAboutBinding(world, build_args.threads, build_args.quiet);
+    return runMpiBuild(world, build_args, block_trials);
+  }
+  if (dataset->parsed()) {
+    warnAboutBinding(world, dataset_args.knobs.threads, dataset_args.knobs.quiet);
+    return runMpiDataset(world, dataset_args);
+  }
   return 2;
 }
 

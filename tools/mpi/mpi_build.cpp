@@ -10,6 +10,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <memory>
 
@@ -70,6 +73,25 @@ FarmTasks buildTasks(RankSetup& setup, BlockLedger* ledger, BuildCheckpoint* che
   return tasks;
 }
 
+// Rank 0 on SIGINT/SIGTERM (mpirun forwards Ctrl-C): one line saying the checkpoint stays,
+// then the default action. Only async-signal-safe calls.
+char g_stop_message[1024] = "";
+extern "C" void onStopSignal(int sig) {
+  const ssize_t ignored = ::write(STDERR_FILENO, g_stop_message, std::strlen(g_stop_message));
+  (void)ignored;
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
+
+void announceCheckpointOnStop(const std::string& checkpoint) {
+  std::snprintf(g_stop_message, sizeof g_stop_message,
+                "\ntaskmap-mpi build: stopped; no map written, finished blocks kept in '%s': "
+                "the same command resumes from them\n",
+                checkpoint.c_str());
+  std::signal(SIGINT, onStopSignal);
+  std::signal(SIGTERM, onStopSignal);
+}
+
 // Loads the inputs on this rank; every rank learns whether all succeeded.
 bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
   std::string error;
@@ -118,6 +140,7 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
                              setup.hand->jointNames().size());
   if (!checkpoint.loadNote().empty() && !args.quiet)
     std::cerr << "taskmap-mpi build: " << checkpoint.loadNote() << "\n";
+  announceCheckpointOnStop(checkpoint.path());
   std::uint64_t resumed = 0;
   for (TrialBlock& b : checkpoint.takeLoaded()) resumed += ledger.record(std::move(b)) ? 1 : 0;
   ProgressPrinter printer("taskmap-mpi build", ::isatty(STDERR_FILENO) != 0 || args.progress,
