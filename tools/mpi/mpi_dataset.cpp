@@ -61,10 +61,8 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
     if (quiet) return;
     const double elapsed =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const double eta =
-        elapsed / static_cast<double>(done) * static_cast<double>(todo.size() - done);
-    std::cerr << "taskmap-mpi dataset: [" << done << "/" << todo.size() << ", ETA "
-              << clockString(eta) << "] " << describeDatasetEntry(entry) << std::endl;
+    std::cerr << "taskmap-mpi dataset: " << datasetProgressLine(done, todo.size(), elapsed, entry)
+              << std::endl;
   };
   runFarm(world, tasks);
   manifest.write();

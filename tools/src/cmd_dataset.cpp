@@ -1,7 +1,9 @@
 // taskmap dataset: one task map per (object, hand), jobs one after another on all threads;
 // the same maps and manifest as `taskmap-mpi dataset` on any number of ranks.
+#include <chrono>
 #include <iostream>
 #include <memory>
+#include <vector>
 
 #include "command.hpp"
 #include "dataset.hpp"
@@ -14,14 +16,20 @@ void runDataset(const DatasetArgs& args) {
   DatasetManifest manifest(plan);
   const bool quiet = args.knobs.quiet;
   if (!manifest.note().empty()) std::cerr << "taskmap dataset: " << manifest.note() << "\n";
-  std::size_t skipped = 0;
-  for (std::size_t i = 0; i < plan.jobs.size(); ++i) {
-    if (manifest.finishedEarlier(i)) {
-      ++skipped;
-      continue;
-    }
-    manifest.set(i, runDatasetJob(plan, plan.jobs[i]));
+  std::vector<std::size_t> todo;  // largest first
+  for (std::size_t i = 0; i < plan.jobs.size(); ++i)
+    if (!manifest.finishedEarlier(i)) todo.push_back(i);
+  const std::size_t skipped = plan.jobs.size() - todo.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < todo.size(); ++k) {
+    const nlohmann::json entry = runDatasetJob(plan, plan.jobs[todo[k]]);
+    manifest.set(todo[k], entry);
     manifest.write();
+    if (quiet) continue;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::cerr << "taskmap dataset: " << datasetProgressLine(k + 1, todo.size(), elapsed, entry)
+              << std::endl;
   }
   manifest.write();
   const std::size_t failed = manifest.failed();

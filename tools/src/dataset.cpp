@@ -224,9 +224,14 @@ std::size_t DatasetManifest::failed() const {
                     [](const json& e) { return e.value("status", "") == "failed"; }));
 }
 
-std::string describeDatasetEntry(const json& e) {
-  std::string line =
-      e.value("object", "?") + " x " + e.value("hand", "?") + ": " + e.value("status", "?");
+std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
+                                const json& e) {
+  const double eta =
+      done > 0 ? elapsed_seconds / static_cast<double>(done) * static_cast<double>(total - done)
+               : -1.0;
+  std::string line = "[" + std::to_string(done) + "/" + std::to_string(total) + ", ETA " +
+                     clockString(eta) + "] " + e.value("object", "?") + " x " +
+                     e.value("hand", "?") + ": " + e.value("status", "?");
   if (e.value("status", "") == "failed") return line + ": " + e.value("error", "");
   return line + ", " + std::to_string(e.value("valid", 0)) + " valid in " +
          std::to_string(e.value("trials", 0)) + " trials -> " + e.value("file", "");

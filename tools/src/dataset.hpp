@@ -81,7 +81,9 @@ class DatasetManifest {
   std::string note_;
 };
 
-/// One line for a finished job: "object x hand: status, V valid in T trials -> file".
-std::string describeDatasetEntry(const nlohmann::json& entry);
+/// One line for a finished job: "[done/total, ETA hh:mm:ss] object x hand: status, V valid in
+/// T trials -> file" (or the error). @param elapsed_seconds since the first job started.
+std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
+                                const nlohmann::json& entry);
 
 }  // namespace taskmap::cli
