@@ -9,6 +9,7 @@
 #include "params_json.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 #include "trial_pool.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -66,7 +67,7 @@ void appendGrasp(const TrialOutcome& t, std::size_t row, MapGrasps& g) {
 void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
                  TaskMapData& map) {
   map.generator = std::string("taskmap ") + TASKMAP_VERSION;
-  map.created_utc = utcNow();
+  map.created_utc = mapCreationTime();  // SOURCE_DATE_EPOCH or "": reproducible bytes
   fillObject(object, map.object);
   map.hand.name = hand.name();
   map.hand.urdf_sha256 = hand.urdfSha256();

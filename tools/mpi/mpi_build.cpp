@@ -153,6 +153,7 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   BuildResult result =
       assembleMap(*setup.object, *setup.hand, options, ledger.takePrefix(), false, timing);
+  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output, result.map);
   checkpoint.remove();

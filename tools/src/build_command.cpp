@@ -73,6 +73,9 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--timestamp", args.timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none, so the same arguments give the same bytes)");
   cmd->add_flag("-q,--quiet", args.quiet, "no progress and no summary");
   cmd->add_flag("--progress", args.progress, "draw the progress bar even when not a terminal");
 }

@@ -22,13 +22,14 @@ struct BuildArgs {
   double friction = 0.5;
   int cone_edges = 8;
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
+  bool timestamp = false;  ///< store the current time as created_utc
 };
 
 /// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
 
 /// Adds the knobs of a build (--sampler, --valid, --trials, --seed, --threads, --friction,
-/// --cone-edges, --keep-invalid, --no-cluster, -q, --progress) to a subcommand.
+/// --cone-edges, --keep-invalid, --no-cluster, --timestamp, -q, --progress) to a subcommand.
 void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 
 /// The BuildOptions of the knobs (not validated; no extra_params_json).

@@ -72,6 +72,7 @@ void runBuild(const BuildArgs& args) {
     exitCode() = 130;
     return;
   }
+  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short

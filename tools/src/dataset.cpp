@@ -130,7 +130,8 @@ json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job) {
         jobSeed(plan.args.knobs.seed, object.sourceSha256(), hand.urdfSha256());
     entry["seed"] = seed;
     const BuildOptions options = jobOptions(plan, job, seed);
-    const BuildResult result = buildMap(object, hand, options);
+    BuildResult result = buildMap(object, hand, options);
+    if (plan.args.knobs.timestamp) result.map.created_utc = mapCreationTime(true);
     const std::string path = (fs::path(plan.dir) / job.file).string();
     writeMap(path, result.map);
     entry["status"] = toString(result.status);
