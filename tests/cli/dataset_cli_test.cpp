@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "map_compare.hpp"
-#include "shell_run.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
@@ -35,8 +35,8 @@ class DatasetCli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  testing::ShellRun dataset(const std::string& list, const std::string& out,
-                            const std::string& more = "") const {
+  testing::CliRun dataset(const std::string& list, const std::string& out,
+                          const std::string& more = "") const {
     return testing::runShell(std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
                              (dir_ / list).string() + " --hands " + std::string(TASKMAP_HANDS_DIR) +
                              "/panda/panda.urdf --valid 5 --seed 9 --threads 2 -o " +
@@ -51,7 +51,7 @@ class DatasetCli : public ::testing::Test {
 };
 
 TEST_F(DatasetCli, MapsAndManifestDoNotDependOnTheListOrder) {
-  const testing::ShellRun a = dataset("list.txt", "a");
+  const testing::CliRun a = dataset("list.txt", "a");
   EXPECT_EQ(a.code, 1) << "one mesh is broken:\n" << a.out;
   EXPECT_NE(a.out.find("1 of 3 jobs failed"), std::string::npos) << a.out;
   const json m = manifest("a");
@@ -73,7 +73,7 @@ TEST_F(DatasetCli, MapsAndManifestDoNotDependOnTheListOrder) {
   }
   EXPECT_NE(m["jobs"][0]["seed"], m["jobs"][2]["seed"]) << "seeds derive from the mesh";
 
-  const testing::ShellRun b = dataset("reversed.txt", "b");
+  const testing::CliRun b = dataset("reversed.txt", "b");
   EXPECT_EQ(b.code, 1) << b.out;
   json ma = manifest("a"), mb = manifest("b");
   for (const std::size_t i : {std::size_t{0}, std::size_t{2}}) {
@@ -90,10 +90,10 @@ TEST_F(DatasetCli, MapsAndManifestDoNotDependOnTheListOrder) {
 
 TEST_F(DatasetCli, ReRunSkipsVerifiedMapsAndRebuildsChangedOnes) {
   ASSERT_EQ(dataset("list.txt", "a").code, 1);
-  const testing::ShellRun again = dataset("list.txt", "a");
+  const testing::CliRun again = dataset("list.txt", "a");
   EXPECT_NE(again.out.find("2 finished earlier"), std::string::npos) << again.out;
   // Another --valid changes the build parameters: nothing is skipped.
-  const testing::ShellRun other =
+  const testing::CliRun other =
       testing::runShell(std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
                         (dir_ / "list.txt").string() + " --hands panda --valid 6 --seed 9 -o " +
                         (dir_ / "a").string());
@@ -102,17 +102,17 @@ TEST_F(DatasetCli, ReRunSkipsVerifiedMapsAndRebuildsChangedOnes) {
 }
 
 TEST_F(DatasetCli, BadListsAreRefused) {
-  const testing::ShellRun missing = dataset("no_list.txt", "a");
+  const testing::CliRun missing = dataset("no_list.txt", "a");
   EXPECT_EQ(missing.code, 1);
   EXPECT_NE(missing.out.find("cannot read object list"), std::string::npos) << missing.out;
   EXPECT_NE(missing.out.find("no_list.txt"), std::string::npos) << missing.out;
   std::ofstream(dir_ / "empty.txt") << "# nothing\n";
-  const testing::ShellRun empty = dataset("empty.txt", "a");
+  const testing::CliRun empty = dataset("empty.txt", "a");
   EXPECT_NE(empty.out.find("names no mesh"), std::string::npos) << empty.out;
   fs::create_directories(dir_ / "other");
   fs::copy_file(dir_ / "meshes" / "box.obj", dir_ / "other" / "box.obj");
   std::ofstream(dir_ / "clash.txt") << "meshes/box.obj\nother/box.obj\n";
-  const testing::ShellRun clash = dataset("clash.txt", "a");
+  const testing::CliRun clash = dataset("clash.txt", "a");
   EXPECT_NE(clash.out.find("would both write box__panda.h5"), std::string::npos) << clash.out;
   EXPECT_FALSE(fs::exists(dir_ / "a" / "manifest.json"));
 }

@@ -18,7 +18,7 @@
 #include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
-#include "shell_run.hpp"
+#include "cli_run.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -27,10 +27,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using CliRun = testing::ShellRun;
+using testing::CliRun;
 
 CliRun run(const std::string& args) {
-  return testing::runShell(std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args);
+  return testing::runTaskmap(args);
 }
 
 class InspectCliTest : public ::testing::Test {

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "shell_run.hpp"
+#include "cli_run.hpp"
 
 namespace {
 
@@ -19,8 +19,8 @@ struct CliRun {
 };
 
 CliRun runCli(const std::string& args) {
-  const taskmap::testing::ShellRun r = taskmap::testing::runShell(std::string(TASKMAP_BINARY_DIR) +
-                                                                  "/bin/taskmap mesh-info " + args);
+  const taskmap::testing::CliRun r = taskmap::testing::runShell(std::string(TASKMAP_BINARY_DIR) +
+                                                                "/bin/taskmap mesh-info " + args);
   return CliRun{r.code, r.out};
 }
 

@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "map_compare.hpp"
-#include "shell_run.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap {
@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-using RunResult = testing::ShellRun;
+using RunResult = testing::CliRun;
 RunResult run(const std::string& command) {
   return testing::runShell(command);
 }
