@@ -41,6 +41,8 @@ struct BuildArgs {
   int threads = 0;
   double friction = 0.5;
   int cone_edges = 8;
+  std::string grasp;       // "", "palm" or "fingertip" ("" = the hand sidecar's)
+  double standoff = -1.0;  // metres; negative = the hand sidecar's
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
 };
 
@@ -125,6 +127,11 @@ void runBuild(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  if (args.grasp == "palm")
+    options.simulation.grasp_mode = GraspMode::kPalm;
+  else if (args.grasp == "fingertip")
+    options.simulation.grasp_mode = GraspMode::kFingertip;
+  options.simulation.standoff = args.standoff;
   if (!(args.scale > 0.0)) throw Error("--scale must be positive");
   if (args.output.empty()) throw Error("-o MAP.h5 is required");
   const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
@@ -137,6 +144,10 @@ void runBuild(const BuildArgs& args) {
 
   const ObjectModel object = ObjectModel::load(args.object, MeshLoadOptions{args.scale});
   const HandModel hand = HandModel::load(hand_path);
+  const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());
+  if (args.standoff >= 0.0 && mode != GraspMode::kFingertip)
+    throw Error("--standoff applies to fingertip grasps; add --grasp fingertip (hand '" +
+                hand_path + "' grasps with the palm)");
 
   g_stop.store(false);
   struct sigaction action {};
@@ -255,6 +266,16 @@ const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
   cmd->add_option("--cone-edges", args->cone_edges, "friction cone edges")
       ->check(CLI::Range(3, 64))
       ->capture_default_str();
+  cmd->add_option("--grasp", args->grasp,
+                  "palm: the approach stops when the palm touches, the palm is pressed "
+                  "(power grasps); fingertip: it stops at the first contact or when the palm "
+                  "is --standoff from the object, no palm contact needed (pinch grasps). "
+                  "Default: the hand sidecar's grasp.mode (palm)")
+      ->check(CLI::IsMember({"palm", "fingertip"}));
+  cmd->add_option("--standoff", args->standoff,
+                  "fingertip grasps: palm-to-object distance where the approach stops, metres "
+                  "(default: the hand sidecar's grasp.standoff, else 0)")
+      ->check(CLI::Range(0.0, 0.5));
   cmd->add_flag("--keep-invalid", args->keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the grasps");

@@ -33,6 +33,7 @@
 /// surface, the triangle's outward normal, depth = the EPA penetration depth.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,7 +72,19 @@ struct GraspSimOptions {
   /// Squeeze distance, metres; negative = the hand sidecar's value.
   double squeeze = -1.0;
   /// When false, a hand whose fingers touch first still closes (finger-first contact).
+  /// Palm grasps only (fingertip grasps never require the palm).
   bool require_palm_contact = true;
+  /// Palm or fingertip grasps; empty = the hand sidecar's "grasp.mode" (HandModel::graspMode).
+  std::optional<GraspMode> grasp_mode;
+  /// Fingertip grasps: palm-to-object distance at which the approach stops, metres; negative =
+  /// the hand sidecar's "grasp.standoff".
+  double standoff = -1.0;
+  /// Coupled closing (a closing joint whose links lie on two or more fingers, through URDF
+  /// <mimic>, or a sidecar "coupled" group): when one jaw touches, the hand shifts along the
+  /// closing direction until another finger of the mechanism touches. False: no centring; a
+  /// <mimic> pair stops at the first touch (one-jaw grasps, the behaviour before coupling was
+  /// modelled) and the joints of a sidecar group close independently.
+  bool centre_coupled = true;
   /// Self-collision: hand links that touch each other while closing stop like object contacts,
   /// and a final state with links penetrating each other is kSelfCollision. Pairs fixed to the
   /// palm together, parent/child pairs and pairs already touching in the preshape are exempt.
@@ -102,6 +115,8 @@ struct GraspStats {
   int queries = 0;                ///< link-versus-object collision queries
   int closing_steps = 0;          ///< coarse closing steps and bisection evaluations
   double retraction = 0.0;        ///< distance moved along -approach, metres (negative: advanced)
+  double standoff = 0.0;          ///< fingertip grasps: extra distance backed off, metres
+  double centring_shift = 0.0;    ///< coupled closing: distance the palm shifted, metres
   double retract_seconds = 0.0;   ///< wall time of the retraction (profile only)
   double close_seconds = 0.0;     ///< wall time of closing and squeeze (profile only)
   double contacts_seconds = 0.0;  ///< wall time of contact extraction (profile only)
