@@ -15,7 +15,6 @@
 #include <Eigen/Geometry>
 
 #include "collision_scene.hpp"
-#include "triangle_bvh.hpp"
 
 namespace taskmap {
 
@@ -84,21 +83,25 @@ struct CollisionScene::Data {
   std::vector<std::vector<ShapeEntry>> links;
   std::vector<Eigen::Vector3d> link_centre;  // bounding sphere of each link, link frame
   std::vector<double> link_radius;
-  // Culled queries (CollisionScene::Mode::kCulled): our own tree, the triangle corners, and each
-  // triangle's position in the order Bullet's BVH reports triangles (leaf order of its node array).
+  // Culled queries (CollisionScene::Mode::kCulled) walk Bullet's tree with their own node test
+  // and read the triangle corners from here.
   bool culled = false;
-  std::unique_ptr<TriangleBvh> bvh;
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
-  std::vector<int> rank;
 };
 
+/// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r, half
+/// extents e) and a triangle: the largest separation over the 13 axes of the box-triangle SAT.
+/// A value > 0 is a lower bound on their distance; a value <= 0 means they intersect (the 13
+/// axes are complete for a box and a triangle).
+double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
+                             const Eigen::Vector3d& e, const btVector3* tri);
 /// A TriangleQuery of shape `e` at pose `ts` (object frame).
 TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts, double threshold,
                                 bool exact, std::vector<TriangleHit>* hits);
 /// Adds the culling data (k-DOP, facets) of `e` built from its Bullet shape and, for a hull,
 /// its points.
 void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e);
-/// Builds the culled-query tree, corners and Bullet's triangle order into `d`.
+/// Prepares `d` for culled queries (triangle corners).
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
                   const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d);
 /// Link query through Bullet's BVH (the baseline): GJK/EPA on every triangle in the shape's
@@ -106,7 +109,8 @@ void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
 double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits);
-/// Same result bit for bit, with our tree culled by the shape's k-DOP planes first.
+/// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
+/// triangle test, GJK only where the baseline's result depends on it.
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits);

@@ -98,36 +98,203 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
 
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
                   const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d) {
-  d->culled = true;
-  d->bvh = std::make_unique<TriangleBvh>(vertices, faces);
   d->corners.resize(faces.size());
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int k = 0; k < 3; ++k)
       d->corners[t][static_cast<std::size_t>(k)] = vertices[static_cast<std::size_t>(faces[t][k])];
-  // Bullet's stackless walk reports overlapping leaves in the order of its node array.
-  d->rank.assign(faces.size(), -1);
-  int next = 0;
   btOptimizedBvh* bvh = d->mesh_shape->getOptimizedBvh();
-  if (bvh && bvh->isQuantized()) {
-    const auto& nodes = bvh->getQuantizedNodeArray();
-    for (int i = 0; i < nodes.size(); ++i) {
-      if (!nodes[i].isLeafNode()) continue;
-      const int tri = nodes[i].getTriangleIndex();
-      if (tri >= 0 && tri < static_cast<int>(faces.size()) &&
-          d->rank[static_cast<std::size_t>(tri)] < 0)
-        d->rank[static_cast<std::size_t>(tri)] = next++;
+  // Without a quantized tree (not built by this constructor) the queries stay on Bullet's path.
+  d->culled = bvh != nullptr && bvh->isQuantized();
+}
+
+namespace {
+
+/// Walks Bullet's quantized tree as its stackless walk does (node array order, skipping a
+/// rejected subtree by its escape index), with our node test: leaves come in Bullet's order.
+/// `leaf(triangle)` returns false to stop. (Bullet's accessors are non-const; nothing is changed.)
+template <class Accept, class Leaf>
+void walkInBulletOrder(btQuantizedBvh& bvh, const Accept& accept, const Leaf& leaf) {
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  const int end = nodes[0].isLeafNode() ? 1 : nodes[0].getEscapeIndex();
+  int cur = 0;
+  while (cur < end) {
+    const btQuantizedBvhNode& n = nodes[cur];
+    const bool pass = accept(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                             eig(bvh.unQuantize(n.m_quantizedAabbMax)));
+    if (n.isLeafNode()) {
+      if (pass && !leaf(n.getTriangleIndex())) return;
+      ++cur;
+    } else {
+      cur += pass ? 1 : n.getEscapeIndex();
     }
   }
-  for (auto& r : d->rank)
-    if (r < 0) r = next++;
 }
+
+/// A triangle that no plane could cull, with the best plane bound on its distance, metres.
+struct Candidate {
+  int tri;
+  double lb;
+};
+
+/// The separating planes of one shape in the object frame: max over the shape of wn[i] . x is
+/// wh[i]; a point set beyond one plane by more than `cut` is farther than the threshold.
+struct Planes {
+  std::vector<Eigen::Vector3d> wn;
+  std::vector<double> wh;
+  double cut = 0.0;
+  Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
+
+  void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
+           const btVector3& amax, double threshold) {
+    const Eigen::Vector3d c = ts.translation();
+    wn.resize(e.axes.size());
+    wh.resize(e.axes.size());
+    for (std::size_t i = 0; i < e.axes.size(); ++i) {
+      wn[i] = ts.linear() * e.axes[i];
+      wh[i] = e.reach[i] + wn[i].dot(c);
+    }
+    cut = threshold + kCullSlack;
+    qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
+    qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
+  }
+  /// Lower bound of the distance of a tree node's box from the shape (planes only); +inf
+  /// outside the query box; stops early once above `limit`.
+  double nodeBound(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double limit) const {
+    if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return kInf;
+    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    double lb = -kInf;
+    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
+      lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
+    return lb;
+  }
+  bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    return nodeBound(lo, hi, cut) <= cut;
+  }
+  /// Lower bound of the triangle's distance from the planes; > limit when culled (stops early).
+  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit) const {
+    const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
+    const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+    if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any()) return kInf;
+    double lb = -kInf;
+    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
+      lb = std::max(lb, std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i]);
+    return lb;
+  }
+  double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
+  /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
+  bool inside(const Eigen::Vector3d& p, std::size_t first) const {
+    for (std::size_t i = first; i < wn.size(); ++i)
+      if (wn[i].dot(p) - wh[i] >= -kInsideSlack) return false;
+    return true;
+  }
+};
+
+void runTriangle(const CollisionScene::Data& d, int tri, TriangleQuery* q) {
+  const auto& v = d.corners[static_cast<std::size_t>(tri)];
+  btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+  q->processTriangle(corners, 0, tri);
+}
+
+/// The baseline's loop with culling: every triangle the planes keep, in Bullet's order (stops
+/// at the first overlap unless q is exact).
+void walkAll(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+  walkInBulletOrder(
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
+      [&](int tri) {
+        if (pl.bound(d.corners[static_cast<std::size_t>(tri)]) <= pl.cut) runTriangle(d, tri, q);
+        return q->exact || !q->overlap_found;
+      });
+}
+
+/// Skips a box triangle whose 13-axis gap exceeds the best distance (GJK could not beat it).
+bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
+  if (!q.is_box || q.min_distance == kInf) return false;
+  const auto& v = d.corners[static_cast<std::size_t>(tri)];
+  const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+  return boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) >
+         q.min_distance + kCullSlack;
+}
+
+/// No overlap: the minimum of GJK distances does not depend on the order, so the tree is
+/// searched best first by the planes' bound, and the search stops once the bound exceeds the
+/// best distance found (GJK distances are upper bounds of the true ones: nothing beyond could
+/// be smaller).
+void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+  thread_local std::vector<std::pair<double, int>> heap;  // (bound, node), min-heap
+  heap.clear();
+  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  const auto later = [](const std::pair<double, int>& x, const std::pair<double, int>& y) {
+    return x.first > y.first || (x.first == y.first && x.second > y.second);
+  };
+  auto push = [&](int i) {
+    const btQuantizedBvhNode& n = nodes[i];
+    const double lb = pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                                   eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+    if (lb > pl.cut || lb > q->min_distance + kCullSlack) return;
+    heap.emplace_back(lb, i);
+    std::push_heap(heap.begin(), heap.end(), later);
+  };
+  push(0);
+  while (!heap.empty() && !q->overlap_found) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const auto [lb, i] = heap.back();
+    heap.pop_back();
+    if (lb > q->min_distance + kCullSlack) break;
+    const btQuantizedBvhNode& n = nodes[i];
+    if (n.isLeafNode()) {
+      const int tri = n.getTriangleIndex();
+      const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
+      if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
+        runTriangle(d, tri, q);
+      continue;
+    }
+    const int left = i + 1;
+    push(left);
+    push(left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex()));
+  }
+}
+
+/// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
+/// walked in Bullet's order for a proof of overlap, visiting only what the planes do not put
+/// beyond contact: a box triangle whose separating-axis gap is <= 0, or a triangle corner
+/// inside every face plane of a hull. With a proof, the baseline loop runs (it stops at its
+/// first overlap, at the latest at the proven one unless GJK misses it on a sliver
+/// triangle); without, branchAndBound finds the nearest triangle.
+void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Planes& pl,
+                  TriangleQuery* q) {
+  bool proven = false;
+  walkInBulletOrder(
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return pl.nodeBound(lo, hi, kCullSlack) <= kCullSlack;
+      },
+      [&](int tri) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
+        if (e.is_box) {
+          const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+          proven = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0;
+        } else {
+          proven = pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0);
+        }
+        return !proven;
+      });
+  if (proven)
+    walkAll(d, pl, q);
+  else
+    branchAndBound(d, pl, q);
+}
+
+}  // namespace
 
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits) {
-  thread_local std::vector<int> cand;
-  thread_local std::vector<Eigen::Vector3d> wn;
-  thread_local std::vector<double> wh;
+  thread_local Planes pl;
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
@@ -137,59 +304,12 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
     btVector3 amin, amax;
     e.shape->getAabb(q.xf, amin, amax);
-    const btVector3 pad(threshold, threshold, threshold);
-    const Eigen::Vector3d qlo = eig(amin - pad), qhi = eig(amax + pad);
-    // Planes in the object frame: a point set with min over it of wn . x > wh is culled.
-    const std::size_t k = e.axes.size();
-    wn.resize(k);
-    wh.resize(k);
-    for (std::size_t i = 0; i < k; ++i) {
-      wn[i] = ts.linear() * e.axes[i];
-      wh[i] = e.reach[i] + wn[i].dot(c) + threshold + kCullSlack;
-    }
-    const bool shortcut = !exact && e.is_hull && k > static_cast<std::size_t>(e.facet_begin);
-    bool inside_found = false;
-    auto accept = [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-      if (inside_found) return false;
-      if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return false;
-      const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-      for (std::size_t i = 0; i < k; ++i)
-        if (wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) > wh[i]) return false;
-      return true;
-    };
-    cand.clear();
-    auto leaf = [&](int tri) {
-      const auto& v = d.corners[static_cast<std::size_t>(tri)];
-      const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
-      const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
-      if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any()) return;
-      for (std::size_t i = 0; i < k; ++i)
-        if (std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) > wh[i]) return;
-      cand.push_back(tri);
-      if (!shortcut || inside_found) return;
-      // A corner strictly inside every face plane of a (margin-free) hull: GJK reports the
-      // overlap whichever triangle comes first, and the shape's result is kOverlapping.
-      for (const auto& p : v) {
-        double worst = -kInf;
-        for (std::size_t i = static_cast<std::size_t>(e.facet_begin); i < k && worst < 0.0; ++i)
-          worst = std::max(worst, wn[i].dot(p) - (wh[i] - threshold - kCullSlack));
-        if (worst < -kInsideSlack) inside_found = true;
-      }
-    };
-    d.bvh->visit(accept, leaf);
-    if (inside_found) {
-      best = std::min(best, kOverlapping);
-      break;
-    }
-    std::sort(cand.begin(), cand.end(), [&](int x, int y) {
-      return d.rank[static_cast<std::size_t>(x)] < d.rank[static_cast<std::size_t>(y)];
-    });
-    btVector3 tri[3];
-    for (int c_tri : cand) {
-      if (q.overlap_found && !exact) break;
-      const auto& v = d.corners[static_cast<std::size_t>(c_tri)];
-      for (int j = 0; j < 3; ++j) tri[j] = bt(v[static_cast<std::size_t>(j)]);
-      q.processTriangle(tri, 0, c_tri);
+    pl.set(e, ts, amin, amax, threshold);
+    if (!exact && (e.is_box || e.is_hull)) {
+      overlapQuery(d, e, pl, &q);
+    } else {
+      // Exact hits (in Bullet's order), and spheres and cylinders as the baseline runs them.
+      walkAll(d, pl, &q);
     }
     best = std::min(best, q.min_distance);
     if (!exact && best < 0.0) break;

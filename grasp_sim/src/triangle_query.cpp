@@ -12,10 +12,8 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-/// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r,
-/// half extents e) and a triangle: the largest separation over the 13 axes of the box-triangle
-/// SAT. A value > 0 is a lower bound on their distance; a value <= 0 means they intersect
-/// (the 13 axes are complete for a box and a triangle).
+}  // namespace
+
 double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
                              const Eigen::Vector3d& e, const btVector3* tri) {
   Eigen::Vector3d v[3];
@@ -42,8 +40,6 @@ double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
   }
   return best;
 }
-
-}  // namespace
 
 /// Signed distance between two convex shapes with GJK (separated) or EPA (overlapping).
 /// Returns false when the depth of an overlap is not wanted (`need_depth` false) or EPA failed;

@@ -6,11 +6,13 @@
 // that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
 // Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
 // second of simulation, and whether both modes gave the same results on the trials both ran.
-//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING]
+//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
+// (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -31,6 +33,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+/// CPU seconds of the calling thread (trials/s per core, whatever else runs on the machine).
+double threadSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 
 struct Item {
   std::string name, path;
@@ -99,17 +108,28 @@ struct Rate {
 };
 
 /// Runs trials 0, 1, ... until `seconds` have passed (at least `min_trials`, at most the poses).
-Rate run(const GraspSimulator& sim, const ObjectModel& object, const std::vector<Pose>& poses,
-         double seconds, std::size_t min_trials) {
+/// Initial poses of trials 0, 1, ... drawn on demand (seed 1), shared by both modes.
+struct Poses {
+  const Sampler& sampler;
+  std::vector<Pose> drawn;
+  const Pose& at(std::size_t i) {
+    while (drawn.size() <= i) drawn.push_back(sampler.sample(1, drawn.size()));
+    return drawn[i];
+  }
+};
+
+Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
+         std::size_t min_trials) {
   Rate r;
   double sim_s = 0.0;
   int valid = 0;
   const auto t_end = Clock::now() + std::chrono::duration<double>(seconds);
-  for (std::size_t i = 0; i < poses.size(); ++i) {
+  for (std::size_t i = 0; i < 1000000; ++i) {
     if (i >= min_trials && Clock::now() > t_end) break;
-    const auto t0 = Clock::now();
-    GraspResult g = sim.simulate(poses[i]);
-    sim_s += std::chrono::duration<double>(Clock::now() - t0).count();
+    const Pose& pose = poses.at(i);
+    const double t0 = threadSeconds();
+    GraspResult g = sim.simulate(pose);
+    sim_s += threadSeconds() - t0;
     if (g.status == GraspStatus::kOk &&
         evaluateGrasp(g.contacts, object.massProperties().center_of_mass,
                       object.massProperties().torque_scale)
@@ -131,19 +151,18 @@ bool same(const GraspResult& a, const GraspResult& b) {
   return true;
 }
 
-void benchPair(const Item& h, const Item& o, double seconds) {
+void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds) {
   const ObjectModel object = loadObject(o);
   const HandModel hand = HandModel::load(h.path);
   SamplerOptions so;
   so.approach_axis = hand.approachAxis();
   const Sampler sampler(object, so);
-  std::vector<Pose> poses;
-  for (std::uint64_t i = 0; i < 200000; ++i) poses.push_back(sampler.sample(1, i));
+  Poses poses{sampler, {}};
   GraspSimOptions fast, base;
   base.culled_queries = false;
   const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
   const Rate rn = run(sim_new, object, poses, seconds, 32);
-  const Rate ro = run(sim_old, object, poses, seconds, 4);
+  const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1);
   std::size_t n = std::min(rn.results.size(), ro.results.size()), agree = 0, ok = 0;
   for (std::size_t i = 0; i < n; ++i) {
     agree += same(rn.results[i], ro.results[i]);
@@ -159,7 +178,7 @@ void benchPair(const Item& h, const Item& o, double seconds) {
 
 int mainImpl(int argc, char** argv) {
   std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
-  double seconds = 2.0;
+  double seconds = 2.0, baseline_seconds = -1.0;
   std::string only;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
@@ -169,8 +188,12 @@ int mainImpl(int argc, char** argv) {
       seconds = std::stod(argv[i + 1]);
     else if (a == "--only")
       only = argv[i + 1];
+    else if (a == "--baseline-seconds")
+      baseline_seconds = std::stod(argv[i + 1]);
     else
-      throw Error("usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING]");
+      throw Error(
+          "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
+          "[--baseline-seconds S]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;
@@ -195,7 +218,7 @@ int mainImpl(int argc, char** argv) {
     for (const auto& o : os) {
       if (!only.empty() && (h.name + "/" + o.name).find(only) == std::string::npos) continue;
       try {
-        benchPair(h, o, seconds);
+        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds);
       } catch (const std::exception& e) {
         std::printf("%-10s %-16s skipped: %s\n", h.name.c_str(), o.name.c_str(), e.what());
       }

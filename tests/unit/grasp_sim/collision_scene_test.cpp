@@ -12,6 +12,7 @@
 #include <string>
 
 #include "taskmap/core/random.hpp"
+#include "taskmap/meshes/object_model.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {
@@ -188,6 +189,55 @@ TEST(CollisionScene, InsideTestAndFaceNormals) {
                 3.0;
     EXPECT_GT(n.dot(c), 0.0);  // outward for a box centred at the origin
     EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+  }
+}
+
+// The culled queries return what Bullet's BVH query returns, bit for bit: distances with
+// and without overlap, and the exact hits (triangles, order, distances, witness points). Box,
+// cylinder and sphere links (reference hands) and hull links (a mesh palm and finger), link
+// poses all around and inside the reference mug and basket.
+TEST(CollisionScene, CulledQueriesMatchBulletQueries) {
+  for (const char* object_name : {"mug", "basket"}) {
+    const ObjectModel object =
+        ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/" + object_name + ".obj");
+    for (const std::string& hand_path : {std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf",
+                                         std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf",
+                                         std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf"}) {
+      SCOPED_TRACE(std::string(object_name) + " " + hand_path);
+      const HandModel hand = HandModel::load(hand_path);
+      const CollisionScene culled(object.mesh(), hand, CollisionScene::Mode::kCulled);
+      const CollisionScene bullet(object.mesh(), hand, CollisionScene::Mode::kBullet);
+      int overlaps = 0, near = 0;
+      for (int i = 0; i < 120; ++i) {
+        Rng rng(11, static_cast<std::uint64_t>(i));
+        Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+        t.linear() = rng.rotation().toRotationMatrix();
+        t.translation() = object.sampleInside(rng) +
+                          0.03 * V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        for (std::size_t l = 0; l < hand.links().size(); ++l) {
+          if (hand.links()[l].shapes.empty()) continue;
+          const int link = static_cast<int>(l);
+          for (double thr : {5e-4, 0.02}) {
+            const double a = culled.linkDistance(link, t, thr),
+                         b = bullet.linkDistance(link, t, thr);
+            ASSERT_EQ(a, b) << "pose " << i << " link " << l << " threshold " << thr;
+            overlaps += a < 0.0;
+            near += a >= 0.0 && a < kInf;
+            std::vector<TriangleHit> ha, hb;
+            ASSERT_EQ(culled.linkHits(link, t, thr, &ha), bullet.linkHits(link, t, thr, &hb));
+            ASSERT_EQ(ha.size(), hb.size()) << "pose " << i << " link " << l;
+            for (std::size_t k = 0; k < ha.size(); ++k) {
+              EXPECT_EQ(ha[k].triangle, hb[k].triangle);
+              EXPECT_EQ(ha[k].distance, hb[k].distance);
+              EXPECT_EQ(ha[k].point, hb[k].point);
+              EXPECT_EQ(ha[k].normal, hb[k].normal);
+            }
+          }
+        }
+      }
+      EXPECT_GT(overlaps, 20);  // both the overlap and the distance paths are exercised
+      EXPECT_GT(near, 20);
+    }
   }
 }
 

@@ -270,6 +270,36 @@ TEST(GraspSimulator, ParallelThreadsMatchSequentialRun) {
   EXPECT_GT(ok, 0);  // the set exercises the closing path
 }
 
+// The culled queries (default) against the baseline (Bullet's BVH query) on fixed trials: same
+// statuses, poses, joints and contacts bit for bit, for box hands and a hand with mesh (hull)
+// links, on the reference mug (3590 faces) and basket.
+TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
+  const std::string data = std::string(TEST_DATA_DIR) + "/hands/";
+  for (const char* object_name : {"mug", "basket"}) {
+    const ObjectModel object =
+        ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/" + object_name + ".obj");
+    const Eigen::Vector3d lo = object.massProperties().bounds_min;
+    const Eigen::Vector3d hi = object.massProperties().bounds_max;
+    for (const std::string& hand_path :
+         {std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf",
+          std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf", data + "hull_palm.urdf"}) {
+      SCOPED_TRACE(std::string(object_name) + " " + hand_path);
+      const HandModel hand = HandModel::load(hand_path);
+      GraspSimOptions baseline;
+      baseline.culled_queries = false;
+      const GraspSimulator fast(object, hand), slow(object, hand, baseline);
+      int ok = 0;
+      for (const Pose& p : randomPoses(40, lo, hi)) {
+        const GraspResult a = fast.simulate(p), b = slow.simulate(p);
+        expectSame(a, b);
+        EXPECT_EQ(a.stats.closing_steps, b.stats.closing_steps);
+        ok += a.status == GraspStatus::kOk;
+      }
+      EXPECT_GT(ok, 0);  // the trials reach closing, squeeze and contacts
+    }
+  }
+}
+
 TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
   const ObjectModel basket = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj");
   for (const char* name : {"panda", "barrett", "humanoid"}) {
