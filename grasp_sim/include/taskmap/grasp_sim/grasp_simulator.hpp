@@ -16,11 +16,26 @@
 /// link fixed to it) the trial is kNoPalmContact (unless require_palm_contact is false). The
 /// palm is then pressed into the surface by the squeeze distance along +a.
 ///
+/// Fingertip grasps (GraspMode::kFingertip, from the options or the hand sidecar): the palm is
+/// neither required nor pressed. From the exit pose (the first contact coming from outside)
+/// the hand backs off along -a until the palm is the standoff from the object (if it is
+/// closer); a finger touching first keeps the exit pose. Then the fingers close.
+///
 /// Closing (GraspIt!'s autoGrasp): every closing joint moves toward its closed limit at its
 /// relative speed; coarse steps move no point of the hand by more than half the thinnest moving
 /// link, a step that ends in penetration is bisected until the touching link is within
 /// contact_tolerance; a link touching the object (or another hand link it can collide with)
 /// stops every joint that moves it, distal joints keep closing; joints stop at their limits.
+///
+/// Coupled jaws (docs/METHOD.md "Coupled jaws"): a mechanism is a closing joint whose links lie
+/// on two or more fingers (a URDF <mimic> jaw pair) or a sidecar "coupled" group whose links
+/// do. When one of its jaws touches, it does not stop: the palm translates across the
+/// approach axis with v = -(I - a a^T) sum_c dir_c speed_c dp/dq_c (p the contact point on the
+/// touching jaw), which holds that jaw in place while the others close, until a link of
+/// another finger of the mechanism touches (then every touching jaw is squeezed), the joints
+/// reach their limits, or a link that does not close (palm, stopped finger) is pressed against a
+/// face ahead of the shift (outward normal more than 60 degrees against it), which jams the
+/// mechanism with one jaw. The final pose is the shifted one (GraspStats::centring_shift).
 /// Squeeze: each joint stopped by an object contact is advanced so that its contact point is
 /// pressed the squeeze distance into the object (first order, proximal joints first, a distal
 /// joint adding only what its ancestors did not press); when that presses some link of a
