@@ -2,6 +2,8 @@
 // closed-form outcomes on boxes for the test hands of tests/data/hands.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iostream>
 #include <string>
 #include <thread>
 
@@ -203,6 +205,50 @@ TEST(FingertipGrasp, StandoffOptionIsValidated) {
   GraspSimOptions o;
   o.standoff = 0.6;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"standoff", "0.5"}));
+}
+
+}  // namespace
+}  // namespace taskmap
+
+namespace taskmap {
+namespace {
+
+// Real inputs (tests/data/real, see its README): the Franka hand, whose right jaw <mimic>s the
+// left, on the YCB banana. Trials from random poses inside the banana: with centring nearly
+// every completed trial holds the banana with both jaws; without it most hold it with one.
+TEST(CoupledClosing, RealFrankaHandOnTheYcbBanana) {
+  const std::string real = std::string(TEST_DATA_DIR) + "/real";
+  const std::string urdf = real + "/hands/franka_hand/franka_hand.urdf";
+  const std::string mesh = real + "/objects/ycb_011_banana.obj";
+  if (!std::filesystem::exists(urdf) || !std::filesystem::exists(mesh))
+    GTEST_SKIP() << "real inputs not in " << real;
+  const HandModel hand = HandModel::load(urdf);
+  const ObjectModel banana = ObjectModel::load(mesh);
+  GraspSimOptions stiff_options;
+  stiff_options.centre_coupled = false;
+  GraspSimulator sim(banana, hand), stiff(banana, hand, stiff_options);
+  int ok = 0, two = 0, stiff_ok = 0, stiff_two = 0;
+  for (int i = 0; i < 60; ++i) {
+    Rng rng(3, static_cast<std::uint64_t>(i));
+    Pose p;
+    p.position = banana.sampleInside(rng);
+    p.orientation = rng.rotation();
+    const GraspResult r = sim.simulate(p), s = stiff.simulate(p);
+    if (r.status == GraspStatus::kOk) {
+      ++ok;
+      two += fingers(r) == 2;
+    }
+    if (s.status == GraspStatus::kOk) {
+      ++stiff_ok;
+      stiff_two += fingers(s) == 2;
+    }
+  }
+  std::cout << "centred: " << two << " of " << ok
+            << " completed trials with both jaws; stiff: " << stiff_two << " of " << stiff_ok
+            << "\n";
+  ASSERT_GE(ok, 10);
+  EXPECT_GE(10 * two, 9 * ok) << two << " of " << ok << " completed trials with both jaws";
+  EXPECT_LT(2 * stiff_two, stiff_ok) << stiff_two << " of " << stiff_ok << " without centring";
 }
 
 }  // namespace
