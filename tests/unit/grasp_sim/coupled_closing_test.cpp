@@ -251,5 +251,25 @@ TEST(CoupledClosing, RealFrankaHandOnTheYcbBanana) {
   EXPECT_LT(2 * stiff_two, stiff_ok) << stiff_two << " of " << stiff_ok << " without centring";
 }
 
+// Fingertip grasps on a real scan: the Robotiq-2F-85-style test hand pinches the YCB banana
+// (tests/data/real) with both pads and never with the palm.
+TEST(FingertipGrasp, PinchesTheYcbBanana) {
+  const std::string mesh = std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj";
+  if (!std::filesystem::exists(mesh)) GTEST_SKIP() << mesh << " not present";
+  const ObjectModel banana = ObjectModel::load(mesh);
+  GraspSimulator sim(banana, HandModel::load(testHand("robotiq_2f85_style")));
+  int pinch = 0;
+  for (int i = 0; i < 60; ++i) {
+    Rng rng(5, static_cast<std::uint64_t>(i));
+    Pose p;
+    p.position = banana.sampleInside(rng);
+    p.orientation = rng.rotation();
+    const GraspResult r = sim.simulate(p);
+    EXPECT_FALSE(r.palm_contact) << "trial " << i;
+    pinch += r.status == GraspStatus::kOk && fingers(r) == 2;
+  }
+  EXPECT_GE(pinch, 6) << pinch << " two-pad grasps in 60 trials";
+}
+
 }  // namespace
 }  // namespace taskmap
