@@ -405,7 +405,19 @@ PYBIND11_MODULE(taskmap, m) {
       [](const std::string& path, const py::kwargs& kw) {
         return TaskMap::load(path, makeOptions(kw));
       },
-      py::arg("path"), "Reads a map file: taskmap.load('basket.h5').evaluate(pose).");
+      py::arg("path"),
+      "Reads a map file: taskmap.load('basket.h5').evaluate(pose). The file's seal is "
+      "verified first: a damaged or edited map raises taskmap.Error.");
+  m.def(
+      "seal",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        sealMap(path);
+      },
+      py::arg("path"),
+      "Re-seals a map on purpose after editing it with h5py (or a map without a seal): "
+      "validates it as a task map, then rewrites it atomically with a fresh SHA-256 seal. "
+      "HDF5 parses the unverified file in this process; use `taskmap seal FILE` to isolate it.");
   m.def(
       "hand_in_object",
       [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },

@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -44,6 +45,7 @@ struct BuildArgs {
   std::string grasp;       // "", "palm" or "fingertip" ("" = the hand sidecar's)
   double standoff = -1.0;  // metres; negative = the hand sidecar's
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
+  bool timestamp = false;
 };
 
 // Hand argument: a URDF path, or the name of a bundled hand (<data dir>/hands/<name>/).
@@ -178,6 +180,7 @@ void runBuild(const BuildArgs& args) {
     exitCode() = 130;
     return;
   }
+  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short
@@ -202,6 +205,10 @@ void runBuild(const BuildArgs& args) {
     os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
   }
   os << "\n";
+  const int threads = args.threads > 0
+                          ? args.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  os << "  threads   " << threads << " (not stored: the map does not depend on it)\n";
   const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
   const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
   char line[512];
@@ -279,6 +286,9 @@ const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
   cmd->add_flag("--keep-invalid", args->keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--timestamp", args->timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none, so the same arguments give the same bytes)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary");
   cmd->add_flag("--progress", args->progress, "draw the progress bar even when not a terminal");
   cmd->callback([args]() { runBuild(*args); });
