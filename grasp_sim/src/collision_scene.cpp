@@ -107,7 +107,8 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
   d.arrays->addIndexedMesh(im, PHY_INTEGER);
   d.mesh_shape = std::make_unique<btBvhTriangleMeshShape>(d.arrays.get(), true, true);
   d.mesh_shape->setMargin(0.0);
-  if (mode == Mode::kCulled) buildCulling(mesh.vertices, mesh.faces, &d);
+  if (mode == Mode::kCulled || (mode == Mode::kAuto && mesh.faces.size() >= kCulledMinFaces))
+    buildCulling(mesh.vertices, mesh.faces, &d);
 
   for (const HandLink& link : hand.links()) {
     std::vector<ShapeEntry> entries;

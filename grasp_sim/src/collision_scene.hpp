@@ -4,6 +4,7 @@
 // queries run Bullet's stateless GJK/EPA (btGjkEpaSolver2) on the triangles the BVH reports,
 // all state on the stack; the shapes and the BVH are shared read-only.
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -32,10 +33,14 @@ class CollisionScene {
   /// bit (same triangles, same order, same GJK/EPA calls on the ones that matter).
   enum class Mode {
     kBullet,  ///< Bullet's BVH, every triangle in the shape's padded bounding box (baseline)
-    kCulled,  ///< our tree, nodes and triangles culled by the shape's k-DOP and face planes
+    kCulled,  ///< Bullet's tree walked with the link shape's planes (culled_query.cpp)
+    kAuto,    ///< kCulled from kCulledMinFaces faces on, kBullet below (it is as fast there)
   };
+  /// Below this many faces Bullet's box query meets few triangles and the planes cost more
+  /// than they save (measured with tests/bench/grasp_sim on the 172-face basket).
+  static constexpr std::size_t kCulledMinFaces = 1000;
   /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
-  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kCulled);
+  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;

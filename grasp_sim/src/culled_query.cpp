@@ -218,32 +218,25 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
 }
 
 /// No overlap: the minimum of GJK distances does not depend on the order, so the tree is
-/// searched best first by the planes' bound, and the search stops once the bound exceeds the
-/// best distance found (GJK distances are upper bounds of the true ones: nothing beyond could
-/// be smaller).
+/// searched depth first, nearer child first by the planes' bound, skipping every node whose
+/// bound exceeds the best distance found (GJK distances are upper bounds of the true ones:
+/// nothing there could be smaller).
 void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
-  thread_local std::vector<std::pair<double, int>> heap;  // (bound, node), min-heap
-  heap.clear();
   btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
   const auto& nodes = bvh.getQuantizedNodeArray();
   if (nodes.size() == 0) return;
-  const auto later = [](const std::pair<double, int>& x, const std::pair<double, int>& y) {
-    return x.first > y.first || (x.first == y.first && x.second > y.second);
-  };
-  auto push = [&](int i) {
+  auto bound = [&](int i) {
     const btQuantizedBvhNode& n = nodes[i];
-    const double lb = pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                                   eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
-    if (lb > pl.cut || lb > q->min_distance + kCullSlack) return;
-    heap.emplace_back(lb, i);
-    std::push_heap(heap.begin(), heap.end(), later);
+    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
   };
-  push(0);
-  while (!heap.empty() && !q->overlap_found) {
-    std::pop_heap(heap.begin(), heap.end(), later);
-    const auto [lb, i] = heap.back();
-    heap.pop_back();
-    if (lb > q->min_distance + kCullSlack) break;
+  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
+  stack.clear();
+  stack.emplace_back(bound(0), 0);
+  while (!stack.empty() && !q->overlap_found) {
+    const auto [lb, i] = stack.back();
+    stack.pop_back();
+    if (lb > pl.cut || lb > q->min_distance + kCullSlack) continue;
     const btQuantizedBvhNode& n = nodes[i];
     if (n.isLeafNode()) {
       const int tri = n.getTriangleIndex();
@@ -253,8 +246,11 @@ void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQue
       continue;
     }
     const int left = i + 1;
-    push(left);
-    push(left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex()));
+    const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
+    std::pair<double, int> a{bound(left), left}, b{bound(right), right};
+    if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
+    stack.push_back(a);
+    stack.push_back(b);
   }
 }
 

@@ -77,8 +77,7 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
     : hand(h), opt(o) {
   opt.validate();
   scene = std::make_unique<CollisionScene>(
-      mesh, hand,
-      opt.culled_queries ? CollisionScene::Mode::kCulled : CollisionScene::Mode::kBullet);
+      mesh, hand, opt.culled_queries ? CollisionScene::Mode::kAuto : CollisionScene::Mode::kBullet);
   squeeze = opt.squeeze >= 0.0 ? opt.squeeze : hand.squeeze();
   const auto& links = hand.links();
   thickness.assign(links.size(), kInf);

@@ -272,10 +272,10 @@ TEST(GraspSimulator, ParallelThreadsMatchSequentialRun) {
 
 // The culled queries (default) against the baseline (Bullet's BVH query) on fixed trials: same
 // statuses, poses, joints and contacts bit for bit, for box hands and a hand with mesh (hull)
-// links, on the reference mug (3590 faces) and basket.
+// links, on the reference mug (3590 faces) and bowl (6272 faces).
 TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
   const std::string data = std::string(TEST_DATA_DIR) + "/hands/";
-  for (const char* object_name : {"mug", "basket"}) {
+  for (const char* object_name : {"mug", "bowl"}) {
     const ObjectModel object =
         ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/" + object_name + ".obj");
     const Eigen::Vector3d lo = object.massProperties().bounds_min;
