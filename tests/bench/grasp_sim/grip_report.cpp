@@ -3,6 +3,7 @@
 // or more fingers, clusters, and the outcome counts. Not a timing benchmark.
 //
 //   grip_report [--trials N] [--valid N] [--threads N] [--no-centre] [--grasp palm|fingertip]
+//               [--keep-invalid]
 //               HAND ... -- OBJECT ...
 // HAND: path/to/hand.urdf or path/to/hand.urdf@path/to/sidecar.hand.json (label = file stem);
 // OBJECT: path/to/mesh[@scale]. A hand or object that fails to load is reported and skipped.
@@ -88,6 +89,8 @@ int main(int argc, char** argv) {
       options.valid_target = std::stoull(next());
     else if (a == "--threads")
       options.threads = std::stoi(next());
+    else if (a == "--keep-invalid")  // 2-finger% then covers every completed trial
+      options.keep_invalid = true;
     else if (a == "--no-centre")
       options.simulation.centre_coupled = false;
     else if (a == "--grasp")
