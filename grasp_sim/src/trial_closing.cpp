@@ -205,6 +205,7 @@ void Trial::bisectStep(double dt, double rate, std::vector<int>* touching) {
     const auto u = static_cast<std::size_t>(l);
     if (dist_lo[u] <= tol_ || (!touching_lo && dist_hi[u] < 0.0)) touching->push_back(l);
   }
+  if (shift_group_ >= 0) dist_ = dist_lo;  // the state kept (settleStopped reads it)
   lp_ = m_.hand.linkPoses(q_);
 }
 
