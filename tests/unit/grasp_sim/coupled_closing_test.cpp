@@ -228,7 +228,7 @@ TEST(CoupledClosing, RealFrankaHandOnTheYcbBanana) {
   stiff_options.centre_coupled = false;
   GraspSimulator sim(banana, hand), stiff(banana, hand, stiff_options);
   int ok = 0, two = 0, stiff_ok = 0, stiff_two = 0;
-  for (int i = 0; i < 60; ++i) {
+  for (int i = 0; i < 40; ++i) {
     Rng rng(3, static_cast<std::uint64_t>(i));
     Pose p;
     p.position = banana.sampleInside(rng);
