@@ -8,6 +8,8 @@
 
 #include <algorithm>
 
+#include "reaching_bindings.hpp"
+
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
@@ -224,6 +226,8 @@ PYBIND11_MODULE(taskmap, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+
+  bindReaching(m);
 
   py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
       .def_static(
