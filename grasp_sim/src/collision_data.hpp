@@ -64,11 +64,12 @@ struct ShapeEntry {
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
   // Culled queries: separating planes of the shape in its frame, max over the shape of
   // axes[i] . x is reach[i] (a point set beyond any one plane by g is at least g away).
-  // Boxes: their 6 faces; hulls: their own face planes (also an inside test for points, from
-  // facet_begin on); cylinders and spheres: a 26-DOP.
+  // Boxes: their 6 faces; hulls: a 26-DOP, then their own face planes (an inside test for points,
+  // from facet_begin on); cylinders and spheres: a 26-DOP.
   std::vector<Eigen::Vector3d> axes;
   std::vector<double> reach;
   int facet_begin = 0;  ///< hulls: axes[facet_begin..] are the hull's face planes
+  int node_planes = 0;  ///< axes[0..node_planes) are tested on tree nodes
   bool is_hull = false;
 };
 
@@ -86,6 +87,7 @@ struct CollisionScene::Data {
   // Culled queries (CollisionScene::Mode::kCulled) walk Bullet's tree with their own node test
   // and read the triangle corners from here.
   bool culled = false;
+  bool culled_boxes = false;  // boxes, cylinders and spheres too (else hulls only; kAuto)
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
 };
 
@@ -101,14 +103,20 @@ TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts
 /// Adds the culling data (k-DOP, facets) of `e` built from its Bullet shape and, for a hull,
 /// its points.
 void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e);
-/// Prepares `d` for culled queries (triangle corners).
+/// Prepares `d` for culled queries (triangle corners) of hull shapes, and of every shape when
+/// `all_shapes`.
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
-                  const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d);
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d);
 /// Link query through Bullet's BVH (the baseline): GJK/EPA on every triangle in the shape's
 /// padded bounding box. `exact` computes EPA depths and fills `hits`.
 double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits);
+/// One shape (at pose `ts`, object frame) of queryLinkBullet: its minimum distance.
+double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
+                        const Eigen::Isometry3d& ts, double threshold, bool exact,
+                        std::vector<TriangleHit>* hits);
 /// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
 /// triangle test, GJK only where the baseline's result depends on it.
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,

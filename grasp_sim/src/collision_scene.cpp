@@ -107,8 +107,9 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
   d.arrays->addIndexedMesh(im, PHY_INTEGER);
   d.mesh_shape = std::make_unique<btBvhTriangleMeshShape>(d.arrays.get(), true, true);
   d.mesh_shape->setMargin(0.0);
-  if (mode == Mode::kCulled || (mode == Mode::kAuto && mesh.faces.size() >= kCulledMinFaces))
-    buildCulling(mesh.vertices, mesh.faces, &d);
+  if (mode != Mode::kBullet)
+    buildCulling(mesh.vertices, mesh.faces,
+                 mode == Mode::kCulled || mesh.faces.size() >= kCulledMinFaces, &d);
 
   for (const HandLink& link : hand.links()) {
     std::vector<ShapeEntry> entries;

@@ -34,10 +34,11 @@ class CollisionScene {
   enum class Mode {
     kBullet,  ///< Bullet's BVH, every triangle in the shape's padded bounding box (baseline)
     kCulled,  ///< Bullet's tree walked with the link shape's planes (culled_query.cpp)
-    kAuto,    ///< kCulled from kCulledMinFaces faces on, kBullet below (it is as fast there)
+    kAuto,    ///< kCulled for hull shapes, and for every shape from kCulledMinFaces faces on
   };
-  /// Below this many faces Bullet's box query meets few triangles and the planes cost more
-  /// than they save (measured with tests/bench/grasp_sim on the 172-face basket).
+  /// Below this many faces Bullet's box query meets few triangles and, for boxes, cylinders
+  /// and spheres, the planes cost more than they save (measured with tests/bench/grasp_sim on
+  /// the 172-face basket and 256-face cylinder; hulls gain 3x there).
   static constexpr std::size_t kCulledMinFaces = 1000;
   /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
   CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto);

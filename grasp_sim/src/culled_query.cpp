@@ -75,29 +75,33 @@ std::vector<Eigen::Vector3d> hullFaceNormals(const std::vector<Eigen::Vector3d>&
 }  // namespace
 
 void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e) {
-  // Boxes: their 6 face planes are exact. Hulls: their own face planes (exact; the 26-DOP when
-  // the hull is degenerate). Cylinders and spheres: the 26-DOP.
+  // Boxes: their 6 face planes are exact. Hulls: the 26-DOP (cheap, for tree nodes), then their
+  // own face planes (exact, for triangles; none when the hull is degenerate). Cylinders and
+  // spheres: the 26-DOP.
   const auto& dop = dopAxes();
   e->is_hull = !hull_points.empty();
-  e->axes.clear();
-  e->facet_begin = 0;
   if (e->is_box) {
     e->axes.assign(dop.begin(), dop.begin() + 6);
-  } else if (e->is_hull) {
-    e->axes = hullFaceNormals(hull_points);
-    if (e->axes.size() < 4) {
-      e->axes = dop;
-      e->is_hull = false;  // no face planes: no inside shortcut
-    }
   } else {
     e->axes = dop;
+  }
+  e->facet_begin = static_cast<int>(e->axes.size());
+  e->node_planes = e->facet_begin;
+  if (e->is_hull) {
+    const auto faces = hullFaceNormals(hull_points);
+    if (faces.size() >= 4)
+      e->axes.insert(e->axes.end(), faces.begin(), faces.end());
+    else
+      e->is_hull = false;  // no face planes: no inside proof
   }
   e->reach.clear();
   for (const auto& n : e->axes) e->reach.push_back(supportOf(*e->shape, n));
 }
 
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
-                  const std::vector<Eigen::Vector3i>& faces, CollisionScene::Data* d) {
+                  const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
+                  CollisionScene::Data* d) {
+  d->culled_boxes = all_shapes;
   d->corners.resize(faces.size());
   for (std::size_t t = 0; t < faces.size(); ++t)
     for (int k = 0; k < 3; ++k)
@@ -142,6 +146,8 @@ struct Candidate {
 struct Planes {
   std::vector<Eigen::Vector3d> wn;
   std::vector<double> wh;
+  std::size_t node_planes = 0;  // the first ones, tested on tree nodes
+  std::size_t facet_begin = 0;  // hulls: the face planes from here on
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
 
@@ -154,6 +160,8 @@ struct Planes {
       wn[i] = ts.linear() * e.axes[i];
       wh[i] = e.reach[i] + wn[i].dot(c);
     }
+    node_planes = static_cast<std::size_t>(e.node_planes);
+    facet_begin = static_cast<std::size_t>(e.facet_begin);
     cut = threshold + kCullSlack;
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
@@ -164,7 +172,7 @@ struct Planes {
     if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return kInf;
     const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
     double lb = -kInf;
-    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
+    for (std::size_t i = 0; i < node_planes && lb <= limit; ++i)
       lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
     return lb;
   }
@@ -275,7 +283,8 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Plan
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
           proven = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0;
         } else {
-          proven = pl.inside(v[0], 0) || pl.inside(v[1], 0) || pl.inside(v[2], 0);
+          proven = pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
+                   pl.inside(v[2], pl.facet_begin);
         }
         return !proven;
       });
@@ -297,6 +306,11 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     const Eigen::Vector3d c = ts.translation();
     const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
     if (out.norm() > e.bounding_radius + threshold) continue;
+    if (!e.is_hull && !d.culled_boxes) {
+      best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
+      if (!exact && best < 0.0) break;
+      continue;
+    }
     TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
     btVector3 amin, amax;
     e.shape->getAabb(q.xf, amin, amax);

@@ -142,15 +142,21 @@ double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEnt
     const Eigen::Vector3d c = ts.translation();
     const Eigen::Vector3d out = (lo - c).cwiseMax(c - hi).cwiseMax(0.0);
     if (out.norm() > e.bounding_radius + threshold) continue;
-    TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
-    btVector3 amin, amax;
-    e.shape->getAabb(q.xf, amin, amax);
-    const btVector3 pad(threshold, threshold, threshold);
-    d.mesh_shape->processAllTriangles(&q, amin - pad, amax + pad);
-    best = std::min(best, q.min_distance);
+    best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
     if (!exact && best < 0.0) break;
   }
   return best;
+}
+
+double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
+                        const Eigen::Isometry3d& ts, double threshold, bool exact,
+                        std::vector<TriangleHit>* hits) {
+  TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
+  btVector3 amin, amax;
+  e.shape->getAabb(q.xf, amin, amax);
+  const btVector3 pad(threshold, threshold, threshold);
+  d.mesh_shape->processAllTriangles(&q, amin - pad, amax + pad);
+  return q.min_distance;
 }
 
 }  // namespace taskmap

@@ -113,12 +113,12 @@ struct GraspSimOptions {
   /// contact per triangle (dozens), which adds nothing to the grasp but makes the 6-D wrench
   /// hull of the quality stage cost seconds.
   int max_contacts_per_link = 4;
-  /// Link-versus-object queries: true = on meshes of 1000 faces or more, Bullet's tree walked
-  /// with each link shape's face planes (box faces, hull faces, a 26-DOP otherwise), overlap
-  /// proofs and a branch-and-bound nearest-triangle search, so that GJK/EPA runs only where the
-  /// answer depends on it: results bit for bit those of the baseline, much faster on fine
-  /// meshes (docs/METHOD.md §2); false = the baseline, GJK on every triangle in the link
-  /// shape's padded bounding box found through Bullet's tree.
+  /// Link-versus-object queries: true = for mesh (hull) links, and for every link on meshes of
+  /// 1000 faces or more, Bullet's tree walked with each link shape's face planes (box faces, hull
+  /// faces, a 26-DOP otherwise), overlap proofs and a branch-and-bound nearest-triangle search, so
+  /// that GJK/EPA runs only where the answer depends on it: results bit for bit those of the
+  /// baseline, much faster on fine meshes (docs/METHOD.md §2); false = the baseline, GJK on every
+  /// triangle in the link shape's padded bounding box found through Bullet's tree.
   bool culled_queries = true;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;
