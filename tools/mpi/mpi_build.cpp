@@ -100,6 +100,7 @@ bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
     setup.object =
         std::make_unique<ObjectModel>(ObjectModel::load(args.object, MeshLoadOptions{args.scale}));
     setup.hand = std::make_unique<HandModel>(HandModel::load(setup.plan.hand_urdf));
+    checkGraspOptions(args, setup.plan.options, *setup.hand, setup.plan.hand_urdf);
     setup.runner = std::make_unique<TrialRunner>(*setup.object, *setup.hand, setup.plan.options);
   } catch (const std::exception& e) {
     error = e.what();

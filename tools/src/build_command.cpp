@@ -70,6 +70,16 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_option("--cone-edges", args.cone_edges, "friction cone edges")
       ->check(CLI::Range(3, 64))
       ->capture_default_str();
+  cmd->add_option("--grasp", args.grasp,
+                  "palm: the approach stops when the palm touches, the palm is pressed "
+                  "(power grasps); fingertip: it stops at the first contact or when the palm "
+                  "is --standoff from the object, no palm contact needed (pinch grasps). "
+                  "Default: the hand sidecar's grasp.mode (palm)")
+      ->check(CLI::IsMember({"palm", "fingertip"}));
+  cmd->add_option("--standoff", args.standoff,
+                  "fingertip grasps: palm-to-object distance where the approach stops, metres "
+                  "(default: the hand sidecar's grasp.standoff, else 0)")
+      ->check(CLI::Range(0.0, 0.5));
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
@@ -91,7 +101,20 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  if (args.grasp == "palm")
+    options.simulation.grasp_mode = GraspMode::kPalm;
+  else if (args.grasp == "fingertip")
+    options.simulation.grasp_mode = GraspMode::kFingertip;
+  options.simulation.standoff = args.standoff;
   return options;
+}
+
+void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
+                       const std::string& hand_path) {
+  const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());
+  if (args.standoff >= 0.0 && mode != GraspMode::kFingertip)
+    throw Error("--standoff applies to fingertip grasps; add --grasp fingertip (hand '" +
+                hand_path + "' grasps with the palm)");
 }
 
 BuildPlan planBuild(const BuildArgs& args) {

@@ -21,9 +21,15 @@ struct BuildArgs {
   int threads = 0;
   double friction = 0.5;
   int cone_edges = 8;
+  std::string grasp;       ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
+  double standoff = -1.0;  ///< metres; negative = the hand sidecar's
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
   bool timestamp = false;  ///< store the current time as created_utc
 };
+
+/// Refuses --standoff when the grasp mode in force (--grasp, else the hand's) is not fingertip.
+void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
+                       const std::string& hand_path);
 
 /// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);

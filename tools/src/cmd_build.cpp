@@ -41,6 +41,7 @@ void runBuild(const BuildArgs& args) {
 
   const ObjectModel object = ObjectModel::load(args.object, MeshLoadOptions{args.scale});
   const HandModel hand = HandModel::load(hand_path);
+  checkGraspOptions(args, options, hand, hand_path);
 
   g_stop.store(false);
   struct sigaction action {};
