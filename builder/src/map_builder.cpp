@@ -1,111 +1,17 @@
-// The map-building pipeline: deterministic parallel trials in fixed blocks.
+// The map-building pipeline: deterministic parallel trials in fixed blocks, then assembleMap.
 #include "taskmap/builder/map_builder.hpp"
 
-#include <algorithm>
-#include <cassert>
-#include <chrono>
-#include <condition_variable>
 #include <ctime>
-#include <exception>
-#include <memory>
-#include <mutex>
-#include <thread>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
-#include "taskmap/mapstore/map_file.hpp"
 #include "trial_pool.hpp"
 
-#ifndef TASKMAP_VERSION
-#define TASKMAP_VERSION "unknown"
-#endif
-
 namespace taskmap {
-namespace {
-
-// Outcome names: the simulator's statuses, with ok split by force closure.
-constexpr const char* kForceClosure = "force_closure";
-constexpr const char* kNotForceClosure = "not_force_closure";
-
-std::string outcomeName(const detail::Trial& t) {
-  if (t.status != GraspStatus::kOk) return toString(t.status);
-  return t.force_closure ? kForceClosure : kNotForceClosure;
-}
-
-void fillObject(const ObjectModel& object, MapObject& o) {
-  const MassProperties& mp = object.massProperties();
-  o.name = object.name();
-  o.source_sha256 = object.sourceSha256();
-  o.scale = object.scale();
-  o.volume = mp.volume;
-  o.center_of_mass = mp.center_of_mass;
-  o.torque_scale = mp.torque_scale;
-  const TriangleMesh& mesh = object.mesh();
-  o.vertices.resize(static_cast<Eigen::Index>(mesh.vertices.size()), 3);
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    o.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices[i].transpose();
-  o.faces.resize(static_cast<Eigen::Index>(mesh.faces.size()), 3);
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
-    o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
-}
-
-std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
-  nlohmann::json j = nlohmann::json::object();
-  try {
-    const auto extra = nlohmann::json::parse(o.extra_params_json);
-    if (extra.is_object()) j = extra;
-  } catch (const nlohmann::json::exception&) {
-    // validate() already refused malformed extra JSON.
-  }
-  j["sampler"] = toString(o.sampler.kind);
-  j["standoff_min"] = o.sampler.standoff_min;
-  j["standoff_max"] = o.sampler.standoff_max;
-  const Eigen::Vector3d a = hand.approachAxis();
-  j["approach_axis"] = {a.x(), a.y(), a.z()};
-  j["seed"] = o.seed;
-  j["valid"] = o.valid_target;
-  j["max_trials"] = o.max_trials;
-  j["block_size"] = o.block_size;
-  j["keep_invalid"] = o.keep_invalid;
-  j["cluster"] = o.cluster;
-  j["friction"] = o.quality.friction;
-  j["cone_edges"] = o.quality.cone_edges;
-  j["contact_model"] = toString(o.quality.contact_model);
-  j["torsional_friction"] = o.quality.torsional_friction;
-  j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
-  j["contact_tolerance"] = o.simulation.contact_tolerance;
-  j["max_retraction"] = o.simulation.max_retraction;
-  j["squeeze"] = o.simulation.squeeze;
-  j["require_palm_contact"] = o.simulation.require_palm_contact;
-  j["check_self_collision"] = o.simulation.check_self_collision;
-  j["max_closing_steps"] = o.simulation.max_closing_steps;
-  j["cluster_method"] = toString(o.clustering.method);  // requested; /clustering has the one used
-  j["cluster_fallback_to_single"] = o.clustering.fallback_to_single;
-  j["cluster_outlier_budget"] = o.clustering.outlier_budget;
-  j["cluster_min_size_fraction"] = o.clustering.min_size_fraction;
-  j["cluster_min_size"] = o.clustering.min_size;
-  if (o.clustering.threshold) j["cluster_threshold"] = *o.clustering.threshold;
-  if (o.clustering.num_clusters) j["cluster_count"] = *o.clustering.num_clusters;
-  return j.dump();
-}
-
-// Appends a stored grasp as the next row.
-void appendGrasp(const detail::Trial& t, std::size_t row, MapGrasps& g) {
-  const GraspResult& r = *t.grasp;
-  const auto i = static_cast<Eigen::Index>(row);
-  g.pose.row(i) = r.pose.toVector7().transpose();
-  assert(r.joints.size() == g.joints.cols());
-  g.joints.row(i) = r.joints.transpose();
-  g.force_closure.push_back(t.force_closure ? 1 : 0);
-  g.epsilon.push_back(t.epsilon);
-  g.volume.push_back(t.volume);
-  g.contact_offsets.push_back(g.contact_offsets.back() +
-                              static_cast<std::int64_t>(r.contacts.size()));
-}
-
-}  // namespace
 
 void BuildOptions::validate() const {
   sampler.validate();
@@ -150,114 +56,9 @@ std::string utcNow() {
   return buffer;
 }
 
-namespace {
-
-// ---- the steps of buildMap
-
-// The options the sampler gets: the hand's approach axis.
-SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand) {
-  SamplerOptions o = options.sampler;
-  o.approach_axis = hand.approachAxis().normalized();
-  return o;
+int buildThreadCount(int threads) {
+  return detail::threadCount(threads);
 }
-
-// The map's descriptive groups: provenance, object, hand, sampling parameters, quality model.
-void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                 TaskMapData& map) {
-  map.generator = std::string("taskmap ") + TASKMAP_VERSION;
-  map.created_utc = mapCreationTime();  // SOURCE_DATE_EPOCH or "": reproducible bytes
-  fillObject(object, map.object);
-  map.hand.name = hand.name();
-  map.hand.urdf_sha256 = hand.urdfSha256();
-  map.hand.joint_names = hand.jointNames();
-  map.sampling.sampler = toString(options.sampler.kind);
-  map.sampling.seed = options.seed;
-  map.sampling.params_json = paramsJson(options, hand);
-  map.quality.friction = options.quality.friction;
-  map.quality.cone_edges = options.quality.cone_edges;
-  map.quality.contact_model = toString(options.quality.contact_model);
-}
-
-// What the completed prefix of blocks holds up to the valid_target-th force-closure grasp.
-struct Prefix {
-  std::uint64_t trials = 0, valid = 0;
-  std::vector<const detail::Trial*> stored;
-  std::size_t contacts = 0;
-};
-
-// Walks the completed blocks in index order (the stop rule), counting outcomes into map.
-Prefix takePrefix(detail::Scheduler& scheduler, std::uint64_t valid_target, TaskMapData& map) {
-  Prefix p;
-  for (std::uint64_t b = 0; b < scheduler.prefix() && p.valid < valid_target; ++b) {
-    for (const detail::Trial& t : scheduler.block(b).trials) {
-      ++p.trials;
-      ++map.sampling.outcomes[outcomeName(t)];
-      if (t.grasp) {
-        p.stored.push_back(&t);
-        p.contacts += t.grasp->contacts.size();
-      }
-      if (t.force_closure && ++p.valid == valid_target) break;
-    }
-  }
-  map.sampling.trials = p.trials;
-  return p;
-}
-
-// The grasp rows (poses, joints, qualities, contacts) of the stored trials, in trial order.
-void fillGrasps(const Prefix& prefix, double rho, TaskMapData& map) {
-  MapGrasps& g = map.grasps;
-  const auto n = static_cast<Eigen::Index>(prefix.stored.size());
-  const auto joints = static_cast<Eigen::Index>(map.hand.joint_names.size());
-  g.rotation_scale = rho;
-  g.contacts_available = true;
-  g.pose.resize(n, 7);
-  g.joints.resize(n, joints);
-  g.contact_offsets.assign(1, 0);
-  g.contact_points.resize(static_cast<Eigen::Index>(prefix.contacts), 3);
-  g.contact_normals.resize(static_cast<Eigen::Index>(prefix.contacts), 3);
-  std::size_t c = 0;
-  for (std::size_t i = 0; i < prefix.stored.size(); ++i) {
-    appendGrasp(*prefix.stored[i], i, g);
-    for (const Contact& k : prefix.stored[i]->grasp->contacts) {
-      g.contact_points.row(static_cast<Eigen::Index>(c)) = k.point.transpose();
-      g.contact_normals.row(static_cast<Eigen::Index>(c)) = k.normal.normalized().transpose();
-      g.contact_depths.push_back(k.depth);
-      g.contact_links.push_back(k.link);
-      ++c;
-    }
-  }
-}
-
-// Clusters the stored grasps (paper 1.6.1) in the hand's pose metric.
-void clusterMap(const ClusteringOptions& options, double rho, TaskMapData& map) {
-  const MapGrasps& g = map.grasps;
-  std::vector<Pose> poses;
-  poses.reserve(g.size());
-  for (std::size_t i = 0; i < g.size(); ++i) poses.push_back(g.poseAt(i));
-  ClusteringOptions co = options;
-  co.rotation_scale = rho;
-  map.clustering = clusterGrasps(poses, g.epsilon, co);
-}
-
-// The build's status and its one-line message.
-void setStatus(bool interrupted, const Prefix& p, const BuildOptions& options, BuildResult& r) {
-  if (interrupted) {
-    r.status = BuildStatus::kInterrupted;
-    r.message = "interrupted after " + std::to_string(p.trials) + " trials with " +
-                std::to_string(p.valid) + " force-closure grasps";
-  } else if (p.valid < options.valid_target) {
-    r.status = BuildStatus::kTrialBudgetExhausted;
-    r.message = "trial budget of " + std::to_string(options.max_trials) + " spent: found " +
-                std::to_string(p.valid) + " of " + std::to_string(options.valid_target) +
-                " force-closure grasps";
-  } else {
-    r.status = BuildStatus::kComplete;
-    r.message = "found " + std::to_string(p.valid) + " force-closure grasps in " +
-                std::to_string(p.trials) + " trials";
-  }
-}
-
-}  // namespace
 
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
                      const ProgressCallback& progress, const std::atomic<bool>* stop,
@@ -265,33 +66,21 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   options.validate();
   if (!(progress_interval_seconds > 0.0)) throw Error("progress interval must be positive");
   const auto t_start = detail::Clock::now();
-  BuildResult result;
-  int threads = options.threads;
-  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-
-  const Sampler sampler(object, samplerOptionsFor(options, hand));
+  BuildTiming timing;
+  const int threads = detail::threadCount(options.threads);
+  const Sampler sampler(object, detail::samplerOptionsFor(options, hand));
   const GraspSimulator simulator(object, hand, options.simulation);
   const MassProperties& mp = object.massProperties();
-  result.timing.setup_seconds = detail::secondsSince(t_start);
+  timing.setup_seconds = detail::secondsSince(t_start);
 
-  detail::Scheduler scheduler(options.max_trials, options.block_size, options.valid_target);
+  detail::Scheduler scheduler(0, options.max_trials, options.block_size, options.valid_target);
   const detail::TrialPoolSetup setup{
       sampler, simulator, options,  mp.center_of_mass,        mp.torque_scale,
       threads, stop,      progress, progress_interval_seconds};
-  detail::runTrialPool(setup, scheduler, result.timing);
+  detail::runTrialPool(setup, scheduler, timing);
   const bool interrupted = stop != nullptr && stop->load() && !scheduler.done();
-
-  TaskMapData& map = result.map;
-  describeMap(object, hand, options, map);
-  const Prefix prefix = takePrefix(scheduler, options.valid_target, map);
-  const double rho = hand.rotationScale() > 0.0 ? hand.rotationScale() : kDefaultRotationScale;
-  fillGrasps(prefix, rho, map);
-  if (options.cluster && prefix.stored.size() >= 2 && !interrupted) {
-    const auto t_cluster = detail::Clock::now();
-    clusterMap(options.clustering, rho, map);
-    result.timing.clustering_seconds = detail::secondsSince(t_cluster);
-  }
-  setStatus(interrupted, prefix, options, result);
+  BuildResult result =
+      assembleMap(object, hand, options, scheduler.takePrefixBlocks(), interrupted, timing);
   result.timing.wall_seconds = detail::secondsSince(t_start);
   return result;
 }

@@ -1,5 +1,7 @@
 #include "trial_pool.hpp"
 
+#include <sched.h>
+
 #include <condition_variable>
 #include <ctime>
 #include <thread>
@@ -16,25 +18,39 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+int threadCount(int requested) {
+  if (requested > 0) return requested;
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand) {
+  SamplerOptions o = options.sampler;
+  o.approach_axis = hand.approachAxis().normalized();
+  return o;
+}
+
 void Worker::run() {
   std::uint64_t b = 0;
   while (scheduler.claim(&b)) {
-    auto block = std::make_unique<Block>();
-    const std::uint64_t first = b * scheduler.blockSize();
-    const std::uint64_t last = std::min(first + scheduler.blockSize(), scheduler.maxTrials());
+    auto block = std::make_unique<TrialBlock>();
+    const std::uint64_t first = scheduler.blockFirst(b);
+    const std::uint64_t last = scheduler.blockLast(b);
+    block->first = first;
     block->trials.reserve(last - first);
     for (std::uint64_t i = first; i < last; ++i) {
       // An incomplete block is dropped.
       if ((stop != nullptr && stop->load()) || scheduler.aborted()) return;
       block->trials.push_back(runTrial(i));
-      block->valid += block->trials.back().force_closure;
     }
     scheduler.finish(b, std::move(block));
   }
 }
 
-Trial Worker::runTrial(std::uint64_t index) {
-  Trial t;
+TrialOutcome Worker::runTrial(std::uint64_t index) {
+  TrialOutcome t;
   const double t0 = threadCpuSeconds();
   const Pose initial = sampler.sample(options.seed, index);
   const double t1 = threadCpuSeconds();
@@ -51,7 +67,8 @@ Trial Worker::runTrial(std::uint64_t index) {
   t.epsilon = q.epsilon;
   t.volume = q.volume;
   if (t.force_closure || options.keep_invalid)
-    t.grasp = std::make_unique<GraspResult>(std::move(g));
+    t.grasp = std::make_unique<TrialGrasp>(
+        TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
   return t;
 }
 
@@ -99,7 +116,7 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
   auto report = [&] {
     if (!progress) return;
     BuildProgress p;
-    scheduler.progress(&p.trials_done, &p.valid_found);
+    scheduler.progress(&p);
     p.valid_target = options.valid_target;
     p.max_trials = options.max_trials;
     p.elapsed_seconds = secondsSince(t_trials);

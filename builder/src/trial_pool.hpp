@@ -4,6 +4,7 @@
 // that keeps blocks by index and stops when the completed prefix holds valid_target
 // force-closure grasps. Results depend only on (seed, trial index), never on the thread count.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -16,6 +17,7 @@
 #include <Eigen/Core>
 
 #include "taskmap/builder/map_builder.hpp"
+#include "taskmap/builder/trial_block.hpp"
 
 namespace taskmap::detail {
 
@@ -27,37 +29,37 @@ double threadCpuSeconds();
 /// Wall seconds since t0.
 double secondsSince(Clock::time_point t0);
 
-// One trial's outcome; the grasp itself only when it may be stored.
-struct Trial {
-  GraspStatus status = GraspStatus::kNoFingerContact;
-  bool force_closure = false;
-  std::unique_ptr<GraspResult> grasp;  // status ok and (force closure or keep_invalid)
-  double epsilon = 0.0;
-  double volume = 0.0;
-};
+/// Worker threads for BuildOptions::threads: itself when positive, else the cores this process
+/// may run on (its CPU affinity mask, so `mpirun --bind-to core` or taskset are respected).
+int threadCount(int requested);
 
-struct Block {
-  std::vector<Trial> trials;
-  std::uint64_t valid = 0;
-};
+/// The options the sampler gets: the hand's approach axis.
+SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand);
 
 struct StageTimes {
   double sampling = 0.0, simulation = 0.0, quality = 0.0;
   std::uint64_t trials = 0;
 };
 
-// Shared state of one build.
+// Shared state of one run of the pool over the trials [first, last): blocks of block_size
+// trials, done when every block finished or the completed prefix holds valid_target
+// force-closure grasps (pass UINT64_MAX to run every block).
 class Scheduler {
  public:
-  Scheduler(std::uint64_t max_trials, std::uint64_t block_size, std::uint64_t valid_target)
-      : max_trials_(max_trials),
+  Scheduler(std::uint64_t first, std::uint64_t last, std::uint64_t block_size,
+            std::uint64_t valid_target)
+      : first_(first),
+        last_(last),
         block_size_(block_size),
         valid_target_(valid_target),
-        blocks_((max_trials + block_size - 1) / block_size) {}
+        blocks_((last - first + block_size - 1) / block_size) {}
 
   std::uint64_t blockCount() const { return blocks_.size(); }
-  std::uint64_t blockSize() const { return block_size_; }
-  std::uint64_t maxTrials() const { return max_trials_; }
+  // Trial range of block b.
+  std::uint64_t blockFirst(std::uint64_t b) const { return first_ + b * block_size_; }
+  std::uint64_t blockLast(std::uint64_t b) const {
+    return std::min(blockFirst(b) + block_size_, last_);
+  }
 
   // Next block index to run, or false when there is no more work wanted.
   bool claim(std::uint64_t* block) {
@@ -68,13 +70,15 @@ class Scheduler {
     return true;
   }
 
-  void finish(std::uint64_t b, std::unique_ptr<Block> block) {
+  void finish(std::uint64_t b, std::unique_ptr<TrialBlock> block) {
     std::lock_guard<std::mutex> lock(mutex_);
+    const std::uint64_t valid = block->valid();
     trials_done_ += block->trials.size();
-    valid_done_ += block->valid;
+    valid_done_ += valid;
+    ++blocks_done_;
     blocks_[b] = std::move(block);
     while (prefix_ < blocks_.size() && blocks_[prefix_]) {
-      prefix_valid_ += blocks_[prefix_]->valid;
+      prefix_valid_ += blocks_[prefix_]->valid();
       ++prefix_;
     }
     if (prefix_valid_ >= valid_target_ || prefix_ == blocks_.size()) done_.store(true);
@@ -89,24 +93,32 @@ class Scheduler {
   }
   bool aborted() const { return aborted_.load(); }
   std::exception_ptr error() const { return error_; }
-  void progress(std::uint64_t* trials, std::uint64_t* valid) {
+  void progress(BuildProgress* p) {
     std::lock_guard<std::mutex> lock(mutex_);
-    *trials = trials_done_;
-    *valid = valid_done_;
+    p->trials_done = trials_done_;
+    p->valid_found = valid_done_;
+    p->blocks_done = blocks_done_;
+    p->blocks_total = blocks_.size();
   }
   // Completed blocks 0..prefix-1 (only call after the workers joined).
   std::uint64_t prefix() const { return prefix_; }
-  Block& block(std::uint64_t b) { return *blocks_[b]; }
+  // Moves the completed prefix out, in index order (only call after the workers joined).
+  std::vector<TrialBlock> takePrefixBlocks() {
+    std::vector<TrialBlock> out;
+    out.reserve(prefix_);
+    for (std::uint64_t b = 0; b < prefix_; ++b) out.push_back(std::move(*blocks_[b]));
+    return out;
+  }
 
  private:
-  const std::uint64_t max_trials_, block_size_, valid_target_;
-  std::vector<std::unique_ptr<Block>> blocks_;
+  const std::uint64_t first_, last_, block_size_, valid_target_;
+  std::vector<std::unique_ptr<TrialBlock>> blocks_;
   std::atomic<std::uint64_t> next_{0};
   std::atomic<bool> done_{false};
   std::atomic<bool> aborted_{false};
   std::exception_ptr error_;
   std::mutex mutex_;
-  std::uint64_t prefix_ = 0, prefix_valid_ = 0, trials_done_ = 0, valid_done_ = 0;
+  std::uint64_t prefix_ = 0, prefix_valid_ = 0, trials_done_ = 0, valid_done_ = 0, blocks_done_ = 0;
 };
 
 struct Worker {
@@ -120,7 +132,7 @@ struct Worker {
   StageTimes times;
 
   void run();
-  Trial runTrial(std::uint64_t index);
+  TrialOutcome runTrial(std::uint64_t index);
 };
 
 /// Everything runTrialPool needs.

@@ -59,6 +59,9 @@ void GraspSimOptions::validate() const {
   if (max_closing_steps < 10)
     throw Error("GraspSimOptions.max_closing_steps must be at least 10, got " +
                 std::to_string(max_closing_steps));
+  if (!(standoff <= 0.5) || std::isnan(standoff))
+    throw Error("GraspSimOptions.standoff must be <= 0.5 metres (negative = the hand's), got " +
+                std::to_string(standoff));
   if (max_contacts_per_link < 0)
     throw Error("GraspSimOptions.max_contacts_per_link must be >= 0 (0 = unlimited), got " +
                 std::to_string(max_contacts_per_link));
@@ -115,6 +118,39 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
   for (const auto& pr : self_pairs) {
     partners[static_cast<std::size_t>(pr.first)].push_back(pr.second);
     partners[static_cast<std::size_t>(pr.second)].push_back(pr.first);
+  }
+  grasp_mode = opt.grasp_mode ? *opt.grasp_mode : hand.graspMode();
+  standoff = opt.standoff >= 0.0 ? opt.standoff : hand.standoff();
+  group_of.assign(hand.closing().size(), -1);
+  if (opt.centre_coupled) findCoupledGroups();
+}
+
+// Candidate mechanisms: each sidecar "coupled" group, and every other closing joint alone. A
+// candidate centres when the links it moves lie on two or more fingers (a <mimic> jaw pair).
+void SimModel::findCoupledGroups() {
+  const auto& closing = hand.closing();
+  std::vector<std::vector<int>> candidates = hand.coupledClosing();
+  std::vector<char> grouped(closing.size(), 0);
+  for (const auto& g : candidates)
+    for (int c : g) grouped[static_cast<std::size_t>(c)] = 1;
+  for (std::size_t c = 0; c < closing.size(); ++c)
+    if (!grouped[c]) candidates.push_back({static_cast<int>(c)});
+  group_of.assign(closing.size(), -1);
+  const auto& links = hand.links();
+  for (const auto& g : candidates) {
+    std::vector<char> moves(links.size(), 0);
+    std::vector<char> finger_seen(hand.fingerNames().size(), 0);
+    for (std::size_t l = 0; l < links.size(); ++l)
+      for (int j : hand.linkDrivers()[l])
+        for (int c : g)
+          if (closing[static_cast<std::size_t>(c)].joint == j) moves[l] = 1;
+    for (std::size_t l = 0; l < links.size(); ++l)
+      if (moves[l] && links[l].finger >= 0)
+        finger_seen[static_cast<std::size_t>(links[l].finger)] = 1;
+    if (std::count(finger_seen.begin(), finger_seen.end(), 1) < 2) continue;
+    for (int c : g) group_of[static_cast<std::size_t>(c)] = static_cast<int>(groups.size());
+    groups.push_back(g);
+    group_moves.push_back(moves);
   }
 }
 

@@ -26,9 +26,19 @@ struct SimModel {
   std::vector<int> closing_of;            ///< actuated joint -> index in hand.closing(), or -1
   std::vector<std::pair<int, int>> self_pairs;  ///< link pairs checked for self-collision
   std::vector<std::vector<int>> partners;       ///< per link: its self-collision partners
+  GraspMode grasp_mode = GraspMode::kPalm;      ///< palm or fingertip grasps in force
+  double standoff = 0.0;                        ///< fingertip standoff in force, metres
+  /// Coupled mechanisms that centre (closing indices per group): a closing joint, or a sidecar
+  /// "coupled" group, whose links lie on two or more fingers; empty unless opt.centre_coupled.
+  std::vector<std::vector<int>> groups;
+  std::vector<int> group_of;                   ///< closing index -> index in groups, or -1
+  std::vector<std::vector<char>> group_moves;  ///< per group, per link: moved by the group
 
   /// Validates `o`, builds the scene and the tables. Throws Error on bad input.
   SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o);
+
+ private:
+  void findCoupledGroups();
 };
 
 }  // namespace taskmap

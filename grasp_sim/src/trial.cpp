@@ -14,6 +14,8 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Contacts of one link closer than this are merged (the deepest is kept), metres.
 constexpr double kMergeRadius = 1e-3;
+/// Fingertip grasps: most back-off steps toward the standoff (each closes most of the gap).
+constexpr int kMaxStandoffSteps = 20;
 
 }  // namespace
 
@@ -146,6 +148,11 @@ bool Trial::approachObject(double s_max, double* s) {
 }
 
 bool Trial::placePalm() {
+  if (m_.grasp_mode == GraspMode::kFingertip) {
+    placeFingertips();
+    if (m_.opt.profile) st_.retract_seconds = lap();
+    return true;
+  }
   bool palm_touch = false;
   double palm_gap = kInf;
   for (int l : m_.shaped) {
@@ -163,6 +170,39 @@ bool Trial::placePalm() {
   }
   if (palm_touch) palm_.translation() += (m_.squeeze + std::max(palm_gap, 0.0)) * a_;
   return true;
+}
+
+// Smallest distance of a palm-rigid link to the object at palm pose `pm`, within `threshold`.
+double Trial::palmGap(const Eigen::Isometry3d& pm, double threshold) {
+  double gap = kInf;
+  for (int l : m_.shaped) {
+    const auto u = static_cast<std::size_t>(l);
+    if (!m_.hand.links()[u].palm) continue;
+    gap = std::min(gap, m_.scene->linkDistance(l, pm * lp_[u], threshold));
+    ++st_.queries;
+  }
+  return gap;
+}
+
+// Fingertip grasps: coming from outside along +a the hand stops at the first link contact or
+// when the palm comes within the standoff of the object, whichever happens first. The exit pose
+// is the first contact; if the palm is closer than the standoff there, back off along -a
+// (moving by e along -a opens the gap by at most e, so each step is safe) until the palm is the
+// standoff away; a back-off that would make a link penetrate (hooked shapes) is not taken.
+void Trial::placeFingertips() {
+  const double standoff = m_.standoff;
+  if (!(standoff > 0.0)) return;
+  const double s0 = st_.retraction;
+  double s = s0;
+  double gap = palmGap(at(s), standoff + tol_);
+  for (int it = 0; it < kMaxStandoffSteps && gap < standoff - 0.5 * tol_; ++it) {
+    s += standoff - std::max(gap, 0.0);
+    gap = palmGap(at(s), standoff + tol_);
+  }
+  if (s == s0 || evalAll(at(s), tol_, true) < 0.0) return;
+  palm_ = at(s);
+  st_.standoff = s - s0;
+  st_.retraction = s;
 }
 
 // Contacts of one link after the squeeze: every pressed triangle that faces the link, merged

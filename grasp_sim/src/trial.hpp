@@ -27,8 +27,9 @@ class Trial {
   /// Moves the hand along -approach out of the object (or along +approach onto it) to the
   /// first touching pose. False (status set) when not retractable or nothing is touched.
   bool retract();
-  /// Checks that the palm touches and presses it by the squeeze distance along +approach.
-  /// False (kNoPalmContact) when a finger touches first and the palm is required.
+  /// Palm grasps: checks that the palm touches and presses it by the squeeze distance along
+  /// +approach; false (kNoPalmContact) when a finger touches first and the palm is required.
+  /// Fingertip grasps: backs the hand off until the palm is the standoff from the object.
   bool placePalm();
   /// autoGrasp: closes every closing joint until contact or limit.
   void close();
@@ -52,14 +53,28 @@ class Trial {
   Eigen::Isometry3d at(double s) const;
   bool leaveObject(double m, double s_max, double* s);
   bool approachObject(double s_max, double* s);
+  double palmGap(const Eigen::Isometry3d& pm, double threshold);
+  void placeFingertips();
   // Closing parts.
   bool moving(int link) const;
   Eigen::VectorXd advance(const Eigen::VectorXd& from, double dt) const;
-  double evalMoving(const Eigen::VectorXd& qq);
+  double evalMoving(const Eigen::VectorXd& qq, double dt = 0.0);
   void stopTouching(const std::vector<int>& touching);
   void refreshMoving();
   void closingStep();
   void bisectStep(double dt, double rate, std::vector<int>* touching);
+  // Coupled closing parts (trial_coupling.cpp).
+  bool heldLink(int link) const;
+  double exactDistance(int link, const Eigen::Isometry3d& t, bool facing_shift);
+  double evalStill();
+  void coupledTouch(const std::vector<int>& touching);
+  void shiftFirstTouch(const std::vector<int>& touching);
+  void startShift(int group, int link);
+  Eigen::Vector3d shiftVelocity() const;
+  void completeGroup(int group, const std::vector<int>& links);
+  void stopGroup(int group, int link);
+  void endShift();
+  void settleStopped(const std::vector<int>& touching);
   // Squeeze parts.
   std::vector<SqueezeContact> pressingContacts();
   double deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq);
@@ -88,8 +103,19 @@ class Trial {
   std::vector<char> active_;
   std::vector<int> stop_link_;
   std::vector<double> dir_;
-  std::vector<int> mov_;
+  std::vector<int> mov_;   // links moved by an active closing joint
+  std::vector<int> eval_;  // links evaluated per step: mov_, or every shaped link while shifting
   std::vector<Eigen::Isometry3d> world_;
+  std::vector<std::vector<int>> press_extra_;  // per closing joint: more links to squeeze
+  // Coupled closing: the group shifting the hand (-1: none), the touching link it holds in place
+  // (and its finger), the contact point in that link's frame, the palm velocity per unit
+  // closing time, and per link the signed distance below which a link blocks the shift.
+  int shift_group_ = -1;
+  int held_link_ = -1;
+  int held_finger_ = -1;
+  Eigen::Vector3d held_point_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d shift_vel_ = Eigen::Vector3d::Zero();
+  std::vector<double> floor_;
   bool step_limit_ = false;
   bool self_ = false;
 };

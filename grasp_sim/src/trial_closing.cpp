@@ -36,14 +36,20 @@ Eigen::VectorXd Trial::advance(const Eigen::VectorXd& from, double dt) const {
   return out;
 }
 
-// Distances of the moving links at joint values qq, to the object and (self-contact stops a
-// link like an object contact) to the hand links it may collide with; returns the minimum.
-double Trial::evalMoving(const Eigen::VectorXd& qq) {
+// Distances of the moving links at joint values qq (and the palm shifted by dt of a coupled
+// closing), to the object and (self-contact stops a link like an object contact) to the hand
+// links it may collide with; returns the minimum. While the hand shifts, the links that do not
+// close (and the held jaw) count from their floor (evalStill).
+double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
   lp_ = m_.hand.linkPoses(qq);
+  Eigen::Isometry3d pm = palm_;
+  const bool shifting = shift_group_ >= 0;
+  if (shifting) pm.translation() += dt * shift_vel_;
   for (int l : m_.shaped)
-    world_[static_cast<std::size_t>(l)] = palm_ * lp_[static_cast<std::size_t>(l)];
+    world_[static_cast<std::size_t>(l)] = pm * lp_[static_cast<std::size_t>(l)];
   double mn = kInf;
   for (int l : mov_) {
+    if (shifting && heldLink(l)) continue;
     const auto u = static_cast<std::size_t>(l);
     const Eigen::Isometry3d& tl = world_[u];
     double d = m_.scene->linkDistance(l, tl, tol_);
@@ -55,25 +61,31 @@ double Trial::evalMoving(const Eigen::VectorXd& qq) {
     dist_[u] = d;
     mn = std::min(mn, d);
   }
+  if (shifting) mn = std::min(mn, evalStill());
   ++st_.closing_steps;
   return mn;
 }
 
+// A touching link stops every closing joint that moves it (autoGrasp), except the joints of a
+// coupled mechanism, which shift the hand until another of its fingers touches.
 void Trial::stopTouching(const std::vector<int>& touching) {
+  if (!m_.groups.empty()) coupledTouch(touching);
   for (int l : touching)
     for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)]) {
       const int c = m_.closing_of[static_cast<std::size_t>(j)];
-      if (c >= 0 && active_[static_cast<std::size_t>(c)]) {
-        active_[static_cast<std::size_t>(c)] = 0;
-        stop_link_[static_cast<std::size_t>(c)] = l;
-      }
+      if (c < 0 || !active_[static_cast<std::size_t>(c)]) continue;
+      if (shift_group_ >= 0 && m_.group_of[static_cast<std::size_t>(c)] == shift_group_) continue;
+      active_[static_cast<std::size_t>(c)] = 0;
+      stop_link_[static_cast<std::size_t>(c)] = l;
     }
+  if (shift_group_ >= 0) settleStopped(touching);
 }
 
 void Trial::refreshMoving() {
   mov_.clear();
   for (int l : m_.shaped)
     if (moving(l)) mov_.push_back(l);
+  eval_ = shift_group_ >= 0 ? m_.shaped : mov_;
 }
 
 void Trial::close() {
@@ -81,6 +93,8 @@ void Trial::close() {
   const std::size_t nc = closing.size();
   active_.assign(nc, 0);
   stop_link_.assign(nc, -1);
+  press_extra_.assign(nc, {});
+  floor_.assign(m_.hand.links().size(), 0.0);
   dir_.assign(nc, 0.0);
   for (std::size_t c = 0; c < nc; ++c) {
     const double diff = closing[c].target - q_[closing[c].joint];
@@ -118,8 +132,9 @@ void Trial::closingStep() {
     const int j = closing[c].joint;
     dt_lim = std::min(dt_lim, std::abs(closing[c].target - q_[j]) / closing[c].speed);
   }
-  for (int l : mov_) {
-    double link_rate = 0.0;
+  const double shift_speed = shift_group_ >= 0 ? shift_vel_.norm() : 0.0;
+  for (int l : eval_) {
+    double link_rate = shift_speed;
     for (int j : m_.hand.linkDrivers()[static_cast<std::size_t>(l)]) {
       const int c = m_.closing_of[static_cast<std::size_t>(j)];
       if (c >= 0 && active_[static_cast<std::size_t>(c)])
@@ -132,18 +147,31 @@ void Trial::closingStep() {
   }
   const double dt = std::min(dt_step, dt_lim);
   const Eigen::VectorXd q1 = advance(q_, dt);
-  const double m1 = evalMoving(q1);
+  const double m1 = evalMoving(q1, dt);
   std::vector<int> touching;
   if (m1 < 0.0) {
     bisectStep(dt, rate, &touching);
   } else {
     q_ = q1;
-    for (int l : mov_)
+    if (shift_group_ >= 0) {
+      palm_.translation() += dt * shift_vel_;
+      st_.centring_shift += dt * shift_speed;
+    }
+    for (int l : eval_)
       if (dist_[static_cast<std::size_t>(l)] <= tol_) touching.push_back(l);
   }
   stopTouching(touching);
   for (std::size_t c = 0; c < closing.size(); ++c)
     if (active_[c] && std::abs(q_[closing[c].joint] - closing[c].target) <= 1e-12) active_[c] = 0;
+  if (shift_group_ >= 0) {
+    bool any = false;
+    for (int c : m_.groups[static_cast<std::size_t>(shift_group_)])
+      any = any || active_[static_cast<std::size_t>(c)];
+    if (!any)
+      endShift();
+    else
+      shift_vel_ = shiftVelocity();
+  }
 }
 
 // Bisection on a step that ends in penetration: lo is free (moving links > tol apart at its
@@ -155,7 +183,7 @@ void Trial::bisectStep(double dt, double rate, std::vector<int>* touching) {
   bool touching_lo = false;
   while ((hi - lo) * rate > tol_ && st_.closing_steps < m_.opt.max_closing_steps) {
     const double mid = 0.5 * (lo + hi);
-    const double mm = evalMoving(advance(q_, mid));
+    const double mm = evalMoving(advance(q_, mid), mid);
     if (mm < 0.0) {
       hi = mid;
       dist_hi = dist_;
@@ -169,40 +197,48 @@ void Trial::bisectStep(double dt, double rate, std::vector<int>* touching) {
     }
   }
   q_ = advance(q_, lo);
-  for (int l : mov_) {
+  if (shift_group_ >= 0) {
+    palm_.translation() += lo * shift_vel_;
+    st_.centring_shift += lo * shift_vel_.norm();
+  }
+  for (int l : eval_) {
     const auto u = static_cast<std::size_t>(l);
     if (dist_lo[u] <= tol_ || (!touching_lo && dist_hi[u] < 0.0)) touching->push_back(l);
   }
+  if (shift_group_ >= 0) dist_ = dist_lo;  // the state kept (settleStopped reads it)
   lp_ = m_.hand.linkPoses(q_);
 }
 
-// The contact each contact-stopped closing joint presses: the closest hit of its stopping link
-// on a triangle that faces the link; none when the link was stopped by the hand itself.
+// The contacts each contact-stopped closing joint presses: the closest hit of its stopping link
+// (and, for a coupled mechanism, of every jaw in contact) on a triangle that faces the link;
+// none when the link was stopped by the hand itself.
 std::vector<SqueezeContact> Trial::pressingContacts() {
   const auto& closing = m_.hand.closing();
   const CollisionScene& scene = *m_.scene;
   std::vector<SqueezeContact> pressing;
   for (std::size_t c = 0; c < closing.size(); ++c) {
-    const int l = stop_link_[c];
-    if (l < 0) continue;
-    std::vector<TriangleHit> hits;
-    scene.linkHits(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &hits);
-    ++st_.queries;
-    const TriangleHit* best = nullptr;
-    for (const auto& hh : hits) {
-      if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
-      if (!best || hh.distance < best->distance) best = &hh;
+    std::vector<int> links = press_extra_[c];
+    if (stop_link_[c] >= 0) links.insert(links.begin(), stop_link_[c]);
+    for (int l : links) {
+      std::vector<TriangleHit> hits;
+      scene.linkHits(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &hits);
+      ++st_.queries;
+      const TriangleHit* best = nullptr;
+      for (const auto& hh : hits) {
+        if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
+        if (!best || hh.distance < best->distance) best = &hh;
+      }
+      if (!best) continue;
+      SqueezeContact sc;
+      sc.joint = closing[c].joint;
+      sc.link = l;
+      sc.point = best->point;
+      sc.normal = scene.faceNormal(best->triangle);
+      sc.gap = best->distance;
+      sc.dir = dir_[c];
+      sc.target = closing[c].target;
+      pressing.push_back(sc);
     }
-    if (!best) continue;
-    SqueezeContact sc;
-    sc.joint = closing[c].joint;
-    sc.link = l;
-    sc.point = best->point;
-    sc.normal = scene.faceNormal(best->triangle);
-    sc.gap = best->distance;
-    sc.dir = dir_[c];
-    sc.target = closing[c].target;
-    pressing.push_back(sc);
   }
   return pressing;
 }

@@ -92,6 +92,15 @@ const std::vector<ClosingJoint>& HandModel::closing() const {
 double HandModel::squeeze() const {
   return squeeze_;
 }
+const std::vector<std::vector<int>>& HandModel::coupledClosing() const {
+  return coupled_;
+}
+GraspMode HandModel::graspMode() const {
+  return grasp_mode_;
+}
+double HandModel::standoff() const {
+  return standoff_;
+}
 const std::vector<std::string>& HandModel::fingerNames() const {
   return fingers_;
 }

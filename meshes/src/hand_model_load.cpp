@@ -18,6 +18,7 @@
 #include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
+#include "hand_grasping_keys.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
@@ -350,8 +351,8 @@ HandModel HandModelBuilder::build(const std::string& urdf_path, const std::strin
   }
   if (!js.is_object()) throw Error(S + "must be a JSON object");
   static const std::set<std::string> kKeys = {
-      "palm_link", "palm_frame", "approach_axis",  "preshape",    "closing",
-      "squeeze",   "fingers",    "rotation_scale", "description", "dimensions"};
+      "palm_link", "palm_frame",     "approach_axis", "preshape",   "closing", "squeeze",
+      "fingers",   "rotation_scale", "description",   "dimensions", "coupled", "grasp"};
   for (auto it = js.begin(); it != js.end(); ++it)
     if (!kKeys.count(it.key()))
       throw Error(S + "unknown key '" + it.key() + "' (see meshes/hands/README.md)");
@@ -459,6 +460,7 @@ HandModel HandModelBuilder::build(const std::string& urdf_path, const std::strin
   }
   h.squeeze_ = number(js["squeeze"], S + "squeeze");
   if (h.squeeze_ < 0.0 || h.squeeze_ > 0.01) throw Error(S + "squeeze must be in [0, 0.01] metres");
+  HandGraspingKeys::read(js, S, &h);
 
   // Fingers.
   if (!js["fingers"].is_object() || js["fingers"].empty())

@@ -9,6 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
+
 namespace {
 
 struct CliRun {
@@ -17,17 +19,9 @@ struct CliRun {
 };
 
 CliRun runCli(const std::string& args) {
-  const std::string command =
-      std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap mesh-info " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer;
-  std::size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  const taskmap::testing::CliRun r = taskmap::testing::runShell(std::string(TASKMAP_BINARY_DIR) +
+                                                                "/bin/taskmap mesh-info " + args);
+  return CliRun{r.code, r.out};
 }
 
 std::string object(const std::string& name) {

@@ -9,24 +9,15 @@
 
 #include <benchmark/benchmark.h>
 
+#include "build_fixtures.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
 
-const ObjectModel& box() {
-  static const ObjectModel object =
-      ObjectModel::fromMesh(testing::makeBox(0.04, 0.05, 0.12), "box");
-  return object;
-}
-
-const HandModel& panda() {
-  static const HandModel hand =
-      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
-  return hand;
-}
+constexpr auto box = &testing::boxObject;
+constexpr auto panda = &testing::pandaHand;
 
 BuildOptions options(int threads, std::uint64_t valid) {
   BuildOptions o;

@@ -10,24 +10,16 @@
 
 #include <gtest/gtest.h>
 
+#include "build_fixtures.hpp"
+#include "map_compare.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
 
-const ObjectModel& box() {
-  static const ObjectModel object =
-      ObjectModel::fromMesh(testing::makeBox(0.04, 0.05, 0.12), "box");
-  return object;
-}
-
-const HandModel& panda() {
-  static const HandModel hand =
-      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
-  return hand;
-}
+constexpr auto box = &testing::boxObject;
+constexpr auto panda = &testing::pandaHand;
 
 // Force-closure grasps per test build (small: these tests also run under sanitizers).
 constexpr std::uint64_t kValid = 4;
@@ -42,34 +34,13 @@ BuildOptions smallBuild(int threads) {
   return o;
 }
 
-// Everything except created_utc and params_json (which records the thread count).
-void expectSameDatasets(const TaskMapData& a, const TaskMapData& b) {
-  EXPECT_EQ(a.sampling.trials, b.sampling.trials);
-  EXPECT_EQ(a.sampling.outcomes, b.sampling.outcomes);
-  EXPECT_EQ(a.grasps.pose, b.grasps.pose);
-  EXPECT_EQ(a.grasps.joints, b.grasps.joints);
-  EXPECT_EQ(a.grasps.force_closure, b.grasps.force_closure);
-  EXPECT_EQ(a.grasps.epsilon, b.grasps.epsilon);
-  EXPECT_EQ(a.grasps.volume, b.grasps.volume);
-  EXPECT_EQ(a.grasps.contact_offsets, b.grasps.contact_offsets);
-  EXPECT_EQ(a.grasps.contact_points, b.grasps.contact_points);
-  EXPECT_EQ(a.grasps.contact_normals, b.grasps.contact_normals);
-  EXPECT_EQ(a.grasps.contact_depths, b.grasps.contact_depths);
-  EXPECT_EQ(a.grasps.contact_links, b.grasps.contact_links);
-  ASSERT_EQ(a.clustering.has_value(), b.clustering.has_value());
-  if (a.clustering) {
-    EXPECT_EQ(a.clustering->labels, b.clustering->labels);
-    EXPECT_EQ(a.clustering->linkage, b.clustering->linkage);
-  }
-}
-
 TEST(MapBuilderTest, IdenticalMapsForOneTwoAndEightThreads) {
   const BuildResult one = buildMap(box(), panda(), smallBuild(1));
   ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
   EXPECT_EQ(one.map.grasps.size(), kValid);
   for (int threads : {2, 8}) {
     SCOPED_TRACE(threads);
-    expectSameDatasets(one.map, buildMap(box(), panda(), smallBuild(threads)).map);
+    testing::expectSameMapContent(one.map, buildMap(box(), panda(), smallBuild(threads)).map);
   }
 }
 
@@ -77,7 +48,7 @@ TEST(MapBuilderTest, BlockSizeDoesNotChangeTheMap) {
   BuildOptions a = smallBuild(2), b = smallBuild(2);
   a.block_size = 1;
   b.block_size = 64;
-  expectSameDatasets(buildMap(box(), panda(), a).map, buildMap(box(), panda(), b).map);
+  testing::expectSameMapContent(buildMap(box(), panda(), a).map, buildMap(box(), panda(), b).map);
 }
 
 TEST(MapBuilderTest, MatchesSequentialOracle) {
@@ -189,7 +160,7 @@ TEST(MapBuilderTest, BuiltMapSurvivesWriteAndRead) {
   const std::string path = ::testing::TempDir() + "built_" + std::to_string(::getpid()) + ".h5";
   writeMap(path, r.map);
   const TaskMapData back = readMap(path);
-  expectSameDatasets(r.map, back);
+  testing::expectSameMapContent(r.map, back);
   EXPECT_EQ(back.hand.joint_names, panda().jointNames());
   EXPECT_EQ(back.grasps.rotation_scale, panda().rotationScale());
   EXPECT_EQ(back.sampling.params_json, r.map.sampling.params_json);

@@ -72,6 +72,8 @@ struct BuildProgress {
   std::uint64_t valid_target = 0;  ///< BuildOptions::valid_target
   std::uint64_t max_trials = 0;    ///< BuildOptions::max_trials
   double elapsed_seconds = 0.0;    ///< since the trials started
+  std::uint64_t blocks_done = 0;   ///< work blocks finished (0 when not counted)
+  std::uint64_t blocks_total = 0;  ///< work blocks of the trial budget (0 when not counted)
 };
 
 /// Receives progress reports (on the thread that called buildMap).
@@ -90,6 +92,10 @@ struct BuildResult {
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
                      const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr,
                      double progress_interval_seconds = 0.25);
+
+/// The worker threads BuildOptions::threads means: itself when positive, else the cores this
+/// process may run on (its CPU affinity mask, so taskset or `mpirun --bind-to` are respected).
+int buildThreadCount(int threads);
 
 /// Current UTC time as ISO 8601 ("2026-11-21T12:00:00Z").
 std::string utcNow();

@@ -16,11 +16,26 @@
 /// link fixed to it) the trial is kNoPalmContact (unless require_palm_contact is false). The
 /// palm is then pressed into the surface by the squeeze distance along +a.
 ///
+/// Fingertip grasps (GraspMode::kFingertip, from the options or the hand sidecar): the palm is
+/// neither required nor pressed. From the exit pose (the first contact coming from outside)
+/// the hand backs off along -a until the palm is the standoff from the object (if it is
+/// closer); a finger touching first keeps the exit pose. Then the fingers close.
+///
 /// Closing (GraspIt!'s autoGrasp): every closing joint moves toward its closed limit at its
 /// relative speed; coarse steps move no point of the hand by more than half the thinnest moving
 /// link, a step that ends in penetration is bisected until the touching link is within
 /// contact_tolerance; a link touching the object (or another hand link it can collide with)
 /// stops every joint that moves it, distal joints keep closing; joints stop at their limits.
+///
+/// Coupled jaws (docs/METHOD.md "Coupled jaws"): a mechanism is a closing joint whose links lie
+/// on two or more fingers (a URDF <mimic> jaw pair) or a sidecar "coupled" group whose links
+/// do. When one of its jaws touches, it does not stop: the palm translates across the
+/// approach axis with v = -(I - a a^T) sum_c dir_c speed_c dp/dq_c (p the contact point on the
+/// touching jaw), which holds that jaw in place while the others close, until a link of
+/// another finger of the mechanism touches (then every touching jaw is squeezed), the joints
+/// reach their limits, or a link that does not close (palm, stopped finger) is pressed against a
+/// face ahead of the shift (outward normal more than 60 degrees against it), which jams the
+/// mechanism with one jaw. The final pose is the shifted one (GraspStats::centring_shift).
 /// Squeeze: each joint stopped by an object contact is advanced so that its contact point is
 /// pressed the squeeze distance into the object (first order, proximal joints first, a distal
 /// joint adding only what its ancestors did not press); when that presses some link of a
@@ -33,6 +48,7 @@
 /// surface, the triangle's outward normal, depth = the EPA penetration depth.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,7 +87,19 @@ struct GraspSimOptions {
   /// Squeeze distance, metres; negative = the hand sidecar's value.
   double squeeze = -1.0;
   /// When false, a hand whose fingers touch first still closes (finger-first contact).
+  /// Palm grasps only (fingertip grasps never require the palm).
   bool require_palm_contact = true;
+  /// Palm or fingertip grasps; empty = the hand sidecar's "grasp.mode" (HandModel::graspMode).
+  std::optional<GraspMode> grasp_mode;
+  /// Fingertip grasps: palm-to-object distance at which the approach stops, metres; negative =
+  /// the hand sidecar's "grasp.standoff".
+  double standoff = -1.0;
+  /// Coupled closing (a closing joint whose links lie on two or more fingers, through URDF
+  /// <mimic>, or a sidecar "coupled" group): when one jaw touches, the hand shifts along the
+  /// closing direction until another finger of the mechanism touches. False: no centring; a
+  /// <mimic> pair stops at the first touch (one-jaw grasps, the behaviour before coupling was
+  /// modelled) and the joints of a sidecar group close independently.
+  bool centre_coupled = true;
   /// Self-collision: hand links that touch each other while closing stop like object contacts,
   /// and a final state with links penetrating each other is kSelfCollision. Pairs fixed to the
   /// palm together, parent/child pairs and pairs already touching in the preshape are exempt.
@@ -103,6 +131,8 @@ struct GraspStats {
   int queries = 0;                ///< link-versus-object collision queries
   int closing_steps = 0;          ///< coarse closing steps and bisection evaluations
   double retraction = 0.0;        ///< distance moved along -approach, metres (negative: advanced)
+  double standoff = 0.0;          ///< fingertip grasps: extra distance backed off, metres
+  double centring_shift = 0.0;    ///< coupled closing: distance the palm shifted, metres
   double retract_seconds = 0.0;   ///< wall time of the retraction (profile only)
   double close_seconds = 0.0;     ///< wall time of closing and squeeze (profile only)
   double contacts_seconds = 0.0;  ///< wall time of contact extraction (profile only)

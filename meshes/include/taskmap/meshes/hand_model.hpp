@@ -59,6 +59,13 @@ struct HandJoint {
   bool mimic = false;       ///< true when the URDF declares <mimic>
 };
 
+/// How the hand meets the object before it closes (sidecar "grasp.mode").
+enum class GraspMode {
+  kPalm,       ///< approach until the palm touches, press it, close (power grasp; default)
+  kFingertip,  ///< approach until a link touches or the palm is `standoff` from the object;
+               ///< close without palm contact (pinch / fingertip grasp)
+};
+
 /// How one actuated joint closes.
 struct ClosingJoint {
   int joint = -1;       ///< index into HandModel::jointNames()
@@ -104,6 +111,14 @@ class HandModel {
   const std::vector<ClosingJoint>& closing() const;
   /// Squeeze after contact, metres: how far each contact is pressed into the object.
   double squeeze() const;
+  /// Groups of closing() indices that the sidecar's "coupled" key declares one mechanism (they
+  /// keep closing together, like joints coupled by a URDF <mimic>); empty when none.
+  const std::vector<std::vector<int>>& coupledClosing() const;
+  /// How the hand grasps (sidecar "grasp.mode", default kPalm).
+  GraspMode graspMode() const;
+  /// Fingertip grasps: the approach stops when the palm is this far from the object, metres
+  /// (sidecar "grasp.standoff", default 0: only a touching link stops it).
+  double standoff() const;
   /// Finger names from the sidecar (HandLink::finger indexes this list).
   const std::vector<std::string>& fingerNames() const;
   /// Index into links() of a link by name, -1 if none.
@@ -140,8 +155,12 @@ class HandModel {
   std::vector<std::string> fingers_;
   std::vector<std::vector<int>> link_drivers_;
   std::vector<double> levers_;
+  std::vector<std::vector<int>> coupled_;
+  GraspMode grasp_mode_ = GraspMode::kPalm;
+  double standoff_ = 0.0;
 
   friend struct HandModelBuilder;
+  friend struct HandGraspingKeys;
 };
 
 }  // namespace taskmap

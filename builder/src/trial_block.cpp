@@ -1,0 +1,225 @@
+// Blocks of trial outcomes: byte encoding, and running [first, last) on the trial pool.
+#include "taskmap/builder/trial_block.hpp"
+
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+#include "taskmap/core/error.hpp"
+#include "trial_pool.hpp"
+
+namespace taskmap {
+
+std::uint64_t TrialBlock::valid() const {
+  std::uint64_t n = 0;
+  for (const TrialOutcome& t : trials) n += t.force_closure ? 1 : 0;
+  return n;
+}
+
+namespace {
+
+// Layout (host byte order): u64 first, u64 count, then per trial: u8 status, u8 flags
+// (bit 0 force closure, bit 1 grasp stored), f64 epsilon, f64 volume, and for a stored grasp:
+// f64[7] pose (x y z, quaternion w x y z as stored), u64 joints, f64[joints], u64 contacts, then
+// per contact f64[3] point, f64[3] normal, f64 depth, i32 link.
+constexpr std::uint8_t kFlagForceClosure = 1;
+constexpr std::uint8_t kFlagGrasp = 2;
+
+class Writer {
+ public:
+  template <typename T>
+  void put(T v) {
+    static_assert(std::is_trivially_copyable<T>::value, "plain values only");
+    const auto* p = reinterpret_cast<const char*>(&v);
+    bytes_.append(p, sizeof v);
+  }
+  void putVector(const Eigen::Vector3d& v) {
+    for (int i = 0; i < 3; ++i) put<double>(v[i]);
+  }
+  std::string& bytes() { return bytes_; }
+
+ private:
+  std::string bytes_;
+};
+
+class Reader {
+ public:
+  Reader(const std::string& bytes, const std::string& what) : bytes_(bytes), what_(what) {}
+  template <typename T>
+  T get() {
+    need(sizeof(T));
+    T v;
+    std::memcpy(&v, bytes_.data() + pos_, sizeof v);
+    pos_ += sizeof v;
+    return v;
+  }
+  Eigen::Vector3d getVector() {
+    Eigen::Vector3d v;
+    for (int i = 0; i < 3; ++i) v[i] = get<double>();
+    return v;
+  }
+  // A count of items of at least min_bytes each that must fit in the rest of the bytes.
+  std::uint64_t getCount(std::size_t min_bytes, const char* name) {
+    const auto n = get<std::uint64_t>();
+    if (n > (bytes_.size() - pos_) / min_bytes)
+      fail(std::string(name) + " count " + std::to_string(n) + " exceeds the data");
+    return n;
+  }
+  bool atEnd() const { return pos_ == bytes_.size(); }
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw Error(what_ + ": malformed trial block at byte " + std::to_string(pos_) + ": " + problem);
+  }
+
+ private:
+  void need(std::size_t n) const {
+    if (bytes_.size() - pos_ < n) fail("truncated");
+  }
+  const std::string& bytes_;
+  const std::string& what_;
+  std::size_t pos_ = 0;
+};
+
+void encodeGrasp(const TrialGrasp& g, Writer& w) {
+  // The pose's own numbers (not toVector7, which normalises): decoding gives the same bits.
+  w.putVector(g.pose.position);
+  const Eigen::Quaterniond& q = g.pose.orientation;
+  for (double v : {q.w(), q.x(), q.y(), q.z()}) w.put<double>(v);
+  w.put<std::uint64_t>(static_cast<std::uint64_t>(g.joints.size()));
+  for (Eigen::Index i = 0; i < g.joints.size(); ++i) w.put<double>(g.joints[i]);
+  w.put<std::uint64_t>(g.contacts.size());
+  for (const Contact& c : g.contacts) {
+    w.putVector(c.point);
+    w.putVector(c.normal);
+    w.put<double>(c.depth);
+    w.put<std::int32_t>(c.link);
+  }
+}
+
+TrialGrasp decodeGrasp(Reader& r, std::size_t joints) {
+  TrialGrasp g;
+  g.pose.position = r.getVector();
+  const auto qw = r.get<double>(), qx = r.get<double>(), qy = r.get<double>();
+  g.pose.orientation = Eigen::Quaterniond(qw, qx, qy, r.get<double>());
+  const std::uint64_t n = r.getCount(sizeof(double), "joint");
+  if (n != joints)
+    r.fail("grasp has " + std::to_string(n) + " joints, the hand " + std::to_string(joints));
+  g.joints.resize(static_cast<Eigen::Index>(n));
+  for (Eigen::Index i = 0; i < g.joints.size(); ++i) g.joints[i] = r.get<double>();
+  constexpr std::size_t kContactBytes = 7 * sizeof(double) + sizeof(std::int32_t);
+  const std::uint64_t contacts = r.getCount(kContactBytes, "contact");
+  g.contacts.resize(contacts);
+  for (Contact& c : g.contacts) {
+    c.point = r.getVector();
+    c.normal = r.getVector();
+    c.depth = r.get<double>();
+    c.link = r.get<std::int32_t>();
+  }
+  return g;
+}
+
+}  // namespace
+
+std::string encodeTrialBlock(const TrialBlock& block) {
+  Writer w;
+  w.put<std::uint64_t>(block.first);
+  w.put<std::uint64_t>(block.trials.size());
+  for (const TrialOutcome& t : block.trials) {
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(t.status));
+    const auto flags = static_cast<std::uint8_t>((t.force_closure ? kFlagForceClosure : 0) |
+                                                 (t.grasp ? kFlagGrasp : 0));
+    w.put<std::uint8_t>(flags);
+    w.put<double>(t.epsilon);
+    w.put<double>(t.volume);
+    if (t.grasp) encodeGrasp(*t.grasp, w);
+  }
+  return std::move(w.bytes());
+}
+
+TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const std::string& what) {
+  Reader r(bytes, what);
+  TrialBlock block;
+  block.first = r.get<std::uint64_t>();
+  constexpr std::size_t kTrialBytes = 2 + 2 * sizeof(double);
+  const std::uint64_t n = r.getCount(kTrialBytes, "trial");
+  if (block.first > std::numeric_limits<std::uint64_t>::max() - n) r.fail("trial index overflow");
+  block.trials.resize(n);
+  const auto statuses = allGraspStatuses().size();
+  for (TrialOutcome& t : block.trials) {
+    const auto status = r.get<std::uint8_t>();
+    if (status >= statuses) r.fail("unknown grasp status " + std::to_string(status));
+    t.status = static_cast<GraspStatus>(status);
+    const auto flags = r.get<std::uint8_t>();
+    if ((flags & ~(kFlagForceClosure | kFlagGrasp)) != 0) r.fail("unknown trial flags");
+    t.force_closure = (flags & kFlagForceClosure) != 0;
+    if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
+    t.epsilon = r.get<double>();
+    t.volume = r.get<double>();
+    if ((flags & kFlagGrasp) != 0) t.grasp = std::make_unique<TrialGrasp>(decodeGrasp(r, joints));
+  }
+  if (!r.atEnd()) r.fail("trailing bytes");
+  return block;
+}
+
+struct TrialRunner::Impl {
+  const BuildOptions options;
+  const int threads;
+  const Sampler sampler;
+  const GraspSimulator simulator;
+  const Eigen::Vector3d com;
+  const double torque_scale;
+  BuildTiming timing;
+
+  Impl(const ObjectModel& object, const HandModel& hand, const BuildOptions& o)
+      : options(o),
+        threads(detail::threadCount(o.threads)),
+        sampler(object, detail::samplerOptionsFor(o, hand)),
+        simulator(object, hand, o.simulation),
+        com(object.massProperties().center_of_mass),
+        torque_scale(object.massProperties().torque_scale) {}
+};
+
+TrialRunner::TrialRunner(const ObjectModel& object, const HandModel& hand,
+                         const BuildOptions& options) {
+  options.validate();
+  const auto t0 = detail::Clock::now();
+  impl_ = std::make_unique<Impl>(object, hand, options);
+  impl_->timing.setup_seconds = detail::secondsSince(t0);
+}
+
+TrialRunner::~TrialRunner() = default;
+
+bool TrialRunner::run(std::uint64_t first, std::uint64_t last, TrialBlock* block,
+                      const std::atomic<bool>* stop) {
+  if (first >= last || last > impl_->options.max_trials)
+    throw Error("TrialRunner::run: need first < last <= max_trials (" +
+                std::to_string(impl_->options.max_trials) + "), got [" + std::to_string(first) +
+                ", " + std::to_string(last) + ")");
+  const auto t0 = detail::Clock::now();
+  detail::Scheduler scheduler(first, last, impl_->options.block_size,
+                              std::numeric_limits<std::uint64_t>::max());
+  const ProgressCallback none;
+  const detail::TrialPoolSetup setup{impl_->sampler,
+                                     impl_->simulator,
+                                     impl_->options,
+                                     impl_->com,
+                                     impl_->torque_scale,
+                                     impl_->threads,
+                                     stop,
+                                     none,
+                                     0.25};
+  detail::runTrialPool(setup, scheduler, impl_->timing);
+  impl_->timing.wall_seconds += detail::secondsSince(t0);
+  if (scheduler.prefix() < scheduler.blockCount()) return false;
+  block->first = first;
+  block->trials.clear();
+  block->trials.reserve(last - first);
+  for (TrialBlock& part : scheduler.takePrefixBlocks())
+    for (TrialOutcome& t : part.trials) block->trials.push_back(std::move(t));
+  return true;
+}
+
+const BuildTiming& TrialRunner::timing() const {
+  return impl_->timing;
+}
+
+}  // namespace taskmap

@@ -1,0 +1,233 @@
+// The build command line shared by `taskmap build` and `taskmap-mpi build`.
+#include "build_command.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "data_dir.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/sampler/sampler.hpp"
+
+namespace taskmap::cli {
+namespace {
+
+std::string percent(double part, double whole) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f%%", whole > 0 ? 100.0 * part / whole : 0.0);
+  return buffer;
+}
+
+}  // namespace
+
+std::string resolveHandUrdf(const std::string& hand) {
+  if (std::filesystem::exists(hand)) return hand;
+  return bundledHandUrdf(hand);
+}
+
+void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
+  CLI::App* cmd = &cmd_ref;
+  cmd->add_option("--object", args.object, "object mesh (any format assimp reads)")->required();
+  cmd->add_option("--hand", args.hand,
+                  "hand URDF (with its <stem>.hand.json sidecar), or a bundled "
+                  "hand name")
+      ->required();
+  cmd->add_option("-o,--output", args.output, "task map to write (.h5)")->required();
+  cmd->add_option("--scale", args.scale, "multiplies the mesh coordinates (file units -> m)")
+      ->capture_default_str();
+  addBuildKnobs(*cmd, args);
+}
+
+void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
+  CLI::App* cmd = &cmd_ref;
+  cmd->add_option("--sampler", args.sampler,
+                  "initial poses: volume (paper: point inside, uniform "
+                  "orientation), surface "
+                  "(approach along the inward normal of an area-weighted "
+                  "surface point, random "
+                  "roll and standoff; finds handles), mixed (even trials "
+                  "volume, odd surface)")
+      ->check(CLI::IsMember({"volume", "surface", "mixed"}))
+      ->capture_default_str();
+  cmd->add_option("--valid", args.valid, "stop after this many force-closure grasps")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--trials", args.trials, "trial budget")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--seed", args.seed, "random seed")->capture_default_str();
+  cmd->add_option("--threads", args.threads, "worker threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024))
+      ->capture_default_str();
+  cmd->add_option("--friction", args.friction, "Coulomb friction coefficient mu")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--cone-edges", args.cone_edges, "friction cone edges")
+      ->check(CLI::Range(3, 64))
+      ->capture_default_str();
+  cmd->add_option("--grasp", args.grasp,
+                  "palm: the approach stops when the palm touches, the palm is pressed "
+                  "(power grasps); fingertip: it stops at the first contact or when the palm "
+                  "is --standoff from the object, no palm contact needed (pinch grasps). "
+                  "Default: the hand sidecar's grasp.mode (palm)")
+      ->check(CLI::IsMember({"palm", "fingertip"}));
+  cmd->add_option("--standoff", args.standoff,
+                  "fingertip grasps: palm-to-object distance where the approach stops, metres "
+                  "(default: the hand sidecar's grasp.standoff, else 0)")
+      ->check(CLI::Range(0.0, 0.5));
+  cmd->add_flag("--keep-invalid", args.keep_invalid,
+                "store every simulated grasp (status ok), not only force-closure ones");
+  cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--timestamp", args.timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none, so the same arguments give the same bytes)");
+  cmd->add_flag("-q,--quiet", args.quiet, "no progress and no summary");
+  cmd->add_flag("--progress", args.progress, "draw the progress bar even when not a terminal");
+}
+
+BuildOptions knobOptions(const BuildArgs& args) {
+  BuildOptions options;
+  options.sampler.kind = samplerKindFromString(args.sampler);
+  options.valid_target = args.valid;
+  options.max_trials = args.trials;
+  options.seed = args.seed;
+  options.threads = args.threads;
+  options.quality.friction = args.friction;
+  options.quality.cone_edges = args.cone_edges;
+  options.keep_invalid = args.keep_invalid;
+  options.cluster = !args.no_cluster;
+  if (args.grasp == "palm")
+    options.simulation.grasp_mode = GraspMode::kPalm;
+  else if (args.grasp == "fingertip")
+    options.simulation.grasp_mode = GraspMode::kFingertip;
+  options.simulation.standoff = args.standoff;
+  return options;
+}
+
+void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
+                       const std::string& hand_path) {
+  const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());
+  if (args.standoff >= 0.0 && mode != GraspMode::kFingertip)
+    throw Error("--standoff applies to fingertip grasps; add --grasp fingertip (hand '" +
+                hand_path + "' grasps with the palm)");
+}
+
+BuildPlan planBuild(const BuildArgs& args) {
+  BuildPlan plan;
+  BuildOptions& options = plan.options;
+  options = knobOptions(args);
+  if (!(args.scale > 0.0)) throw Error("--scale must be positive");
+  if (args.output.empty()) throw Error("-o MAP.h5 is required");
+  const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
+  if (!std::filesystem::is_directory(out_dir))
+    throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
+  plan.hand_urdf = resolveHandUrdf(args.hand);
+  nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
+  options.extra_params_json = extra.dump();
+  options.validate();
+  return plan;
+}
+
+std::string clockString(double seconds) {
+  if (!(seconds >= 0.0) || seconds > 359999.0) return "--:--:--";
+  const auto s = static_cast<long>(seconds + 0.5);
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%02ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buffer;
+}
+
+ProgressPrinter::ProgressPrinter(std::string label, bool terminal, bool quiet)
+    : label_(std::move(label)), terminal_(terminal), quiet_(quiet) {}
+
+void ProgressPrinter::operator()(const BuildProgress& p) {
+  if (quiet_) return;
+  const double rate = p.elapsed_seconds > 0 ? p.trials_done / p.elapsed_seconds : 0.0;
+  const std::uint64_t valid = std::min(p.valid_found, p.valid_target);
+  const double by_valid = static_cast<double>(valid) / static_cast<double>(p.valid_target);
+  const double by_trials = static_cast<double>(p.trials_done) / static_cast<double>(p.max_trials);
+  const double fraction = std::min(1.0, std::max(by_valid, by_trials));
+  const double eta = fraction > 0 ? p.elapsed_seconds * (1.0 - fraction) / fraction : -1.0;
+  char blocks[64] = "";
+  if (p.blocks_total > 0)
+    std::snprintf(blocks, sizeof blocks, "blocks %llu/%llu  ",
+                  static_cast<unsigned long long>(p.blocks_done),
+                  static_cast<unsigned long long>(p.blocks_total));
+  char line[320];
+  if (terminal_) {
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(fraction * kWidth);
+    std::string bar(static_cast<std::size_t>(filled), '#');
+    bar.resize(kWidth, '-');
+    std::snprintf(line, sizeof line,
+                  "\r[%s] %3.0f%%  %strials %llu  valid %llu/%llu  %.0f "
+                  "trials/s  ETA %s ",
+                  bar.c_str(), 100.0 * fraction, blocks,
+                  static_cast<unsigned long long>(p.trials_done),
+                  static_cast<unsigned long long>(valid),
+                  static_cast<unsigned long long>(p.valid_target), rate, clockString(eta).c_str());
+    std::cerr << line << std::flush;
+    drawn_ = true;
+  } else if (p.elapsed_seconds >= next_log_) {
+    next_log_ = p.elapsed_seconds + 10.0;
+    std::snprintf(line, sizeof line,
+                  "%s: %s elapsed, %s%llu trials, %llu/%llu valid, "
+                  "%.0f trials/s, "
+                  "ETA %s\n",
+                  label_.c_str(), clockString(p.elapsed_seconds).c_str(), blocks,
+                  static_cast<unsigned long long>(p.trials_done),
+                  static_cast<unsigned long long>(valid),
+                  static_cast<unsigned long long>(p.valid_target), rate, clockString(eta).c_str());
+    std::cerr << line << std::flush;
+  }
+}
+void ProgressPrinter::finish() {
+  if (drawn_) std::cerr << "\n";
+  drawn_ = false;
+}
+
+void printBuildSummary(const std::string& label, const BuildArgs& args, const BuildResult& result,
+                       double write_seconds, const std::string& how) {
+  const TaskMapData& map = result.map;
+  const BuildTiming& t = result.timing;
+  std::ostringstream os;
+  os << label << ": " << toString(result.status) << ": " << result.message << "\n";
+  os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
+     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << "\n";
+  os << "  outcomes ";
+  for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
+  os << "\n";
+  os << "  stored    " << map.grasps.size() << " grasps";
+  if (map.clustering) {
+    std::size_t outliers = 0;
+    for (int l : map.clustering->labels) outliers += l < 0;
+    os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
+  }
+  os << "\n";
+  os << "  threads   " << how << "\n";
+  const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
+  const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
+                "trials/s), clustering %.2f s, writing %.2f s\n"
+                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
+                t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
+                static_cast<unsigned long long>(t.trials_simulated),
+                trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,
+                t.clustering_seconds, write_seconds, percent(t.sampling_seconds, stages).c_str(),
+                percent(t.simulation_seconds, stages).c_str(),
+                percent(t.quality_seconds, stages).c_str(), stages);
+  os << line;
+  os << "  wrote     " << args.output << "\n";
+  if (!args.quiet) std::cout << os.str();
+  if (result.status == BuildStatus::kTrialBudgetExhausted)
+    std::cerr << label << ": warning: " << result.message
+              << "; raise --trials or check the object and hand\n";
+}
+
+}  // namespace taskmap::cli
