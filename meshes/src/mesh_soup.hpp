@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "taskmap/core/error.hpp"
 #include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap::detail {
@@ -36,9 +37,33 @@ struct SolidResult {
   std::vector<std::string> warnings;  ///< accepted defects (for example self-intersections)
 };
 
-/// Validates (and, if `repair`, repairs) a soup into a closed outward solid with CGAL.
+/// How makeSolid may change the input.
+struct SolidOptions {
+  bool repair = true;        ///< merge, drop, stitch, orient (see MeshLoadOptions::repair)
+  bool wrap = false;         ///< close an open or non-manifold surface by alpha wrapping
+  double wrap_alpha = 0.0;   ///< metres; 0: diagonal of the bounding box / 100
+  double wrap_offset = 0.0;  ///< metres; 0: diagonal of the bounding box / 3000
+};
+
+/// Thrown inside makeSolid when the surface is open or non-manifold (what wrapping fixes).
+class OpenSurfaceError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Validates (and, if `options.repair`, repairs) a soup into a closed outward solid with
+/// CGAL; with `options.wrap`, a surface that stays open is replaced by its alpha wrap.
 /// `what` names the source in error messages (for example "mesh file 'x.obj'").
 /// Throws Error naming `what` and the defect when no closed solid results.
-SolidResult makeSolid(MeshSoup soup, const std::string& what, bool repair);
+SolidResult makeSolid(MeshSoup soup, const std::string& what, const SolidOptions& options);
+
+/// Alpha wrap (CGAL::alpha_wrap_3) of the soup's triangles: a closed, manifold, outward surface
+/// at distance `offset` (metres) outside them that enters no cavity narrower than about
+/// `alpha` (metres). Throws Error naming `what` when wrapping fails.
+MeshSoup alphaWrap(const MeshSoup& soup, double alpha, double offset, const std::string& what);
+
+/// Signed volume of a soup's triangles about the centre of its bounding box, m^3 (the
+/// enclosed volume for a closed outward surface, an estimate for a surface with small holes).
+double soupVolume(const MeshSoup& soup);
 
 }  // namespace taskmap::detail

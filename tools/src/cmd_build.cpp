@@ -17,6 +17,7 @@
 
 #include "command.hpp"
 #include "data_dir.hpp"
+#include "mesh_options.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
@@ -42,6 +43,7 @@ struct BuildArgs {
   double friction = 0.5;
   int cone_edges = 8;
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
+  MeshRepairArgs repair;
 };
 
 // Hand argument: a URDF path, or the name of a bundled hand (<data dir>/hands/<name>/).
@@ -131,11 +133,17 @@ void runBuild(const BuildArgs& args) {
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
   const std::string hand_path = resolveHand(args.hand);
+  MeshLoadOptions load;
+  load.scale = args.scale;
+  applyMeshRepairArgs(args.repair, load);
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", hand_path}};
+  if (load.wrap)
+    extra["repair"] = {{"wrap", true}, {"alpha", load.wrap_alpha}, {"offset", load.wrap_offset}};
+  if (!load.repair) extra["repair"] = false;
   options.extra_params_json = extra.dump();
   options.validate();
 
-  const ObjectModel object = ObjectModel::load(args.object, MeshLoadOptions{args.scale});
+  const ObjectModel object = ObjectModel::load(args.object, load);
   const HandModel hand = HandModel::load(hand_path);
 
   g_stop.store(false);
@@ -255,6 +263,7 @@ const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
   cmd->add_option("--cone-edges", args->cone_edges, "friction cone edges")
       ->check(CLI::Range(3, 64))
       ->capture_default_str();
+  addMeshRepairOptions(cmd, args->repair);
   cmd->add_flag("--keep-invalid", args->keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the grasps");
