@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_diagnosis.hpp"
 #include "taskmap/core/error.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -281,6 +282,8 @@ const char* toString(BuildStatus status) {
       return "trial_budget_exhausted";
     case BuildStatus::kInterrupted:
       return "interrupted";
+    case BuildStatus::kNoGrasps:
+      return "no_grasps";
   }
   return "complete";
 }
@@ -299,6 +302,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
                      double progress_interval_seconds) {
   options.validate();
   if (!(progress_interval_seconds > 0.0)) throw Error("progress interval must be positive");
+  detail::checkObjectSize(object, hand);
   const auto t_start = Clock::now();
   BuildResult result;
   int threads = options.threads;
@@ -383,6 +387,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   map.hand.name = hand.name();
   map.hand.urdf_sha256 = hand.urdfSha256();
   map.hand.joint_names = hand.jointNames();
+  for (const HandLink& l : hand.links()) map.hand.link_names.push_back(l.name);
   map.sampling.sampler = toString(options.sampler.kind);
   map.sampling.seed = options.seed;
   map.sampling.params_json = paramsJson(options, threads, hand);
@@ -444,6 +449,9 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
     result.status = BuildStatus::kInterrupted;
     result.message = "interrupted after " + std::to_string(trials) + " trials with " +
                      std::to_string(valid) + " force-closure grasps";
+  } else if (stored.empty()) {
+    result.status = BuildStatus::kNoGrasps;
+    result.message = detail::noGraspMessage(map.sampling.outcomes, trials, object, hand);
   } else if (valid < options.valid_target) {
     result.status = BuildStatus::kTrialBudgetExhausted;
     result.message = "trial budget of " + std::to_string(options.max_trials) + " spent: found " +

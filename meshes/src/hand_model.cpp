@@ -50,6 +50,9 @@ double CollisionShape::boundingRadius() const {
 const std::string& HandModel::name() const {
   return name_;
 }
+const std::string& HandModel::robotName() const {
+  return robot_name_;
+}
 const std::string& HandModel::urdfSha256() const {
   return sha_;
 }

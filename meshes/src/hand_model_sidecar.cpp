@@ -1,6 +1,7 @@
 // HandModel loading, sidecar step: <stem>.hand.json (format in meshes/hands/README.md) gives the
 // palm link and frame, approach axis, preshape, closing motion, squeeze and fingers.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <set>
@@ -145,6 +146,17 @@ std::vector<ClosingJoint> closingOf(const json& closing, const SidecarContext& c
   return out;
 }
 
+/// The URDF robot name, or the URDF file stem when the robot name says nothing ("hand").
+std::string displayName(const std::string& robot, const std::string& urdf_path) {
+  static const std::set<std::string> kGeneric = {"",   "hand",         "gripper", "robot", "model",
+                                                 "ee", "end_effector", "eef",     "tool",  "urdf"};
+  std::string lower = robot;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (!kGeneric.count(lower)) return robot;
+  return fs::path(urdf_path).stem().string();
+}
+
 }  // namespace
 
 json HandModelBuilder::readSidecar(HandModel& h, const std::string& sidecar_arg) {
@@ -164,8 +176,8 @@ json HandModelBuilder::readSidecar(HandModel& h, const std::string& sidecar_arg)
   }
   if (!js.is_object()) throw Error(S + "must be a JSON object");
   static const std::set<std::string> kKeys = {
-      "palm_link", "palm_frame", "approach_axis",  "preshape",    "closing",
-      "squeeze",   "fingers",    "rotation_scale", "description", "dimensions"};
+      "palm_link", "palm_frame",     "approach_axis", "preshape",   "closing", "squeeze",
+      "fingers",   "rotation_scale", "description",   "dimensions", "name"};
   for (auto it = js.begin(); it != js.end(); ++it)
     if (!kKeys.count(it.key()))
       throw Error(S + "unknown key '" + it.key() + "' (see meshes/hands/README.md)");
@@ -177,6 +189,12 @@ json HandModelBuilder::readSidecar(HandModel& h, const std::string& sidecar_arg)
 void HandModelBuilder::applySidecar(HandModel& h, const json& js) {
   const SidecarContext ctx{h, "hand sidecar '" + h.sidecar_path_ + "': "};
   const std::string& S = ctx.S;
+  h.name_ = displayName(h.robot_name_, h.urdf_path_);
+  if (js.contains("name")) {
+    if (!js["name"].is_string() || js["name"].get<std::string>().empty())
+      throw Error(S + "name must be a non-empty string");
+    h.name_ = js["name"].get<std::string>();
+  }
   h.palm_link_ = ctx.link(js["palm_link"], "palm_link");
   ctx.needGeometry(h.palm_link_, "palm");
   if (js.contains("palm_frame")) h.palm_frame_ = palmFrameOf(js["palm_frame"], S);

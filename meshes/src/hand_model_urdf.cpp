@@ -1,7 +1,9 @@
 // HandModel loading, URDF tree step: urdfdom parse (console_bridge captured), links and joints
-// depth-first from the root, collision shapes (meshes through assimp, used as convex hulls),
+// depth-first from the root, collision shapes (meshes through assimp: each connected part of a
+// mesh becomes the convex hull of its vertices, reduced to the hull's own vertices by qhull),
 // actuated joints and mimic chains.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +19,7 @@
 #include <urdf_parser/urdf_parser.h>
 #include <assimp/Importer.hpp>
 
+#include "convex_hull.hpp"
 #include "hand_model_build.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
@@ -78,8 +81,12 @@ Eigen::Isometry3d toIso(const urdf::Pose& p) {
   return t;
 }
 
-std::vector<Eigen::Vector3d> loadMeshPoints(const std::string& file, const Eigen::Vector3d& scale,
-                                            const std::string& urdf_path, const std::string& link) {
+/// Vertex sets of the connected parts of a collision mesh (faces sharing a vertex position),
+/// scaled, in the mesh file's frame.
+std::vector<std::vector<Eigen::Vector3d>> loadMeshParts(const std::string& file,
+                                                        const Eigen::Vector3d& scale,
+                                                        const std::string& urdf_path,
+                                                        const std::string& link) {
   std::string f = file;
   if (f.rfind("file://", 0) == 0) f = f.substr(7);
   if (f.rfind("package://", 0) == 0)
@@ -92,33 +99,62 @@ std::vector<Eigen::Vector3d> loadMeshPoints(const std::string& file, const Eigen
   if (!scene || scene->mNumMeshes == 0)
     throw Error("URDF '" + urdf_path + "': link '" + link + "': cannot read collision mesh '" +
                 p.string() + "': " + importer.GetErrorString());
-  std::vector<Eigen::Vector3d> pts;
+  std::vector<std::vector<Eigen::Vector3d>> parts;
   std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* node,
                                                                     const aiMatrix4x4& parent) {
     const aiMatrix4x4 t = parent * node->mTransformation;
     for (unsigned m = 0; m < node->mNumMeshes; ++m) {
       const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
+      // Union-find over the mesh's vertices through its faces.
+      std::vector<unsigned> root(mesh->mNumVertices);
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) root[v] = v;
+      auto find = [&](unsigned v) {
+        while (root[v] != v) v = root[v] = root[root[v]];
+        return v;
+      };
+      // Vertices at the same position are one (assimp keeps copies with different normals).
+      std::map<std::array<float, 3>, unsigned> at;
       for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D& a = mesh->mVertices[v];
+        const auto [it, fresh] = at.emplace(std::array<float, 3>{a.x, a.y, a.z}, v);
+        if (!fresh) root[find(v)] = find(it->second);
+      }
+      for (unsigned fi = 0; fi < mesh->mNumFaces; ++fi) {
+        const aiFace& face = mesh->mFaces[fi];
+        for (unsigned c = 1; c < face.mNumIndices; ++c)
+          root[find(face.mIndices[c])] = find(face.mIndices[0]);
+      }
+      std::map<unsigned, std::size_t> part_of_root;
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const auto [it, fresh] = part_of_root.emplace(find(v), parts.size());
+        if (fresh) parts.emplace_back();
         const aiVector3D a = t * mesh->mVertices[v];
-        pts.emplace_back(a.x * scale.x(), a.y * scale.y(), a.z * scale.z());
+        parts[it->second].emplace_back(a.x * scale.x(), a.y * scale.y(), a.z * scale.z());
       }
     }
     for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], t);
   };
   walk(scene->mRootNode, aiMatrix4x4());
-  if (pts.size() < 4)
+  for (auto& pts : parts) {
+    std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  }
+  // Parts of fewer than 4 distinct vertices enclose nothing (stray edges, lone triangles).
+  parts.erase(std::remove_if(parts.begin(), parts.end(),
+                             [](const std::vector<Eigen::Vector3d>& q) { return q.size() < 4; }),
+              parts.end());
+  if (parts.empty())
     throw Error("URDF '" + urdf_path + "': link '" + link + "': collision mesh '" + p.string() +
                 "' has fewer than 4 vertices");
-  std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-  });
-  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  return pts;
+  return parts;
 }
 
-/// One <collision> element as a convex shape; U prefixes errors ("URDF '<path>': ").
-CollisionShape shapeOf(const urdf::Collision& col, const std::string& urdf_path,
-                       const std::string& link, const std::string& U) {
+/// The convex shapes of one <collision> element (a mesh gives one hull per connected part);
+/// U prefixes errors ("URDF '<path>': ").
+std::vector<CollisionShape> shapesOf(const urdf::Collision& col, const std::string& urdf_path,
+                                     const std::string& link, const std::string& U) {
   CollisionShape s;
   s.origin = toIso(col.origin);
   const urdf::Geometry& g = *col.geometry;
@@ -150,13 +186,20 @@ CollisionShape shapeOf(const urdf::Collision& col, const std::string& urdf_path,
     }
     case urdf::Geometry::MESH: {
       const auto& m = static_cast<const urdf::Mesh&>(g);
-      s.type = ShapeType::kConvex;
-      s.points = loadMeshPoints(m.filename, Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z),
-                                urdf_path, link);
-      break;
+      std::vector<CollisionShape> out;
+      for (const auto& part : loadMeshParts(
+               m.filename, Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z), urdf_path, link)) {
+        CollisionShape h = s;
+        h.type = ShapeType::kConvex;
+        h.points = detail::convexHull(part, U + "link '" + link + "': collision mesh '" +
+                                                m.filename + "' (a connected part)")
+                       .vertices;
+        out.push_back(std::move(h));
+      }
+      return out;
     }
   }
-  return s;
+  return {s};
 }
 
 /// A URDF joint (without child link and driver, which the tree walk and mimic step fill in).
@@ -218,7 +261,8 @@ struct TreeWalk {
     hl.name = link->name;
     hl.parent_joint = parent_joint;
     for (const auto& col : link->collision_array)
-      if (col && col->geometry) hl.shapes.push_back(shapeOf(*col, urdf_path, link->name, U));
+      if (col && col->geometry)
+        for (auto& s : shapesOf(*col, urdf_path, link->name, U)) hl.shapes.push_back(std::move(s));
     const int li = static_cast<int>(links.size());
     links.push_back(std::move(hl));
     for (const auto& child_joint : link->child_joints) {
@@ -267,7 +311,7 @@ void HandModelBuilder::readUrdf(HandModel& h, const std::string& urdf_path) {
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
   const urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
-  h.name_ = model->getName();
+  h.robot_name_ = model->getName();
   const std::string U = "URDF '" + urdf_path + "': ";
   if (!model->getRoot()) throw Error(U + "has no root link");
   TreeWalk{*model, urdf_path, U, h.links_, h.joints_}.add(model->getRoot(), -1);

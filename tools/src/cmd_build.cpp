@@ -116,6 +116,42 @@ std::string percent(double part, double whole) {
   return buffer;
 }
 
+// The summary printed after a written build.
+std::string summaryOf(const BuildResult& result, const std::string& output, double write_seconds) {
+  const TaskMapData& map = result.map;
+  const BuildTiming& t = result.timing;
+  std::ostringstream os;
+  os << "taskmap build: " << toString(result.status) << ": " << result.message << "\n";
+  os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
+     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << "\n";
+  os << "  outcomes ";
+  for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
+  os << "\n";
+  os << "  stored    " << map.grasps.size() << " grasps";
+  if (map.clustering) {
+    std::size_t outliers = 0;
+    for (int l : map.clustering->labels) outliers += l < 0;
+    os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
+  }
+  os << "\n";
+  const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
+  const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
+                "trials/s), clustering %.2f s, writing %.2f s\n"
+                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
+                t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
+                static_cast<unsigned long long>(t.trials_simulated),
+                trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,
+                t.clustering_seconds, write_seconds, percent(t.sampling_seconds, stages).c_str(),
+                percent(t.simulation_seconds, stages).c_str(),
+                percent(t.quality_seconds, stages).c_str(), stages);
+  os << line;
+  os << "  wrote     " << output << "\n";
+  return os.str();
+}
+
 void runBuild(const BuildArgs& args) {
   BuildOptions options;
   options.sampler.kind = samplerKindFromString(args.sampler);
@@ -175,6 +211,14 @@ void runBuild(const BuildArgs& args) {
     exitCode() = 130;
     return;
   }
+  if (result.status == BuildStatus::kNoGrasps) {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+    std::cerr << "taskmap build: error: " << result.message << "; nothing written to '"
+              << args.output << "'\n";
+    exitCode() = 3;
+    return;
+  }
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short
@@ -183,38 +227,7 @@ void runBuild(const BuildArgs& args) {
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
 
-  const TaskMapData& map = result.map;
-  const BuildTiming& t = result.timing;
-  std::ostringstream os;
-  os << "taskmap build: " << toString(result.status) << ": " << result.message << "\n";
-  os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
-     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << "\n";
-  os << "  outcomes ";
-  for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
-  os << "\n";
-  os << "  stored    " << map.grasps.size() << " grasps";
-  if (map.clustering) {
-    std::size_t outliers = 0;
-    for (int l : map.clustering->labels) outliers += l < 0;
-    os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
-  }
-  os << "\n";
-  const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
-  const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
-                "trials/s), clustering %.2f s, writing %.2f s\n"
-                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
-                t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
-                static_cast<unsigned long long>(t.trials_simulated),
-                trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,
-                t.clustering_seconds, write_seconds, percent(t.sampling_seconds, stages).c_str(),
-                percent(t.simulation_seconds, stages).c_str(),
-                percent(t.quality_seconds, stages).c_str(), stages);
-  os << line;
-  os << "  wrote     " << args.output << "\n";
-  if (!args.quiet) std::cout << os.str();
+  if (!args.quiet) std::cout << summaryOf(result, args.output, write_seconds);
   if (result.status == BuildStatus::kTrialBudgetExhausted)
     std::cerr << "taskmap build: warning: " << result.message
               << "; raise --trials or check the object and hand\n";
