@@ -65,6 +65,21 @@ void TaskMap::Impl::buildSet(SampleSet& s, const std::vector<std::size_t>& membe
 }
 
 void TaskMap::Impl::build() {
+  readGrasps();
+  const std::size_t n = pos.size();
+  std::vector<std::size_t> every(n);
+  for (std::size_t i = 0; i < n; ++i) every[i] = i;
+  buildSet(all, every);
+  buildClusters();
+  // W_map: w_r = rho^2 w_p by default (docs/METHOD.md §4).
+  wp = options.linear_weight;
+  wr = options.angular_weight.value_or(rho * rho * wp);
+  options.angular_weight = wr;
+  chooseKernelWidths();
+  setTruncation();
+}
+
+void TaskMap::Impl::readGrasps() {
   const MapGrasps& g = data.grasps;
   const std::size_t n = static_cast<std::size_t>(g.pose.rows());
   if (n == 0) throw Error("task map has no grasps; build a map with at least one valid grasp");
@@ -94,11 +109,10 @@ void TaskMap::Impl::build() {
       throw Error(grasp(i) + ": epsilon " + std::to_string(eps) + " is not a finite value >= 0");
     weight[i] = eps;
   }
+}
 
-  std::vector<std::size_t> every(n);
-  for (std::size_t i = 0; i < n; ++i) every[i] = i;
-  buildSet(all, every);
-
+void TaskMap::Impl::buildClusters() {
+  const std::size_t n = pos.size();
   clusters.clear();
   if (data.clustering) {
     const ClusteringResult& c = *data.clustering;
@@ -124,12 +138,10 @@ void TaskMap::Impl::build() {
       buildSet(clusters[static_cast<std::size_t>(j)], members[static_cast<std::size_t>(j)]);
     }
   }
+}
 
-  // W_map: w_r = rho^2 w_p by default (docs/METHOD.md §4).
-  wp = options.linear_weight;
-  wr = options.angular_weight.value_or(rho * rho * wp);
-  options.angular_weight = wr;
-
+void TaskMap::Impl::chooseKernelWidths() {
+  const std::size_t n = pos.size();
   // Kernel widths: sigma_p from the sampling density (median nearest-neighbour pose distance
   // over a deterministic subset of at most kDensitySamples samples), sigma_r = sigma_p / rho.
   if (!options.position_sigma) {
@@ -166,7 +178,9 @@ void TaskMap::Impl::build() {
   inv_sp2 = 1.0 / (sp * sp);
   inv_se2 = 1.0 / (rho * sr * rho * sr);
   inv_z = 1.0 / gaussianNormaliser(sp, sr);
+}
 
+void TaskMap::Impl::setTruncation() {
   // Truncation. In the embedding x = (p, (rho/sqrt2) vec R) the kernel distance is
   //   d = |dx_p|^2 / sp^2 + |dx_R|^2 / (rho sr)^2   (|dx_R|^2 = rho^2/2 ||dR||_F^2),
   // and the index distance is D^2 = |dx_p|^2 + |dx_R|^2. With s = max(sp, rho sr) both

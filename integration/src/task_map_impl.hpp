@@ -66,6 +66,12 @@ struct TaskMap::Impl {
 
   /// Validates data and options, builds indexes, resolves defaults. Throws Error.
   void build();
+  /// build's steps: check the grasps and fill pos/qconj/weight; one sample set per cluster;
+  /// kernel widths (from the sampling density unless given); the cut-off and error bounds.
+  void readGrasps();
+  void buildClusters();
+  void chooseKernelWidths();
+  void setTruncation();
   /// Embeds the given grasps (in leaf order) into s and builds its index.
   void buildSet(SampleSet& s, const std::vector<std::size_t>& members) const;
   const SampleSet& set(std::optional<int> cluster) const;

@@ -8,11 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 
 namespace taskmap {
+
+using taskmap::testing::errorMessage;
 namespace {
 
 struct Grasps {
@@ -58,15 +61,6 @@ Grasps blobGrasps(const std::vector<int>& blob_sizes, int outliers, std::uint64_
     std::swap(g.blob[i - 1], g.blob[j]);
   }
   return g;
-}
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(PoseMetric, OppositeQuaternionsAreOnePose) {
@@ -182,11 +176,12 @@ TEST(ClusterGrasps, FromLinkageReproducesAndRecuts) {
   options.num_clusters = 3;
   const ClusteringResult three = clusterFromLinkage(g.poses, g.epsilon, a.linkage, options);
   EXPECT_LE(three.clusters.size(), 3u);
-  EXPECT_EQ(errorOf([&] { clusterFromLinkage(g.poses, g.epsilon, LinkageMatrix(5, 4), options); }),
-            "clusterFromLinkage: the dendrogram has 5 rows but 123 grasps need 122; recompute it "
-            "with computeLinkage");
+  EXPECT_EQ(
+      errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, LinkageMatrix(5, 4), options); }),
+      "clusterFromLinkage: the dendrogram has 5 rows but 123 grasps need 122; recompute it "
+      "with computeLinkage");
   options.num_clusters = 124;
-  EXPECT_EQ(errorOf([&] { clusterFromLinkage(g.poses, g.epsilon, a.linkage, options); }),
+  EXPECT_EQ(errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, a.linkage, options); }),
             "clusterFromLinkage: num_clusters 124 exceeds the number of grasps (123)");
 }
 
@@ -209,26 +204,27 @@ TEST(ClusteringOptions, Validation) {
   EXPECT_NO_THROW(o.validate());
   o.threshold = 0.1;
   o.num_clusters = 3;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering options threshold and num_clusters exclude each other: set one");
   o = ClusteringOptions{};
   o.rotation_scale = 0.0;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option rotation_scale must be a positive length per radian, got 0.000000");
   o = ClusteringOptions{};
   o.threshold = -1.0;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option threshold must be a finite distance >= 0 (metres), got -1.000000");
   o = ClusteringOptions{};
   o.num_clusters = 0;
-  EXPECT_EQ(errorOf([&] { o.validate(); }), "clustering option num_clusters must be >= 1, got 0");
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
+            "clustering option num_clusters must be >= 1, got 0");
   o = ClusteringOptions{};
   o.min_size_fraction = 1.5;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option min_size_fraction must be in [0, 1], got 1.500000");
   o = ClusteringOptions{};
   o.min_size = -2;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option min_size must be >= 0 (0: use min_size_fraction), got -2");
   o = ClusteringOptions{};
   EXPECT_EQ(resolveMinSize(o, 1000), 20);
@@ -282,7 +278,7 @@ TEST(DefaultCut, CoverageThresholdMatchesBruteForce) {
     }
   }
   EXPECT_EQ(coverageThreshold(LinkageMatrix(0, 4), 3, 0.1), 0.0);
-  EXPECT_EQ(errorOf([] { coverageThreshold(LinkageMatrix(0, 4), 3, 1.5); }),
+  EXPECT_EQ(errorMessage([] { coverageThreshold(LinkageMatrix(0, 4), 3, 1.5); }),
             "coverageThreshold: outlier_budget must be a share in [0, 1], got 1.500000");
 }
 
@@ -327,23 +323,23 @@ TEST(ClusteringOptions, DefaultMethodIsAverageUpToTheLimit) {
   o.fallback_to_single = true;
   EXPECT_EQ(resolveMethod(o, kMaxPairwiseLinkagePoints + 1), Linkage::kSingle);
   o.outlier_budget = -0.5;
-  EXPECT_EQ(errorOf([&] { o.validate(); }),
+  EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option outlier_budget must be a share in [0, 1], got -0.500000");
 }
 
 TEST(ClusterGrasps, RejectsBadGrasps) {
   Pose p;
-  EXPECT_EQ(errorOf([&] {
+  EXPECT_EQ(errorMessage([&] {
               clusterGrasps({p, p}, {0.1});
             }),
             "clusterGrasps: 2 poses but 1 epsilon values; give one per grasp");
-  EXPECT_EQ(errorOf([&] {
+  EXPECT_EQ(errorMessage([&] {
               clusterGrasps({p, p}, {0.1, std::nan("")});
             }),
             "clusterGrasps: epsilon of grasp 1 is not finite");
   Pose bad;
   bad.position.x() = std::numeric_limits<double>::infinity();
-  EXPECT_EQ(errorOf([&] {
+  EXPECT_EQ(errorMessage([&] {
               clusterGrasps({p, bad}, {0.1, 0.1});
             }),
             "clusterGrasps: pose of grasp 1 is not finite or has a zero quaternion");

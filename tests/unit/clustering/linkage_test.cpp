@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
@@ -144,12 +145,8 @@ TEST(Linkage, NamesRoundTrip) {
   for (Linkage m : {Linkage::kSingle, Linkage::kAverage, Linkage::kComplete}) {
     EXPECT_EQ(linkageFromString(toString(m)), m);
   }
-  try {
-    linkageFromString("ward");
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "unknown linkage method 'ward': use single, average or complete");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { linkageFromString("ward"); }),
+            "unknown linkage method 'ward': use single, average or complete");
 }
 
 TEST(SingleLinkage, MatchesPrimOnBlobs) {
@@ -246,12 +243,7 @@ TEST(ChainLinkage, AverageAndCompleteMatchNaiveAgglomeration) {
 
 TEST(Linkage, RejectsBadInput) {
   auto message = [](const PointMatrix& p, Linkage m) {
-    try {
-      computeLinkage(p, m);
-    } catch (const Error& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
+    return testing::errorMessage([&] { computeLinkage(p, m); });
   };
   EXPECT_EQ(message(PointMatrix::Zero(1, 3), Linkage::kSingle),
             "computeLinkage needs at least 2 points, got 1");
@@ -275,38 +267,20 @@ TEST(Cuts, LabelsByFirstAppearance) {
   EXPECT_EQ(cutToCount(z, 5), cutAtDistance(z, 0.5));
   EXPECT_EQ(cutToCount(z, 2), cutAtDistance(z, 3.0));
   EXPECT_EQ(cutToCount(z, 1), cutAtDistance(z, 9.0));
-  try {
-    cutToCount(z, 6);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(),
-                 "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { cutToCount(z, 6); }),
+            "cutToCount: cluster count 6 must be between 1 and 5 (the number of points)");
   LinkageMatrix bad = z;
   bad(2, 1) = 3;  // point 3 merged twice
-  try {
-    cutAtDistance(bad, 1.0);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "cutAtDistance: linkage row 2 merges cluster 3 a second time");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 2 merges cluster 3 a second time");
   bad = z;
   bad(1, 2) = 0.5;
-  try {
-    cutAtDistance(bad, 1.0);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(),
-                 "cutAtDistance: linkage row 1 has a smaller distance than the row before");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 1 has a smaller distance than the row before");
   bad = z;
   bad(3, 3) = 4;
-  try {
-    cutAtDistance(bad, 1.0);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "cutAtDistance: linkage row 3 has size 4.000000, expected 5.000000");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { cutAtDistance(bad, 1.0); }),
+            "cutAtDistance: linkage row 3 has size 4.000000, expected 5.000000");
 }
 
 int countClusters(const std::vector<int>& labels, int min_size) {

@@ -1,7 +1,7 @@
 // The fast link-versus-mesh queries (BVH culling, box-triangle separating axes, GJK/EPA)
 // against a brute-force oracle: exact box-triangle distances from feature pairs over every
 // triangle of the mesh.
-#include "../../../grasp_sim/src/collision_scene.hpp"
+#include "collision_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <thread>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
@@ -48,12 +49,7 @@ TEST(GraspSimulator, StatusNamesAndOptions) {
   GraspSimOptions o;
   EXPECT_NO_THROW(o.validate());
   o.contact_tolerance = 0.0;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("contact_tolerance"), std::string::npos);
-  }
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"contact_tolerance"}));
   o = GraspSimOptions();
   o.max_retraction = -1;
   EXPECT_THROW(o.validate(), Error);

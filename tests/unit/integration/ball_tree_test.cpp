@@ -1,6 +1,6 @@
 // White-box test of the private pose-ball hierarchy (integration/src/ball_tree.hpp) against
 // brute-force scans over every sample with the exact pose distance of 12-D embeddings.
-#include "../../../integration/src/ball_tree.hpp"
+#include "ball_tree.hpp"
 
 #include <gtest/gtest.h>
 

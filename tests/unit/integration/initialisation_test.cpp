@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 
@@ -26,12 +27,8 @@ TEST(JointLimitCost, MatchesFormulaAndGradient) {
     EXPECT_NEAR(g[i], (jointLimitCost(a, lo, hi) - jointLimitCost(b, lo, hi)) / 2e-6, 1e-8);
   }
   EXPECT_DOUBLE_EQ(jointLimitCost(Eigen::Vector3d(0, 1, -1), lo, hi), 0.0);
-  try {
-    jointLimitCost(q, hi, lo);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "joint limits of joint 0: need finite lower < upper");
-  }
+  EXPECT_EQ(testing::errorMessage([&] { jointLimitCost(q, hi, lo); }),
+            "joint limits of joint 0: need finite lower < upper");
 }
 
 TEST(CollisionCost, PiecewiseFormulaIsC1) {
@@ -95,12 +92,9 @@ TEST(RankClusters, BestComfortFirstUnreachableLast) {
   }
   TaskMapData plain = testing::syntheticMap(30);
   plain.clustering.reset();
-  try {
-    rankClusters(TaskMap::fromData(plain), object, ik, comfort);
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_STREQ(e.what(), "rankClusters: the map has no clusters; cluster the map first");
-  }
+  EXPECT_EQ(
+      testing::errorMessage([&] { rankClusters(TaskMap::fromData(plain), object, ik, comfort); }),
+      "rankClusters: the map has no clusters; cluster the map first");
 }
 
 }  // namespace

@@ -10,12 +10,15 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap {
+
+using taskmap::testing::errorMessage;
 namespace {
 
 using testing::randomPose;
@@ -379,21 +382,11 @@ TEST(TaskMap, BatchEqualsSequentialForAnyThreadCount) {
   }
 }
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "no error";
-}
-
 TEST(TaskMap, InvalidDataAndOptionsGiveClearErrors) {
   auto with = [](auto edit) {
     TaskMapData d = syntheticMap(100);
     edit(d);
-    return errorOf([&] { TaskMap::fromData(d); });
+    return errorMessage([&] { TaskMap::fromData(d); });
   };
   EXPECT_EQ(with([](TaskMapData& d) { d.grasps.pose(5, 1) = NAN; }),
             "/grasps row 5: pose has a non-finite value");
@@ -414,26 +407,27 @@ TEST(TaskMap, InvalidDataAndOptionsGiveClearErrors) {
 
   TaskMapOptions o;
   o.quality_tolerance = 1.5;
-  EXPECT_NE(errorOf([&] { TaskMap::fromData(syntheticMap(10), o); }).find("quality_tolerance"),
+  EXPECT_NE(errorMessage([&] { TaskMap::fromData(syntheticMap(10), o); }).find("quality_tolerance"),
             std::string::npos);
   o = TaskMapOptions();
   o.position_sigma = -1;
-  EXPECT_NE(errorOf([&] { TaskMap::fromData(syntheticMap(10), o); }).find("position_sigma"),
+  EXPECT_NE(errorMessage([&] { TaskMap::fromData(syntheticMap(10), o); }).find("position_sigma"),
             std::string::npos);
 
   const TaskMap& map = sharedMap();
-  EXPECT_EQ(errorOf([&] { map.nearest(Pose(), 3); }),
+  EXPECT_EQ(errorMessage([&] { map.nearest(Pose(), 3); }),
             "cluster 3 does not exist; the map has clusters 0..2");
-  EXPECT_EQ(errorOf([&] { map.knn(Pose(), 0); }), "knn: k = 0 is invalid; give k >= 1");
+  EXPECT_EQ(errorMessage([&] { map.knn(Pose(), 0); }), "knn: k = 0 is invalid; give k >= 1");
   TaskMapData unclustered = syntheticMap(50);
   unclustered.clustering.reset();
   const TaskMap plain = TaskMap::fromData(unclustered);
   EXPECT_EQ(plain.numClusters(), 0);
-  EXPECT_NE(errorOf([&] { plain.evaluate(Pose(), 0); }).find("no clustering"), std::string::npos);
+  EXPECT_NE(errorMessage([&] { plain.evaluate(Pose(), 0); }).find("no clustering"),
+            std::string::npos);
   PoseRows bad = PoseRows::Zero(3, 7);
   bad(0, 3) = 1;
   bad(2, 3) = 1;
-  EXPECT_NE(errorOf([&] { map.evaluateBatch(bad); }).find("pose row 1"), std::string::npos);
+  EXPECT_NE(errorMessage([&] { map.evaluateBatch(bad); }).find("pose row 1"), std::string::npos);
 }
 
 std::string tempPath(const std::string& name) {
@@ -462,10 +456,10 @@ TEST(TaskMap, CorruptOrMissingFileRaisesError) {
     std::ofstream f(path, std::ios::binary);
     f << "this is not an HDF5 file";
   }
-  const std::string msg = errorOf([&] { TaskMap::load(path); });
+  const std::string msg = errorMessage([&] { TaskMap::load(path); });
   EXPECT_NE(msg.find(path), std::string::npos) << msg;
   std::remove(path.c_str());
-  EXPECT_NE(errorOf([&] { TaskMap::load(tempPath("missing.h5")); }).find("missing.h5"),
+  EXPECT_NE(errorMessage([&] { TaskMap::load(tempPath("missing.h5")); }).find("missing.h5"),
             std::string::npos);
   // A truncated real map file.
   const std::string cut = tempPath("truncated.h5");
@@ -477,7 +471,7 @@ TEST(TaskMap, CorruptOrMissingFileRaisesError) {
     std::ofstream out(cut, std::ios::binary | std::ios::trunc);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   }
-  EXPECT_NE(errorOf([&] { TaskMap::load(cut); }), "no error");
+  EXPECT_NE(errorMessage([&] { TaskMap::load(cut); }), "no error");
   std::remove(cut.c_str());
 }
 

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 
@@ -179,14 +180,10 @@ void expectSameMap(const TaskMapData& a, const TaskMapData& b) {
 
 // Expects readMap(path) to throw an Error whose message contains every part.
 void expectReadError(const std::string& path, const std::vector<std::string>& parts) {
-  try {
-    readMap(path);
-    FAIL() << "readMap accepted " << path;
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    EXPECT_NE(msg.find(path), std::string::npos) << msg;
-    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
-  }
+  const std::string msg = testing::errorMessage([&] { readMap(path); });
+  ASSERT_FALSE(msg.empty()) << "readMap accepted " << path;
+  EXPECT_NE(msg.find(path), std::string::npos) << msg;
+  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << msg;
 }
 
 // ---- HDF5 edits for corrupt files (the test links HDF5 itself) ----
@@ -296,12 +293,7 @@ TEST(MapFileTest, InvalidMapIsRefusedAndPreviousFileKept) {
   writeMap(path, sampleMap(3));
   TaskMapData bad = sampleMap(4);
   bad.grasps.pose(2, 0) = std::numeric_limits<double>::quiet_NaN();
-  try {
-    writeMap(path, bad);
-    FAIL() << "invalid map written";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("/grasps/pose"), std::string::npos) << e.what();
-  }
+  EXPECT_TRUE(testing::throwsError([&] { writeMap(path, bad); }, {"/grasps/pose"}));
   EXPECT_EQ(readMap(path).grasps.size(), 3u);
 }
 
@@ -428,43 +420,23 @@ TEST(MapFileTest, ValidateNamesTheViolatedDataset) {
   {
     TaskMapData m = sampleMap(4);
     m.object.faces(1, 2) = 8;
-    try {
-      m.validate();
-      FAIL();
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("/object/faces"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(testing::throwsError([&] { m.validate(); }, {"/object/faces"}));
   }
   {
     TaskMapData m = sampleMap(4);
     m.sampling.trials = 99;
-    try {
-      m.validate();
-      FAIL();
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("/sampling"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(testing::throwsError([&] { m.validate(); }, {"/sampling"}));
   }
   {
     TaskMapData m = sampleMap(4);
     m.clustering->clusters[0].size += 1;
-    try {
-      m.validate();
-      FAIL();
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("/clusters/size"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(testing::throwsError([&] { m.validate(); }, {"/clusters/size"}));
   }
   {
     TaskMapData m = sampleMap(4);
     m.grasps.joints.resize(4, 3);
     m.grasps.joints.setZero();
-    try {
-      m.validate();
-      FAIL();
-    } catch (const Error& e) {
-      EXPECT_NE(std::string(e.what()).find("/grasps/joints"), std::string::npos) << e.what();
-    }
+    EXPECT_TRUE(testing::throwsError([&] { m.validate(); }, {"/grasps/joints"}));
   }
   EXPECT_NO_THROW(sampleMap(6).validate());
 }

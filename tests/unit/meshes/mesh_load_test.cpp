@@ -14,11 +14,14 @@
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/mesh_io.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
+
+using taskmap::testing::errorMessage;
 namespace {
 
 namespace fs = std::filesystem;
@@ -51,16 +54,6 @@ class TempDir {
 };
 
 /// The error message of `f()`, or "" if it did not throw taskmap::Error.
-template <typename F>
-std::string errorOf(F f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TriangleMesh unitCube() {
   TriangleMesh m;
   for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
@@ -160,26 +153,26 @@ TEST(MeshLoadTest, ScaleMultipliesCoordinates) {
   EXPECT_NEAR(big.massProperties().volume, 1e6 * m.massProperties().volume,
               1e-6 * 1e6 * m.massProperties().volume);
   EXPECT_DOUBLE_EQ(big.scale(), 100.0);
-  EXPECT_NE(errorOf([] { ObjectModel::load(object("box"), MeshLoadOptions{-1.0}); }), "");
-  EXPECT_NE(errorOf([] {
+  EXPECT_NE(errorMessage([] { ObjectModel::load(object("box"), MeshLoadOptions{-1.0}); }), "");
+  EXPECT_NE(errorMessage([] {
               ObjectModel::load(object("box"), MeshLoadOptions{0.0});
             }).find("scale must be a positive finite number"),
             std::string::npos);
 }
 
 TEST(MeshLoadTest, MissingFile) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("no_such_file.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("no_such_file.obj")); });
   EXPECT_NE(msg.find("no_such_file.obj"), std::string::npos) << msg;
   EXPECT_NE(msg.find("no such file"), std::string::npos) << msg;
 }
 
 TEST(MeshLoadTest, EmptyFile) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("empty.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("empty.obj")); });
   EXPECT_NE(msg.find("empty.obj' is empty"), std::string::npos) << msg;
 }
 
 TEST(MeshLoadTest, MalformedObj) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("malformed.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("malformed.obj")); });
   EXPECT_NE(msg.find("malformed.obj"), std::string::npos) << msg;
   EXPECT_FALSE(msg.empty());
 }
@@ -188,7 +181,7 @@ TEST(MeshLoadTest, UnknownFormat) {
   TempDir dir;
   const std::string path = dir.file("garbage.xyz123");
   std::ofstream(path) << "this is not a mesh\n";
-  const std::string msg = errorOf([&] { ObjectModel::load(path); });
+  const std::string msg = errorMessage([&] { ObjectModel::load(path); });
   EXPECT_NE(msg.find("cannot read mesh file '" + path + "'"), std::string::npos) << msg;
 }
 
@@ -203,24 +196,24 @@ TEST(MeshLoadTest, TruncatedFilesAreRefused) {
     std::ifstream in(full, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
-    const std::string msg = errorOf([&] { ObjectModel::load(cut); });
+    const std::string msg = errorMessage([&] { ObjectModel::load(cut); });
     EXPECT_NE(msg.find("cut." + ext), std::string::npos) << msg;
   }
 }
 
 TEST(MeshLoadTest, NanVertex) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("nan_vertex.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("nan_vertex.obj")); });
   EXPECT_NE(msg.find("nan_vertex.obj"), std::string::npos) << msg;
   EXPECT_NE(msg.find("non-finite coordinate"), std::string::npos) << msg;
   TriangleMesh cube = unitCube();
   cube.vertices[3].y() = std::nan("");
-  const std::string mem = errorOf([&] { ObjectModel::fromMesh(cube, "nan cube"); });
+  const std::string mem = errorMessage([&] { ObjectModel::fromMesh(cube, "nan cube"); });
   EXPECT_NE(mem.find("mesh 'nan cube': vertex 3 has a non-finite coordinate"), std::string::npos)
       << mem;
 }
 
 TEST(MeshLoadTest, HoleThatCannotBeClosedIsRefused) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("cube_open.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("cube_open.obj")); });
   EXPECT_NE(msg.find("cube_open.obj': mesh has 4 border edges after stitching; the object must "
                      "be closed to sample its volume"),
             std::string::npos)
@@ -236,7 +229,7 @@ TEST(MeshLoadTest, SeamClosedByStitchingIsRepaired) {
   EXPECT_NEAR(model.massProperties().volume, 1.0, 1e-5);
   MeshLoadOptions strict;
   strict.repair = false;
-  const std::string msg = errorOf([&] { ObjectModel::load(data("cube_seam.obj"), strict); });
+  const std::string msg = errorMessage([&] { ObjectModel::load(data("cube_seam.obj"), strict); });
   EXPECT_NE(msg.find("8 border edges; the object must be closed"), std::string::npos) << msg;
 }
 
@@ -260,7 +253,7 @@ TEST(MeshLoadTest, InwardFacesAreReversed) {
   EXPECT_NEAR(model.massProperties().volume, 1.0, 1e-6);
   MeshLoadOptions strict;
   strict.repair = false;
-  const std::string msg = errorOf([&] { ObjectModel::load(data("cube_inward.obj"), strict); });
+  const std::string msg = errorMessage([&] { ObjectModel::load(data("cube_inward.obj"), strict); });
   EXPECT_NE(msg.find("12 inward-facing faces (repair is disabled)"), std::string::npos) << msg;
 }
 
@@ -292,7 +285,7 @@ TEST(MeshLoadTest, NonManifoldEdgeIsRefused) {
   const int base = static_cast<int>(two.vertices.size());
   for (const auto& v : second.vertices) two.vertices.push_back(v + Eigen::Vector3d(1, 1, 0));
   for (const auto& f : second.faces) two.faces.push_back(f + Eigen::Vector3i::Constant(base));
-  const std::string msg = errorOf([&] { ObjectModel::fromMesh(two, "two cubes"); });
+  const std::string msg = errorMessage([&] { ObjectModel::fromMesh(two, "two cubes"); });
   EXPECT_NE(msg.find("mesh 'two cubes': mesh has 1 non-manifold edge (shared by more than two "
                      "faces)"),
             std::string::npos)
@@ -318,24 +311,24 @@ TEST(MeshLoadTest, OverlappingShellsLoadWithAWarningAndUniteForInsideTests) {
 }
 
 TEST(MeshLoadTest, FlatMeshIsRefused) {
-  const std::string msg = errorOf([] { ObjectModel::load(data("flat.obj")); });
+  const std::string msg = errorMessage([] { ObjectModel::load(data("flat.obj")); });
   EXPECT_NE(msg.find("flat.obj': mesh encloses zero volume"), std::string::npos) << msg;
 }
 
 TEST(MeshLoadTest, AbsurdlyLargeMeshIsRefused) {
   const std::string msg =
-      errorOf([] { ObjectModel::load(object("box"), MeshLoadOptions{10000.0}); });
+      errorMessage([] { ObjectModel::load(object("box"), MeshLoadOptions{10000.0}); });
   EXPECT_NE(msg.find("box.obj': bounding box is 1200 m across, above max_extent 100 m"),
             std::string::npos)
       << msg;
 }
 
 TEST(MeshLoadTest, EmptyInMemoryMeshIsRefused) {
-  const std::string msg = errorOf([] { ObjectModel::fromMesh(TriangleMesh{}, "nothing"); });
+  const std::string msg = errorMessage([] { ObjectModel::fromMesh(TriangleMesh{}, "nothing"); });
   EXPECT_EQ(msg, "mesh 'nothing': mesh has no triangles");
   TriangleMesh bad = unitCube();
   bad.faces[0][1] = 99;
-  const std::string idx = errorOf([&] { ObjectModel::fromMesh(bad, "bad index"); });
+  const std::string idx = errorMessage([&] { ObjectModel::fromMesh(bad, "bad index"); });
   EXPECT_NE(idx.find("face 0 references vertex 99 but the mesh has 8 vertices"), std::string::npos)
       << idx;
 }

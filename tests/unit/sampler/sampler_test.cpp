@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "test_meshes.hpp"
 
@@ -29,12 +30,8 @@ SamplerOptions optionsOf(SamplerKind kind) {
 TEST(SamplerTest, KindNamesRoundTrip) {
   for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed})
     EXPECT_EQ(samplerKindFromString(toString(k)), k);
-  try {
-    samplerKindFromString("random");
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("volume, surface or mixed"), std::string::npos);
-  }
+  EXPECT_TRUE(
+      testing::throwsError([&] { samplerKindFromString("random"); }, {"volume, surface or mixed"}));
 }
 
 TEST(SamplerTest, InvalidOptionsAreRefused) {
@@ -45,12 +42,7 @@ TEST(SamplerTest, InvalidOptionsAreRefused) {
   o = SamplerOptions{};
   o.standoff_min = 0.1;
   o.standoff_max = 0.0;
-  try {
-    o.validate();
-    FAIL();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("standoff_min"), std::string::npos);
-  }
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"standoff_min"}));
   o = SamplerOptions{};
   o.standoff_max = std::nan("");
   EXPECT_THROW(o.validate(), Error);

@@ -9,24 +9,17 @@
 #include <gtest/gtest.h>
 #include <assimp/Importer.hpp>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 
 namespace taskmap {
+
+using taskmap::testing::errorMessage;
 namespace {
 
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "/mesh_export_test_" + std::to_string(::getpid()) + "_" + name;
-}
-
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 // An object (a glyph mesh of 10 cm serves as a non-trivial closed solid), n random points in
@@ -133,21 +126,21 @@ TEST(MeshExportTest, GlbReadsBackAsNamedObjectGraspsAndGlyphs) {
 
 TEST(MeshExportTest, BadInputGivesClearErrors) {
   ExportScene scene = makeScene(3);
-  EXPECT_NE(errorOf([&] {
+  EXPECT_NE(errorMessage([&] {
               exportScene("/nonexistent/dir/x.ply", scene, SceneFormat::kPly);
             }).find("cannot export '/nonexistent/dir/x.ply'"),
             std::string::npos);
   scene.point_colors.pop_back();
-  EXPECT_NE(errorOf([&] { scene.validate(); }).find("3 points but 2 point colours"),
+  EXPECT_NE(errorMessage([&] { scene.validate(); }).find("3 points but 2 point colours"),
             std::string::npos);
   scene = makeScene(3);
   scene.object.faces[0][1] = 99;
-  EXPECT_NE(errorOf([&] { scene.validate(); }).find("object face 0 indexes vertex 99"),
+  EXPECT_NE(errorMessage([&] { scene.validate(); }).find("object face 0 indexes vertex 99"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { sceneFormatFromString("stl"); }).find("unknown scene format 'stl'"),
+  EXPECT_NE(errorMessage([] { sceneFormatFromString("stl"); }).find("unknown scene format 'stl'"),
             std::string::npos);
   EXPECT_EQ(sceneFormatFromString("glb"), SceneFormat::kGlb);
-  EXPECT_NE(errorOf([] {
+  EXPECT_NE(errorMessage([] {
               exportScene(tempPath("e.ply"), ExportScene{}, SceneFormat::kPly);
             }).find("the scene is empty"),
             std::string::npos);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
@@ -19,14 +20,9 @@ std::string dataPath(const std::string& file) {
 
 /// Expects HandModel::load to throw an Error whose message contains every given fragment.
 void expectLoadError(const std::string& urdf, const std::string& sidecar,
-                     std::initializer_list<const char*> fragments) {
-  try {
-    HandModel::load(urdf, sidecar);
-    FAIL() << "no error for " << urdf << " / " << sidecar;
-  } catch (const Error& e) {
-    const std::string msg = e.what();
-    for (const char* f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << msg;
-  }
+                     std::initializer_list<std::string> fragments) {
+  EXPECT_TRUE(testing::throwsError([&] { HandModel::load(urdf, sidecar); }, fragments))
+      << urdf << " / " << sidecar;
 }
 
 TEST(HandModel, LoadsReferenceHands) {

@@ -51,7 +51,7 @@ class InspectCliTest : public ::testing::Test {
            ("inspect_cli_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
-    map_ = testing::syntheticMap();
+    map_ = testing::clusteredBasketMap();
     map_path_ = (dir_ / "basket.h5").string();
     writeMap(map_path_, map_);
   }

@@ -12,28 +12,21 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "error_matchers.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
+
+using taskmap::testing::errorMessage;
 namespace {
 
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "/acronym_test_" + std::to_string(::getpid()) + "_" + name;
 }
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-
 TEST(AcronymTest, ExportThenImportKeepsPosesFlagsAndEpsilon) {
-  const TaskMapData map = testing::syntheticMap();
+  const TaskMapData map = testing::clusteredBasketMap();
   const std::string path = tempPath("roundtrip.h5");
   writeAcronym(path, map);
   const AcronymGrasps a = readAcronym(path);
@@ -77,7 +70,7 @@ TEST(AcronymTest, ExportThenImportKeepsPosesFlagsAndEpsilon) {
 }
 
 TEST(AcronymTest, ObjectAttributesFollowTheMap) {
-  TaskMapData map = testing::syntheticMap(10, 2);
+  TaskMapData map = testing::clusteredBasketMap(10, 2);
   map.quality.friction = 0.7;
   const std::string path = tempPath("attrs.h5");
   AcronymExportOptions options;
@@ -123,7 +116,7 @@ TEST(AcronymTest, MeshInertiaOfABoxMatchesTheClosedForm) {
 }
 
 TEST(AcronymTest, SuccessfulOnlyKeepsTheSuccesses) {
-  const TaskMapData map = testing::syntheticMap(10, 4);
+  const TaskMapData map = testing::clusteredBasketMap(10, 4);
   const std::string path = tempPath("success.h5");
   writeAcronym(path, map);
   AcronymImportOptions options;
@@ -198,11 +191,12 @@ TEST(AcronymTest, ReadsOtherNumericAndStringTypes) {
 }
 
 TEST(AcronymTest, BadInputGivesClearErrors) {
-  EXPECT_NE(errorOf([] { readAcronym("/nonexistent/grasps.h5"); }).find("does not exist"),
+  EXPECT_NE(errorMessage([] { readAcronym("/nonexistent/grasps.h5"); }).find("does not exist"),
             std::string::npos);
   const std::string text = tempPath("text.h5");
   std::ofstream(text) << "not hdf5\n";
-  EXPECT_NE(errorOf([&] { readAcronym(text); }).find("is not an HDF5 file"), std::string::npos);
+  EXPECT_NE(errorMessage([&] { readAcronym(text); }).find("is not an HDF5 file"),
+            std::string::npos);
   std::filesystem::remove(text);
 
   // An HDF5 file without grasps: our own task-map-like file with only an object dataset.
@@ -212,7 +206,7 @@ TEST(AcronymTest, BadInputGivesClearErrors) {
     H5Gclose(H5Gcreate2(file, "object", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
     H5Fclose(file);
   }
-  const std::string missing = errorOf([&] { readAcronym(empty); });
+  const std::string missing = errorMessage([&] { readAcronym(empty); });
   EXPECT_NE(missing.find("grasps/transforms is missing"), std::string::npos) << missing;
   EXPECT_NE(missing.find(empty), std::string::npos) << missing;
   std::filesystem::remove(empty);
@@ -223,28 +217,30 @@ TEST(AcronymTest, BadInputGivesClearErrors) {
   a.transforms = {Eigen::Matrix4d::Identity(), Eigen::Matrix4d::Identity()};
   a.transforms[1](0, 0) = 2.0;
   a.success = {1, 1};
-  EXPECT_NE(errorOf([&] {
+  EXPECT_NE(errorMessage([&] {
               acronymToMap(a, testing::basketObject());
             }).find("grasps/transforms[1] is not a rigid transform"),
             std::string::npos);
   a.success = {0, 0};
   AcronymImportOptions only;
   only.successful_only = true;
-  EXPECT_NE(
-      errorOf([&] { acronymToMap(a, testing::basketObject(), only); }).find("no successful grasp"),
-      std::string::npos);
-  a.success = {1};
-  EXPECT_NE(errorOf([&] { acronymToMap(a, testing::basketObject()); }).find("2 transforms but 1"),
+  EXPECT_NE(errorMessage([&] {
+              acronymToMap(a, testing::basketObject(), only);
+            }).find("no successful grasp"),
             std::string::npos);
+  a.success = {1};
+  EXPECT_NE(
+      errorMessage([&] { acronymToMap(a, testing::basketObject()); }).find("2 transforms but 1"),
+      std::string::npos);
   // Unwritable target.
-  EXPECT_NE(errorOf([] {
-              writeAcronym("/nonexistent/dir/x.h5", testing::syntheticMap(5, 0));
+  EXPECT_NE(errorMessage([] {
+              writeAcronym("/nonexistent/dir/x.h5", testing::clusteredBasketMap(5, 0));
             }).find("cannot write '/nonexistent/dir/x.h5'"),
             std::string::npos);
   AcronymExportOptions bad;
   bad.density = -1;
-  EXPECT_NE(errorOf([&] {
-              writeAcronym(tempPath("bad.h5"), testing::syntheticMap(5, 0), bad);
+  EXPECT_NE(errorMessage([&] {
+              writeAcronym(tempPath("bad.h5"), testing::clusteredBasketMap(5, 0), bad);
             }).find("density"),
             std::string::npos);
 }
