@@ -103,6 +103,8 @@ class HandModel {
   int palmLink() const;
   /// Palm frame expressed in the palm link frame.
   const Eigen::Isometry3d& palmFrame() const;
+  /// Palm frame expressed in the URDF root link frame (constant: the palm is fixed to the root).
+  const Eigen::Isometry3d& rootToPalm() const;
   /// The closing motion: which actuated joints close, toward which limit, how fast.
   const std::vector<ClosingJoint>& closing() const;
   /// Squeeze after contact, metres: how far each contact is pressed into the object.
