@@ -2,7 +2,6 @@
 // warnings), mesh-info --repair wrap on an open scan, and a build that stores no grasp.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
@@ -13,26 +12,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  ///< stdout and stderr, merged
-};
+using taskmap::testing::CliRun;
 
 CliRun runCli(const std::string& args) {
-  const std::string command = std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer;
-  std::size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return taskmap::testing::runTaskmap(args);
 }
 
 std::string real(const std::string& name) {

@@ -91,13 +91,7 @@ std::vector<PlacedShape> placeShapes(const HandModel& hand, const Eigen::VectorX
 
 void drawPanel(cairo_t* cr, const HandModel& hand, const std::vector<PlacedShape>& shapes,
                const HandView& view, const Box& cell, double scale, const Eigen::Vector3d& mid) {
-  cairo_rectangle(cr, cell.x, cell.y, cell.w, cell.h);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_fill_preserve(cr);
-  setColor(cr, kFrame);
-  cairo_set_line_width(cr, 1.0);
-  cairo_stroke(cr);
-  text(cr, cell.x + 8, cell.y + 18, view.title, 13, true);
+  drawCell(cr, cell, view.title, 13);
   const double cx = cell.x + cell.w / 2, cy = cell.y + 10 + cell.h / 2;
   auto px = [&](const Eigen::Vector3d& p) {
     return Eigen::Vector2d(cx + scale * (p[view.u] - mid[view.u]),
@@ -189,15 +183,7 @@ void writeHandPicture(const HandModel& hand, const std::string& path) {
                 Box{20 + c * (cw + gap), top + r * (ch + gap), cw, ch}, scale, mid);
   cairo_surface_flush(surface);
   check(cairo_status(cr), path);
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
-  if (st != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
-                "; check that the directory exists and is writable");
-  }
-  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+  writePng(surface, path);
 }
 
 #endif  // TASKMAP_HAVE_CAIRO

@@ -8,6 +8,7 @@
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
+#include "test_meshes.hpp"
 
 namespace taskmap {
 namespace {
@@ -16,16 +17,9 @@ std::string real(const std::string& name) {
   return std::string(TEST_DATA_DIR) + "/real/objects/" + name + ".obj";
 }
 
+/// The unit cube [0, 1]^3 (corner i at (i & 1, i >> 1 & 1, i >> 2 & 1)).
 TriangleMesh unitCube() {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    m.faces.emplace_back(q[0], q[1], q[2]);
-    m.faces.emplace_back(q[0], q[2], q[3]);
-  }
-  return m;
+  return testing::makeBox(1, 1, 1, Eigen::Vector3d::Constant(0.5));
 }
 
 std::string errorOf(const std::function<void()>& f) {
