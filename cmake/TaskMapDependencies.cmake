@@ -50,3 +50,8 @@ endif()
 if(TASKMAP_BUILD_PYTHON)
   find_package(pybind11 CONFIG REQUIRED)
 endif()
+# reaching tests only: independent oracles for kinematics (KDL) and capsule distances (FCL).
+if(TASKMAP_BUILD_TESTS)
+  pkg_check_modules(KDL QUIET IMPORTED_TARGET orocos-kdl)
+  pkg_check_modules(FCL QUIET IMPORTED_TARGET fcl)
+endif()

@@ -16,6 +16,7 @@
 
 #include "build_diagnosis.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 #include "trial_pool.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -51,7 +52,7 @@ void fillObject(const ObjectModel& object, MapObject& o) {
     o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
 }
 
-std::string paramsJson(const BuildOptions& o, int threads, const HandModel& hand) {
+std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   nlohmann::json j = nlohmann::json::object();
   try {
     const auto extra = nlohmann::json::parse(o.extra_params_json);
@@ -67,7 +68,6 @@ std::string paramsJson(const BuildOptions& o, int threads, const HandModel& hand
   j["seed"] = o.seed;
   j["valid"] = o.valid_target;
   j["max_trials"] = o.max_trials;
-  j["threads"] = threads;
   j["block_size"] = o.block_size;
   j["keep_invalid"] = o.keep_invalid;
   j["cluster"] = o.cluster;
@@ -166,9 +166,9 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
 
 // The map's descriptive groups: provenance, object, hand, sampling parameters, quality model.
 void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                 int threads, TaskMapData& map) {
+                 TaskMapData& map) {
   map.generator = std::string("taskmap ") + TASKMAP_VERSION;
-  map.created_utc = utcNow();
+  map.created_utc = mapCreationTime();  // SOURCE_DATE_EPOCH or "": reproducible bytes
   fillObject(object, map.object);
   map.hand.name = hand.name();
   map.hand.urdf_sha256 = hand.urdfSha256();
@@ -176,7 +176,7 @@ void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOp
   for (const HandLink& l : hand.links()) map.hand.link_names.push_back(l.name);
   map.sampling.sampler = toString(options.sampler.kind);
   map.sampling.seed = options.seed;
-  map.sampling.params_json = paramsJson(options, threads, hand);
+  map.sampling.params_json = paramsJson(options, hand);
   map.quality.friction = options.quality.friction;
   map.quality.cone_edges = options.quality.cone_edges;
   map.quality.contact_model = toString(options.quality.contact_model);
@@ -289,7 +289,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   const bool interrupted = stop != nullptr && stop->load() && !scheduler.done();
 
   TaskMapData& map = result.map;
-  describeMap(object, hand, options, threads, map);
+  describeMap(object, hand, options, map);
   const Prefix prefix = takePrefix(scheduler, options.valid_target, map);
   const double rho = hand.rotationScale() > 0.0 ? hand.rotationScale() : kDefaultRotationScale;
   fillGrasps(prefix, rho, map);

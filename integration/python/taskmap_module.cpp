@@ -8,6 +8,8 @@
 
 #include <algorithm>
 
+#include "reaching_bindings.hpp"
+
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
@@ -225,6 +227,8 @@ PYBIND11_MODULE(taskmap, m) {
     }
   });
 
+  bindReaching(m);
+
   py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
       .def_static(
           "load",
@@ -405,7 +409,19 @@ PYBIND11_MODULE(taskmap, m) {
       [](const std::string& path, const py::kwargs& kw) {
         return TaskMap::load(path, makeOptions(kw));
       },
-      py::arg("path"), "Reads a map file: taskmap.load('basket.h5').evaluate(pose).");
+      py::arg("path"),
+      "Reads a map file: taskmap.load('basket.h5').evaluate(pose). The file's seal is "
+      "verified first: a damaged or edited map raises taskmap.Error.");
+  m.def(
+      "seal",
+      [](const std::string& path) {
+        py::gil_scoped_release release;
+        sealMap(path);
+      },
+      py::arg("path"),
+      "Re-seals a map on purpose after editing it with h5py (or a map without a seal): "
+      "validates it as a task map, then rewrites it atomically with a fresh SHA-256 seal. "
+      "HDF5 parses the unverified file in this process; use `taskmap seal FILE` to isolate it.");
   m.def(
       "hand_in_object",
       [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },

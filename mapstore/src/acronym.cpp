@@ -17,8 +17,10 @@
 #include <nlohmann/json.hpp>
 
 #include "hdf5_io.hpp"
+#include "map_seal.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 
 #ifndef TASKMAP_VERSION
 #define TASKMAP_VERSION "unknown"
@@ -104,9 +106,15 @@ class Writer {
 
 // ---------------------------------------------------------------- reading
 
+// Foreign files carry no seal: they are read whole into memory (at most kMaxAcronymBytes)
+// and every dataset may declare at most what its file could hold after deflate's best ratio.
+constexpr std::size_t kMaxAcronymBytes = std::size_t{1} << 30;
+constexpr hsize_t kMaxInflation = 1032;
+
 class Reader {
  public:
-  Reader(hid_t file, std::string path) : file_(file), path_(std::move(path)) {}
+  Reader(hid_t file, std::string path, std::size_t file_bytes)
+      : file_(file), path_(std::move(path)), max_values_((file_bytes + 4096) * kMaxInflation / 8) {}
 
   bool has(const std::string& name) const {
     // Check every prefix so that a missing group is not an HDF5 error.
@@ -131,7 +139,11 @@ class Reader {
     dims->assign(static_cast<std::size_t>(rank), 0);
     if (rank > 0) H5Sget_simple_extent_dims(space, dims->data(), nullptr);
     hsize_t count = 1;
-    for (hsize_t d : *dims) count *= d;
+    for (hsize_t d : *dims) {
+      if (d != 0 && count > max_values_ / d) fail(name, "declares more values than the file holds");
+      count *= d;
+    }
+    if (count > max_values_) fail(name, "declares more values than the file holds");
     std::vector<double> out(count);
     if (count > 0 &&
         H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) {
@@ -164,6 +176,7 @@ class Reader {
       return out;
     }
     const std::size_t size = H5Tget_size(type);
+    if (size > (std::size_t{1} << 20)) fail(name, "declares a string longer than 1 MiB");
     std::string buf(size, '\0');
     Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
     H5Tset_size(mem, size);
@@ -189,16 +202,8 @@ class Reader {
 
   hid_t file_;
   std::string path_;
+  hsize_t max_values_;
 };
-
-std::string utcNow() {
-  const std::time_t t = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof(buf), "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 /// Throws unless t is a finite rigid transform.
 void checkBaseToPalm(const Eigen::Isometry3d& t, const char* who) {
@@ -322,14 +327,19 @@ AcronymGrasps readAcronym(const std::string& path) {
   }
   AcronymGrasps out;
   out.path = path;
-  std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
-  h5::silenceErrors();
-  if (H5Fis_hdf5(path.c_str()) <= 0) {
+  std::string bytes;
+  try {
+    bytes = seal::readWhole(path, kMaxAcronymBytes);
+  } catch (const Error& e) {
+    throw Error("ACRONYM file '" + path + "': " + e.what());
+  }
+  if (!seal::hasHdf5Signature(bytes)) {
     throw Error("'" + path + "' is not an HDF5 file; give an ACRONYM grasp file (.h5)");
   }
-  Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
-  if (!file.valid()) throw Error("cannot open '" + path + "' (corrupt HDF5 file?)");
-  Reader r(file, path);
+  std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
+  h5::silenceErrors();
+  h5::Id file = h5::openImage(bytes, "cannot open '" + path + "' (corrupt HDF5 file?)");
+  Reader r(file, path, bytes.size());
   std::vector<hsize_t> dims;
   const std::vector<double> t = r.doubles("grasps/transforms", &dims);
   if (dims.size() != 3 || dims[1] != 4 || dims[2] != 4) {
@@ -403,7 +413,7 @@ TaskMapData acronymToMap(const AcronymGrasps& in, const MapObject& object,
   }
   TaskMapData m;
   m.generator = std::string("taskmap ") + TASKMAP_VERSION;
-  m.created_utc = utcNow();
+  m.created_utc = mapCreationTime();
   m.object = object;
   m.hand.name = in.gripper_type.empty() ? "acronym_gripper" : in.gripper_type;
   m.sampling.sampler = "acronym";

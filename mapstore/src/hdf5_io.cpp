@@ -51,6 +51,22 @@ Id vlenStringType() {
   return t;
 }
 
+// Fixed-length UTF-8 string type of `size` bytes (at least 1), NUL-padded: stored inline in
+// the object header, so no global heap is written.
+Id fixedStringType(std::size_t size) {
+  Id t = checked(H5Tcopy(H5T_C_S1), H5Tclose, "cannot create string type");
+  check(H5Tset_size(t, std::max<std::size_t>(1, size)), "cannot create string type");
+  check(H5Tset_strpad(t, H5T_STR_NULLPAD), "cannot create string type");
+  check(H5Tset_cset(t, H5T_CSET_UTF8), "cannot create string type");
+  return t;
+}
+
+// Object creation properties shared by groups and datasets: no modification times, so that
+// the same map gives the same bytes.
+void untimed(hid_t ocpl, const std::string& name) {
+  check(H5Pset_obj_track_times(ocpl, 0), "cannot turn off time tracking of " + name);
+}
+
 void writeScalarAttr(hid_t obj, const std::string& name, hid_t file_type, hid_t mem_type,
                      const void* value) {
   Id space = checked(H5Screate(H5S_SCALAR), H5Sclose, "cannot create dataspace");
@@ -146,7 +162,78 @@ Array<T> readArray(hid_t file, const std::string& path, int rank, std::size_t co
   return a;
 }
 
+// File-image callbacks that hand HDF5 the caller's buffer instead of copies (the pattern of
+// HDF5's own H5LTopen_file_image with DONT_COPY | DONT_RELEASE, for a read-only image).
+// HDF5 copies and frees the udata with the property lists and the file; the last free
+// deletes it (all under hdf5Mutex()).
+struct ImageRef {
+  void* data;
+  std::size_t size;
+  int owners;
+};
+
+void* imageMalloc(std::size_t size, H5FD_file_image_op_t /*op*/, void* udata) {
+  auto* ref = static_cast<ImageRef*>(udata);
+  return size == ref->size ? ref->data : nullptr;
+}
+
+void* imageMemcpy(void* dest, const void* src, std::size_t size, H5FD_file_image_op_t /*op*/,
+                  void* /*udata*/) {
+  if (dest != src) std::memmove(dest, src, size);
+  return dest;
+}
+
+void* imageRealloc(void* /*ptr*/, std::size_t /*size*/, H5FD_file_image_op_t /*op*/,
+                   void* /*udata*/) {
+  return nullptr;  // the image is read-only: HDF5 never needs to grow it
+}
+
+herr_t imageFree(void* /*ptr*/, H5FD_file_image_op_t /*op*/, void* /*udata*/) {
+  return 0;
+}
+
+void* imageUdataCopy(void* udata) {
+  ++static_cast<ImageRef*>(udata)->owners;
+  return udata;
+}
+
+herr_t imageUdataFree(void* udata) {
+  auto* ref = static_cast<ImageRef*>(udata);
+  if (--ref->owners == 0) delete ref;
+  return 0;
+}
+
 }  // namespace
+
+Id mapFileAccess() {
+  Id fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "cannot create property list");
+  check(H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110),
+        "cannot set the file-format bounds");
+  return fapl;
+}
+
+Id mapFileCreation(std::size_t user_block) {
+  Id fcpl = checked(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create property list");
+  check(H5Pset_userblock(fcpl, user_block), "cannot reserve the user block");
+  untimed(fcpl, "/");
+  return fcpl;
+}
+
+Id openImage(const std::string& bytes, const std::string& what) {
+  // The file is opened read-only, so HDF5 never writes through the cast-away const.
+  auto* ref = new ImageRef{const_cast<char*>(bytes.data()), bytes.size(), 1};
+  struct Release {
+    ImageRef* ref;
+    ~Release() { imageUdataFree(ref); }
+  } release{ref};
+  Id fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, what);
+  check(H5Pset_fapl_core(fapl, 64 * 1024, 0), what);
+  H5FD_file_image_callbacks_t callbacks = {imageMalloc,    imageMemcpy,    imageRealloc, imageFree,
+                                           imageUdataCopy, imageUdataFree, ref};
+  check(H5Pset_file_image_callbacks(fapl, &callbacks), what);
+  check(H5Pset_file_image(fapl, ref->data, ref->size), what);
+  return checked(H5Fopen("taskmap-image", H5F_ACC_RDONLY, fapl), H5Fclose, what);
+}
 
 std::mutex& hdf5Mutex() {
   static std::mutex mutex;
@@ -184,14 +271,17 @@ void check(herr_t status, const std::string& what) {
 }
 
 Id createGroup(hid_t loc, const std::string& name) {
-  return checked(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose,
+  Id gcpl = checked(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, "cannot create property list");
+  untimed(gcpl, name);
+  return checked(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, gcpl, H5P_DEFAULT), H5Gclose,
                  "cannot create group " + name);
 }
 
 void writeAttr(hid_t obj, const std::string& name, const std::string& value) {
-  Id type = vlenStringType();
-  const char* p = value.c_str();
-  writeScalarAttr(obj, name, type, type, &p);
+  Id type = fixedStringType(value.size());
+  std::string padded = value;
+  padded.resize(std::max<std::size_t>(1, value.size()), '\0');
+  writeScalarAttr(obj, name, type, type, padded.data());
 }
 
 void writeAttr(hid_t obj, const std::string& name, double value) {
@@ -224,6 +314,7 @@ void writeArray(hid_t loc, const std::string& name, Type type, const void* data,
                 const hsize_t* dims) {
   Id space = checked(H5Screate_simple(rank, dims, nullptr), H5Sclose, "cannot create dataspace");
   Id dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "cannot create property list");
+  untimed(dcpl, name);
   const hsize_t rows = dims[0];
   const hsize_t width = rank == 2 ? dims[1] : 1;
   const bool empty = rows == 0 || width == 0;
@@ -234,6 +325,7 @@ void writeArray(hid_t loc, const std::string& name, Type type, const void* data,
     check(H5Pset_chunk(dcpl, rank, chunk), "cannot set chunking of " + name);
     check(H5Pset_shuffle(dcpl), "cannot set the shuffle filter of " + name);
     check(H5Pset_deflate(dcpl, 4), "cannot set compression of " + name);
+    check(H5Pset_fletcher32(dcpl), "cannot set the checksum filter of " + name);
   }
   Id dset =
       checked(H5Dcreate2(loc, name.c_str(), fileType(type), space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
@@ -257,17 +349,20 @@ void writeVector(hid_t loc, const std::string& name, Type type, const void* data
 }
 
 void writeStrings(hid_t loc, const std::string& name, const std::vector<std::string>& values) {
-  Id type = vlenStringType();
+  std::size_t width = 1;
+  for (const auto& v : values) width = std::max(width, v.size());
+  Id type = fixedStringType(width);
   const hsize_t dims[1] = {values.size()};
   Id space = checked(H5Screate_simple(1, dims, nullptr), H5Sclose, "cannot create dataspace");
-  Id dset =
-      checked(H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
-              H5Dclose, "cannot create dataset " + name);
+  Id dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "cannot create property list");
+  untimed(dcpl, name);
+  Id dset = checked(H5Dcreate2(loc, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                    H5Dclose, "cannot create dataset " + name);
   if (values.empty()) return;
-  std::vector<const char*> ptrs;
-  ptrs.reserve(values.size());
-  for (const auto& v : values) ptrs.push_back(v.c_str());
-  check(H5Dwrite(dset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, ptrs.data()),
+  std::vector<char> buffer(width * values.size(), '\0');
+  for (std::size_t i = 0; i < values.size(); ++i)
+    std::copy(values[i].begin(), values[i].end(), buffer.begin() + static_cast<long>(i * width));
+  check(H5Dwrite(dset, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()),
         "cannot write dataset " + name);
 }
 

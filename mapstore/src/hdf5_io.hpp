@@ -44,10 +44,20 @@ Id checked(hid_t id, Id::Closer closer, const std::string& what);
 /// Throws Error(what) when status is negative.
 void check(herr_t status, const std::string& what);
 
+/// File access properties of every map this library writes: file-format bounds of HDF5 1.10
+/// (superblock, object headers and chunk indexes carry checksums HDF5 verifies).
+Id mapFileAccess();
+/// File creation properties of every map: a user block of user_block bytes (for the seal).
+Id mapFileCreation(std::size_t user_block);
+/// Opens an HDF5 file image held in memory, read-only, without copying it (core driver).
+/// bytes must stay alive and unchanged until the file and every object opened from it are
+/// closed. Throws Error(what) when HDF5 cannot open it.
+Id openImage(const std::string& bytes, const std::string& what);
+
 // ---- writing ----
 /// Creates group name under loc.
 Id createGroup(hid_t loc, const std::string& name);
-/// Scalar variable-length UTF-8 string attribute.
+/// Scalar fixed-length UTF-8 string attribute (NUL-padded, at least 1 byte).
 void writeAttr(hid_t obj, const std::string& name, const std::string& value);
 /// Scalar float64 attribute.
 void writeAttr(hid_t obj, const std::string& name, double value);
@@ -63,13 +73,14 @@ void writeAttrVector(hid_t obj, const std::string& name, const double* values, s
 /// Element types of stored datasets.
 enum class Type { kF64, kI64, kI32, kU8 };
 
-/// Chunked, shuffled and deflated 2-D dataset of rows x cols, row-major data. Empty datasets
-/// (rows or cols 0) are stored contiguous (HDF5 cannot chunk them with a fixed size).
+/// Chunked, shuffled, deflated and Fletcher-32 checksummed 2-D dataset of rows x cols, row-major
+/// data. Empty datasets (rows or cols 0) are stored contiguous (HDF5 cannot chunk them with a fixed
+/// size).
 void writeDataset(hid_t loc, const std::string& name, Type type, const void* data, std::size_t rows,
                   std::size_t cols);
 /// The same for a 1-D dataset of n values.
 void writeVector(hid_t loc, const std::string& name, Type type, const void* data, std::size_t n);
-/// 1-D dataset of variable-length UTF-8 strings.
+/// 1-D dataset of fixed-length UTF-8 strings (width of the longest, NUL-padded).
 void writeStrings(hid_t loc, const std::string& name, const std::vector<std::string>& values);
 
 // ---- reading ----

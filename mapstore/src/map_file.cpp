@@ -1,14 +1,18 @@
-// Task map files: HDF5, schema version 1 (mapstore/SCHEMA.md).
+// Task map files: sealed HDF5, schema version 2 (mapstore/SCHEMA.md).
 #include "taskmap/mapstore/map_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <limits>
 
 #include "hdf5_io.hpp"
+#include "map_seal.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
 
@@ -134,8 +138,9 @@ void writeGrasps(hid_t file, const TaskMapData& map) {
 }
 
 void writeFile(const std::string& tmp, const TaskMapData& map) {
-  Id fcpl = h5::checked(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "cannot create property list");
-  Id file = h5::checked(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT), H5Fclose,
+  Id fcpl = h5::mapFileCreation(seal::kSealBytes);
+  Id fapl = h5::mapFileAccess();
+  Id file = h5::checked(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose,
                         "cannot create file (directory missing or not writable?)");
   h5::writeAttr(file, "format", std::string(kFormat));
   h5::writeAttrInt(file, "schema_version", kMapSchemaVersion);
@@ -148,11 +153,7 @@ void writeFile(const std::string& tmp, const TaskMapData& map) {
   writeGrasps(file, map);
   h5::check(H5Fflush(file, H5F_SCOPE_GLOBAL), "cannot flush the file (disk full?)");
   if (!file.reset()) throw Error("cannot close the file (disk full?)");
-  const int fd = ::open(tmp.c_str(), O_RDONLY);
-  if (fd >= 0) {
-    ::fsync(fd);
-    ::close(fd);
-  }
+  seal::stampFile(tmp);
 }
 
 // ---------------------------------------------------------------- reading
@@ -313,6 +314,7 @@ TaskMapData readFile(hid_t file) {
                 "); upgrade taskmap to read it (this one reads schema " +
                 std::to_string(kMapSchemaVersion) + ")");
   if (version < 1) throw Error("invalid schema_version " + std::to_string(version));
+  // Schema 1 (unsealed, variable-length strings) reads the same once sealed with `taskmap seal`.
   TaskMapData map;
   map.generator = h5::readAttrString(file, "/", "generator");
   map.created_utc = h5::readAttrString(file, "/", "created_utc");
@@ -352,19 +354,55 @@ void writeMap(const std::string& path, const TaskMapData& map) {
 }
 
 TaskMapData readMap(const std::string& path) {
-  std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
-  h5::silenceErrors();
   try {
-    if (::access(path.c_str(), R_OK) != 0)
-      throw Error("cannot open the file (missing or unreadable)");
-    const htri_t is_hdf5 = H5Fis_hdf5(path.c_str());
-    if (is_hdf5 <= 0) throw Error("not an HDF5 file (truncated, damaged or another format)");
-    Id file = h5::checked(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
-                          "cannot open the file as HDF5 (truncated or damaged?)");
+    // The one verified path: HDF5 parses only the in-memory bytes whose seal was checked.
+    const std::string bytes = seal::readVerified(path);
+    std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
+    h5::silenceErrors();
+    Id file = h5::openImage(bytes, "cannot open the sealed content as HDF5");
     return readFile(file);
   } catch (const Error& e) {
     throw Error("task map '" + path + "': " + e.what());
   }
+}
+
+void sealMap(const std::string& path) {
+  try {
+    const std::string bytes = seal::resealed(seal::readWhole(path, kMaxSealBytes));
+    {
+      std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
+      h5::silenceErrors();
+      Id file = h5::openImage(bytes, "cannot open the file as HDF5 (damaged?)");
+      readFile(file);  // validates every dataset; throws on the first violation
+    }
+    writeFileAtomically(path, bytes, "cannot write the sealed file");
+  } catch (const Error& e) {
+    throw Error("cannot seal task map '" + path + "': " + e.what());
+  }
+}
+
+std::string mapCreationTime(bool wall_clock) {
+  std::time_t t = 0;
+  const char* epoch = std::getenv("SOURCE_DATE_EPOCH");
+  if (epoch != nullptr && *epoch != '\0') {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(epoch, &end, 10);
+    if (*end != '\0' || errno != 0 || v < 0 || v > 253402300799LL)
+      throw Error("SOURCE_DATE_EPOCH='" + std::string(epoch) +
+                  "' is not a number of seconds since 1970-01-01 (unset it or give e.g. "
+                  "1700000000)");
+    t = static_cast<std::time_t>(v);
+  } else if (wall_clock) {
+    t = std::time(nullptr);
+  } else {
+    return "";
+  }
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buffer[32];
+  std::strftime(buffer, sizeof buffer, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buffer;
 }
 
 }  // namespace taskmap

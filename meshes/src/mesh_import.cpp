@@ -14,6 +14,7 @@
 #include <assimp/scene.h>
 #include <assimp/Importer.hpp>
 
+#include "mesh_bounds.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
 
@@ -128,6 +129,7 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   const auto size = fs::file_size(path, ec);
   if (ec) throw Error("cannot read mesh file '" + path + "': " + ec.message());
   if (size == 0) throw Error("mesh file '" + path + "' is empty");
+  checkDeclaredSizes(path, ext, size);  // before assimp reserves what a header declares
 
   Assimp::Importer importer;  // no logger is created: assimp stays silent
   importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,

@@ -49,7 +49,7 @@ std::string frankaWith(const std::string& tag, const std::string& key, const nlo
 
 TEST(HandsCli, HandInfoTextShowsJointsMimicPalmAndApproach) {
   const CliRun run = runCli("hand-info " + kFranka);
-  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("hand:           franka_hand (URDF robot 'hand')"), std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("panda_finger_joint1      prismatic [0, 0.04] axis (0, 1, 0)  preshape "
@@ -68,7 +68,7 @@ TEST(HandsCli, HandInfoJsonAndPicture) {
   const CliRun run =
       runCli("hand-info " + real("hands/allegro_right/allegro_hand_description_right.urdf") +
              " --json --png " + png);
-  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_EQ(run.code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j.at("name"), "allegro_hand_right");
   EXPECT_EQ(j.at("closing").size(), 11u);
@@ -91,14 +91,14 @@ TEST(HandsCli, HandInfoJsonAndPicture) {
 TEST(HandsCli, HandInfoWarnsAboutSetUpsThatCannotGrasp) {
   // Approach axis reversed: the fingers close behind the palm.
   CliRun run = runCli("hand-info " + frankaWith("reversed", "approach_axis", {0, 0, -1}));
-  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("warning:        no finger link reaches in front of the palm"),
             std::string::npos)
       << run.out;
   // Palm frame at the flange: the hand body lies 6.6 cm in front of it.
   run = runCli("hand-info " +
                frankaWith("flange", "palm_frame", {{"xyz", {0, 0, 0}}, {"rpy", {0, 0, 0}}}));
-  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("warning:        link 'panda_hand' is fixed to the palm and reaches "
                          "0.06596 m in front"),
             std::string::npos)
@@ -110,7 +110,7 @@ TEST(HandsCli, BuildThatStoresNoGraspFailsAndSaysWhy) {
   const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " +
                             frankaWith("backwards", "approach_axis", {0, 0, -1}) + " -o " + out +
                             " --trials 10 --threads 1 -q");
-  EXPECT_EQ(run.exit_code, 3) << run.out;
+  EXPECT_EQ(run.code, 3) << run.out;
   EXPECT_NE(run.out.find("taskmap build: error: no grasp stored after 10 trials: "),
             std::string::npos)
       << run.out;
@@ -125,7 +125,7 @@ TEST(HandsCli, MillimetreBananaIsRefused) {
   const std::string out = temp("mm.h5");
   const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") +
                             " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
-  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("is the mesh in millimetres? pass --scale 0.001"), std::string::npos)
       << run.out;
   EXPECT_FALSE(fs::exists(out));
@@ -146,10 +146,10 @@ TEST(HandsCli, MeshInfoWrapsAnOpenScan) {
     }
   }
   CliRun run = runCli("mesh-info " + open);
-  EXPECT_EQ(run.exit_code, 1) << run.out;
+  EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("`--repair wrap`"), std::string::npos) << run.out;
   run = runCli("mesh-info " + open + " --repair wrap --json");
-  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_EQ(run.code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j.at("closed"), true);
   EXPECT_NE(j.at("repairs")[0].get<std::string>().find("alpha wrapping"), std::string::npos);

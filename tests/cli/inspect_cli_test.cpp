@@ -18,6 +18,7 @@
 #include <assimp/Importer.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli_run.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -26,22 +27,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
+using testing::CliRun;
 
 CliRun run(const std::string& args) {
-  const std::string cmd = std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args + " 2>&1";
-  CliRun r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf;
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return testing::runTaskmap(args);
 }
 
 class InspectCliTest : public ::testing::Test {

@@ -88,7 +88,7 @@ class BuildSignalsTest(unittest.TestCase):
             proc.wait(timeout=60)
             if os.path.exists(out):
                 with h5py.File(out, "r") as f:
-                    self.assertEqual(f.attrs["format"], "taskmap")
+                    self.assertEqual(f.attrs["format"], b"taskmap")  # fixed-length string
                     self.assertEqual(f["grasps/pose"].shape[0], 8)
                     self.assertEqual(int(f["sampling"].attrs["outcome_force_closure"]), 8)
         # Sanity: an uninterrupted build of the same size completes.

@@ -287,8 +287,23 @@ class IntegrationTest(unittest.TestCase):
         self.map.save(path)
         with h5py.File(path, "r+") as f:
             f.attrs["schema_version"] = 99
-        with self.assertRaisesRegex(taskmap.Error, "newer"):
+        with self.assertRaisesRegex(taskmap.Error, "changed by another tool"):
             taskmap.load(path)
+        with self.assertRaisesRegex(taskmap.Error, "newer"):
+            taskmap.seal(path)
+
+    def test_edited_map_loads_after_seal(self):
+        import h5py
+        path = os.path.join(self.tmp, "edited.h5")
+        self.map.save(path)
+        with h5py.File(path, "r+") as f:
+            f["grasps/epsilon"][0] = 0.5
+        with self.assertRaisesRegex(taskmap.Error, "edited.h5.*does not match its seal"):
+            taskmap.load(path)
+        taskmap.seal(path)
+        loaded = taskmap.load(path)
+        self.assertEqual(len(loaded), len(self.map))
+        self.assertEqual(loaded.epsilon[0], 0.5)
 
     def test_rank_clusters(self):
         obj = np.array([0.5, 0, 0.8, 1, 0, 0, 0.0])

@@ -2,7 +2,8 @@
 
 Builds a small map (box, panda hand, 20 valid grasps) with the CLI, then checks every group,
 dataset and attribute, their types, shapes and invariants; also checks that 1 and 8 threads
-give identical datasets, and that corrupt maps give a clear error from the CLI.
+give identical files, and that corrupt or edited maps give a clear error from the CLI.
+Strings are fixed-length (no HDF5 global heap): h5py returns them as bytes, hence text().
 """
 import json
 import os
@@ -28,6 +29,11 @@ def write_box_obj(path, sx=0.04, sy=0.05, sz=0.12):
         for q in quads:
             f.write("f %d %d %d\n" % (q[0] + 1, q[1] + 1, q[2] + 1))
             f.write("f %d %d %d\n" % (q[0] + 1, q[2] + 1, q[3] + 1))
+
+
+def text(value):
+    """A string attribute as str (h5py returns fixed-length strings as bytes)."""
+    return value.decode("utf-8") if isinstance(value, (bytes, np.bytes_)) else value
 
 
 def build(out, obj, *extra, check=True):
@@ -61,12 +67,27 @@ class MapSchemaTest(unittest.TestCase):
 
     def test_root_attributes(self):
         with h5py.File(self.map, "r") as f:
-            self.assertEqual(f.attrs["format"], "taskmap")
-            self.assertEqual(int(f.attrs["schema_version"]), 1)
+            self.assertEqual(text(f.attrs["format"]), "taskmap")
+            self.assertEqual(int(f.attrs["schema_version"]), 2)
             self.assertEqual(f.attrs["schema_version"].dtype, np.int64)
-            self.assertTrue(f.attrs["generator"].startswith("taskmap "))
-            created = f.attrs["created_utc"]
-            self.assertRegex(created, r"^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ$")
+            self.assertTrue(text(f.attrs["generator"]).startswith("taskmap "))
+            self.assertEqual(text(f.attrs["created_utc"]), "")  # no wall clock by default
+            self.assertEqual(f.userblock_size, 512)
+        with open(self.map, "rb") as raw:
+            self.assertTrue(raw.read(512).startswith(b"TASKMAP-SEAL 1\nsha256 "))
+
+    def test_timestamp_only_on_request(self):
+        out = os.path.join(self.tmp, "dated.h5")
+        env = dict(os.environ, SOURCE_DATE_EPOCH="1700000000")
+        proc = subprocess.run([CLI, "build", "--object", self.obj, "--hand", "panda", "--valid",
+                               "3", "--seed", "3", "-o", out], capture_output=True, text=True,
+                              timeout=600, env=env)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        with h5py.File(out, "r") as f:
+            self.assertEqual(text(f.attrs["created_utc"]), "2023-11-14T22:13:20Z")
+        build(out, self.obj, "--timestamp")
+        with h5py.File(out, "r") as f:
+            self.assertRegex(text(f.attrs["created_utc"]), r"^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ$")
 
     def test_object(self):
         with h5py.File(self.map, "r") as f:
@@ -77,7 +98,7 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(fa.dtype.kind, "i")
             self.assertEqual(fa.shape[1], 3)
             self.assertTrue((fa >= 0).all() and (fa < len(v)).all())
-            self.assertEqual(o.attrs["name"], "box")
+            self.assertEqual(text(o.attrs["name"]), "box")
             self.assertEqual(len(o.attrs["source_sha256"]), 64)
             self.assertEqual(o.attrs["scale"], 1.0)
             self.assertAlmostEqual(o.attrs["volume"], 0.04 * 0.05 * 0.12, places=7)
@@ -98,7 +119,7 @@ class MapSchemaTest(unittest.TestCase):
     def test_sampling_and_quality(self):
         with h5py.File(self.map, "r") as f:
             s = f["sampling"]
-            self.assertEqual(s.attrs["sampler"], "mixed")
+            self.assertEqual(text(s.attrs["sampler"]), "mixed")
             self.assertEqual(int(s.attrs["seed"]), 3)
             trials = int(s.attrs["trials"])
             outcomes = {k[len("outcome_"):]: int(v) for k, v in s.attrs.items()
@@ -109,10 +130,11 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(params["valid"], VALID)
             self.assertEqual(params["seed"], 3)
             self.assertEqual(params["object"], self.obj)
+            self.assertNotIn("threads", params)  # the map does not depend on it
             q = f["quality"]
             self.assertEqual(q.attrs["friction"], 0.5)
             self.assertEqual(int(q.attrs["cone_edges"]), 8)
-            self.assertEqual(q.attrs["contact_model"], "point_with_friction")
+            self.assertEqual(text(q.attrs["contact_model"]), "point_with_friction")
 
     def test_grasps(self):
         with h5py.File(self.map, "r") as f:
@@ -154,9 +176,10 @@ class MapSchemaTest(unittest.TestCase):
             half = np.array([0.02, 0.025, 0.06])
             self.assertTrue((p <= half + 1e-6).all())
             self.assertTrue((np.abs(p - half) < 1e-6).any(axis=1).all())
-            # Chunked and compressed.
+            # Chunked, compressed and checksummed.
             self.assertEqual(g["pose"].compression, "gzip")
             self.assertTrue(g["pose"].shuffle)
+            self.assertTrue(g["pose"].fletcher32)
             self.assertIsNotNone(g["pose"].chunks)
 
     def test_clustering(self):
@@ -185,10 +208,20 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(lk.shape, (n - 1, 4))
             self.assertEqual(lk[-1, 3], n)
             a = f["clustering"].attrs
-            self.assertEqual(a["method"], "average")
+            self.assertEqual(text(a["method"]), "average")
             self.assertEqual(a["rotation_scale"], f["grasps"].attrs["rotation_scale"])
             self.assertGreater(a["threshold"], 0)
             self.assertGreaterEqual(int(a["min_size"]), 0)
+
+    def test_same_bytes_for_one_and_two_threads(self):
+        outs = [os.path.join(self.tmp, "bytes_%d.h5" % t) for t in (1, 2)]
+        for threads, out in zip(("1", "2"), outs):
+            proc = build(out, self.obj, "--threads", threads)
+            self.assertIn("threads   %s" % threads, proc.stdout)
+        with open(outs[0], "rb") as a, open(outs[1], "rb") as b:
+            self.assertTrue(a.read() == b.read(), "1 and 2 threads gave different bytes")
+        with open(self.map, "rb") as a, open(outs[0], "rb") as b:
+            self.assertTrue(a.read() == b.read(), "same arguments gave different bytes")
 
     def test_same_datasets_for_one_and_eight_threads(self):
         maps = []
@@ -212,7 +245,7 @@ class MapSchemaTest(unittest.TestCase):
             self.assertNotIn("clustering", f)
             self.assertNotIn("clusters", f)
             self.assertNotIn("cluster", f["grasps"])
-            self.assertEqual(f["sampling"].attrs["sampler"], "volume")
+            self.assertEqual(text(f["sampling"].attrs["sampler"]), "volume")
             fc = f["grasps/force_closure"][()]
             self.assertEqual(int(fc.sum()), VALID)
             s = f["sampling"].attrs
@@ -238,7 +271,7 @@ class MapSchemaTest(unittest.TestCase):
         shutil.copy(self.map, out)
         with h5py.File(out, "r+") as f:
             edit(f)
-        return subprocess.run([CLI, "inspect", out], capture_output=True, text=True, timeout=60)
+        return out
 
     def test_corrupt_maps_give_errors_naming_the_dataset(self):
         def nan_pose(f):
@@ -255,11 +288,26 @@ class MapSchemaTest(unittest.TestCase):
         for name, edit, expected in (("nan.h5", nan_pose, "/grasps/pose"),
                                      ("offsets.h5", offsets, "/grasps/contact_offsets"),
                                      ("newer.h5", newer, "newer taskmap (schema 7); upgrade")):
-            proc = self.corrupt(name, edit)
+            out = self.corrupt(name, edit)
+            # Edited by h5py: refused by every reader until re-sealed on purpose ...
+            proc = subprocess.run([CLI, "inspect", out], capture_output=True, text=True,
+                                  timeout=60)
             self.assertEqual(proc.returncode, 1, proc.stderr)
             self.assertIn("taskmap: error:", proc.stderr)
+            self.assertIn("changed by another tool", proc.stderr)
+            self.assertIn("taskmap seal", proc.stderr)
+            # ... and sealing validates it, naming what is wrong.
+            proc = subprocess.run([CLI, "seal", out], capture_output=True, text=True, timeout=60)
+            self.assertEqual(proc.returncode, 1, proc.stderr)
+            self.assertIn(name, proc.stderr)
             self.assertIn(expected, proc.stderr)
             self.assertNotIn("HDF5-DIAG", proc.stderr)
+        # A deliberate, valid edit is accepted once sealed.
+        out = self.corrupt("renamed.h5", lambda f: f["object"].attrs.__setitem__("name", "crate"))
+        self.assertEqual(subprocess.run([CLI, "seal", out], timeout=60).returncode, 0)
+        proc = subprocess.run([CLI, "inspect", out], capture_output=True, text=True, timeout=60)
+        self.assertEqual(proc.returncode, 0, proc.stderr)
+        self.assertIn("crate", proc.stdout)
         truncated = os.path.join(self.tmp, "truncated.h5")
         with open(self.map, "rb") as src, open(truncated, "wb") as dst:
             data = src.read()

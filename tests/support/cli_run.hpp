@@ -1,6 +1,5 @@
 #pragma once
-// Runs the built `taskmap` tool for command-line tests (tests/cli): exit code and output.
-
+// Runs the built `taskmap` tool for command-line tests: exit code and merged stdout + stderr.
 #include <sys/wait.h>
 
 #include <array>
@@ -9,24 +8,23 @@
 
 namespace taskmap::testing {
 
-/// Exit code and merged stdout + stderr of one run.
 struct CliRun {
-  int exit_code = -1;  ///< -1 when the tool did not exit normally
-  std::string out;     ///< stdout and stderr, merged
+  int code = -1;
+  std::string out;  // stdout and stderr
 };
 
-/// Runs `<build>/bin/taskmap <args>` through the shell (args are shell words).
+/// Runs `<build>/bin/taskmap <args>` through the shell (args are not quoted here).
 inline CliRun runTaskmap(const std::string& args) {
-  const std::string command = std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer;
+  const std::string cmd = std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " + args + " 2>&1";
+  CliRun r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
   std::size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
 }
 
 }  // namespace taskmap::testing

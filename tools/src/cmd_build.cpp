@@ -12,6 +12,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -43,6 +44,7 @@ struct BuildArgs {
   double friction = 0.5;
   int cone_edges = 8;
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
+  bool timestamp = false;
   MeshRepairArgs repair;
 };
 
@@ -117,7 +119,7 @@ std::string percent(double part, double whole) {
 }
 
 // The summary printed after a written build.
-std::string summaryOf(const BuildResult& result, const std::string& output, double write_seconds) {
+std::string summaryOf(const BuildResult& result, const BuildArgs& args, double write_seconds) {
   const TaskMapData& map = result.map;
   const BuildTiming& t = result.timing;
   std::ostringstream os;
@@ -134,6 +136,10 @@ std::string summaryOf(const BuildResult& result, const std::string& output, doub
     os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
   }
   os << "\n";
+  const int threads = args.threads > 0
+                          ? args.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  os << "  threads   " << threads << " (not stored: the map does not depend on it)\n";
   const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
   const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
   char line[512];
@@ -148,7 +154,7 @@ std::string summaryOf(const BuildResult& result, const std::string& output, doub
                 percent(t.simulation_seconds, stages).c_str(),
                 percent(t.quality_seconds, stages).c_str(), stages);
   os << line;
-  os << "  wrote     " << output << "\n";
+  os << "  wrote     " << args.output << "\n";
   return os.str();
 }
 
@@ -219,6 +225,7 @@ void runBuild(const BuildArgs& args) {
     exitCode() = 3;
     return;
   }
+  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short
@@ -227,7 +234,7 @@ void runBuild(const BuildArgs& args) {
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
 
-  if (!args.quiet) std::cout << summaryOf(result, args.output, write_seconds);
+  if (!args.quiet) std::cout << summaryOf(result, args, write_seconds);
   if (result.status == BuildStatus::kTrialBudgetExhausted)
     std::cerr << "taskmap build: warning: " << result.message
               << "; raise --trials or check the object and hand\n";
@@ -280,6 +287,9 @@ const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
   cmd->add_flag("--keep-invalid", args->keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--timestamp", args->timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none, so the same arguments give the same bytes)");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary");
   cmd->add_flag("--progress", args->progress, "draw the progress bar even when not a terminal");
   cmd->callback([args]() { runBuild(*args); });

@@ -1,4 +1,6 @@
 // taskmap import --acronym FILE.h5 --object MESH -o MAP.h5: an ACRONYM grasp file as a task map.
+// The foreign file carries no seal, so the import runs in a child process with CPU-time and
+// memory limits (isolated.hpp): a file that crashes or hangs HDF5 is refused.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -7,6 +9,7 @@
 
 #include "acronym_frame.hpp"
 #include "command.hpp"
+#include "isolated.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
@@ -23,6 +26,8 @@ struct ImportArgs {
   double scale = 0.0;  // 0: object/scale of the file
   bool successful_only = false;
   bool no_cluster = false;
+  bool timestamp = false;
+  IsolationLimits limits{600, 16.0};
   std::string linkage = toString(ClusteringOptions{}.method);  // the library default
   double rotation_scale = kDefaultRotationScale;
   std::optional<double> threshold;
@@ -72,7 +77,8 @@ void runImport(const ImportArgs& args) {
   MeshLoadOptions load;
   load.scale = args.scale > 0 ? args.scale : grasps.object_scale;
   const ObjectModel model = ObjectModel::load(args.object, load);
-  const TaskMapData map = acronymToMap(grasps, mapObjectOf(model), options);
+  TaskMapData map = acronymToMap(grasps, mapObjectOf(model), options);
+  if (args.timestamp) map.created_utc = mapCreationTime(true);
   writeMap(args.output, map);
   std::size_t successes = 0;
   for (auto fc : map.grasps.force_closure) successes += fc;
@@ -102,6 +108,9 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
   cmd->add_flag("--successful-only", args->successful_only,
                 "keep only grasps with object_in_gripper = 1");
   cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the imported grasps");
+  cmd->add_flag("--timestamp", args->timestamp,
+                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                "else none)");
   cmd->add_option("--linkage", args->linkage, "single, average or complete")->capture_default_str();
   cmd->add_option("--rotation-scale", args->rotation_scale,
                   "rho of the pose metric in metres per radian")
@@ -112,7 +121,17 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
                   "clusters below this share of the grasps are outliers")
       ->capture_default_str();
   addAcronymFrameOptions(cmd, args->frame);
-  cmd->callback([args]() { runImport(*args); });
+  cmd->add_option("--cpu-seconds", args->limits.cpu_seconds,
+                  "CPU-time limit of the import (it runs in a child process)")
+      ->check(CLI::Range(1, 86400))
+      ->capture_default_str();
+  cmd->add_option("--memory-gib", args->limits.memory_gib, "address-space limit of the import")
+      ->check(CLI::Range(0.25, 1024.0))
+      ->capture_default_str();
+  cmd->callback([args]() {
+    runIsolated([&args] { runImport(*args); }, args->limits,
+                "cannot import ACRONYM file '" + args->acronym + "'");
+  });
 });
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
 /// @file data_dir.hpp
 /// Where the `taskmap` tool finds its bundled data: the reference hands (hands/<name>/),
-/// objects (objects/) and the regression suite (regression/cases.json, regression/golden/).
+/// objects (objects/), robots (robots/<name>/<name>.urdf) and the regression suite
+/// (regression/cases.json, regression/golden/).
 
 #include <string>
 

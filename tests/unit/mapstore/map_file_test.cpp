@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "error_matchers.hpp"
+#include "seal_oracle.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 
@@ -187,11 +188,17 @@ void expectReadError(const std::string& path, const std::vector<std::string>& pa
 }
 
 // ---- HDF5 edits for corrupt files (the test links HDF5 itself) ----
+// Each edit is re-sealed without validation, so the reader's schema checks are what refuse it.
 struct File {
-  explicit File(const std::string& path) : id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
+  explicit File(const std::string& p)
+      : path(p), id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT)) {
     EXPECT_GE(id, 0);
   }
-  ~File() { H5Fclose(id); }
+  ~File() {
+    H5Fclose(id);
+    test::forceReseal(path);
+  }
+  std::string path;
   hid_t id;
 };
 
@@ -314,7 +321,7 @@ TEST(MapFileTest, MissingFile) {
 TEST(MapFileTest, GarbageFile) {
   const std::string path = tempPath("garbage.h5");
   std::ofstream(path) << "this is not an HDF5 file at all\n";
-  expectReadError(path, {"not an HDF5 file"});
+  expectReadError(path, {"not a task map", "no taskmap seal"});
 }
 
 TEST(MapFileTest, TruncatedFilesGiveErrorsNotCrashes) {
@@ -338,14 +345,20 @@ TEST(MapFileTest, HdfFileOfAnotherKind) {
   hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   ASSERT_GE(f, 0);
   H5Fclose(f);
-  expectReadError(path, {"not a task map"});
+  expectReadError(path, {"no taskmap seal", "taskmap seal FILE"});
+  try {
+    sealMap(path);
+    FAIL() << "sealed an HDF5 file that is not a task map";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a task map"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MapFileTest, NewerSchemaVersionAsksToUpgrade) {
   const std::string path = tempPath("newer.h5");
   writeMap(path, sampleMap(3));
-  setIntAttr(path, "/", "schema_version", 2);
-  expectReadError(path, {"written by a newer taskmap (schema 2); upgrade"});
+  setIntAttr(path, "/", "schema_version", 3);
+  expectReadError(path, {"written by a newer taskmap (schema 3); upgrade"});
 }
 
 TEST(MapFileTest, ZeroSchemaVersion) {
@@ -439,6 +452,130 @@ TEST(MapFileTest, ValidateNamesTheViolatedDataset) {
     EXPECT_TRUE(testing::throwsError([&] { m.validate(); }, {"/grasps/joints"}));
   }
   EXPECT_NO_THROW(sampleMap(6).validate());
+}
+
+// ---- the seal (mapstore/SCHEMA.md, "Seal"), checked against an independent oracle ----
+
+TEST(MapSealTest, FileStartsWithTheDocumentedSeal) {
+  const std::string path = tempPath("sealed.h5");
+  writeMap(path, sampleMap(6));
+  const std::string bytes = test::fileBytes(path);
+  ASSERT_GT(bytes.size(), 512u);
+  EXPECT_TRUE(bytes.substr(0, 512) == test::sealBlock(bytes.substr(512)));
+  EXPECT_EQ(bytes.compare(512, 8, "\x89HDF\r\n\x1a\n"), 0);
+}
+
+TEST(MapSealTest, SameMapGivesSameBytes) {
+  const std::string a = tempPath("same_a.h5"), b = tempPath("same_b.h5");
+  const TaskMapData m = sampleMap(40);
+  writeMap(a, m);
+  writeMap(b, m);
+  EXPECT_TRUE(test::fileBytes(a) == test::fileBytes(b));
+}
+
+TEST(MapSealTest, EveryFlippedByteIsRefusedBeforeHdf5) {
+  const std::string path = tempPath("flip_src.h5");
+  writeMap(path, sampleMap(8));
+  const std::string bytes = test::fileBytes(path);
+  const std::string flipped = tempPath("flip.h5");
+  for (std::size_t at = 0; at < bytes.size(); at += 97) {
+    std::string b = bytes;
+    b[at] = static_cast<char>(b[at] ^ 0x10);
+    test::writeBytes(flipped, b);
+    SCOPED_TRACE(at);
+    expectReadError(flipped, {at < 512 ? "seal" : "does not match its seal"});
+  }
+}
+
+TEST(MapSealTest, EditByAnotherToolIsRefusedUntilResealed) {
+  const std::string path = tempPath("edited.h5");
+  writeMap(path, sampleMap(5));
+  {
+    hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);  // no re-seal: another tool
+    ASSERT_GE(f, 0);
+    hid_t a = H5Aopen_by_name(f, "/", "generator", H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(a, 0);
+    hid_t type = H5Aget_type(a);
+    std::string name = "other tool";
+    name.resize(H5Tget_size(type), '\0');
+    EXPECT_GE(H5Awrite(a, type, name.data()), 0);
+    H5Tclose(type);
+    H5Aclose(a);
+    H5Fclose(f);
+  }
+  expectReadError(path, {"changed by another tool", "taskmap seal FILE"});
+  sealMap(path);
+  EXPECT_EQ(readMap(path).generator, "other tool");
+}
+
+TEST(MapSealTest, UnsealedMapIsRefusedAndSealingPrependsTheBlock) {
+  const std::string sealed = tempPath("to_strip.h5");
+  const TaskMapData m = sampleMap(7);
+  writeMap(sealed, m);
+  // Without its user block the HDF5 content is an unsealed map (as other tools write them).
+  const std::string path = tempPath("unsealed.h5");
+  test::writeBytes(path, test::fileBytes(sealed).substr(512));
+  expectReadError(path, {"no taskmap seal"});
+  sealMap(path);
+  EXPECT_TRUE(test::fileBytes(path) == test::fileBytes(sealed));
+  expectSameMap(m, readMap(path));
+}
+
+TEST(MapSealTest, SealingRefusesAnInvalidMapAndLeavesItUnchanged) {
+  const std::string path = tempPath("invalid_unsealed.h5");
+  writeMap(path, sampleMap(5));
+  editDataset<double>(path, "/grasps/pose", H5T_NATIVE_DOUBLE, 35,
+                      [](std::vector<double>& v) { v[7 * 2 + 3] = 5.0; });
+  const std::string stripped = test::fileBytes(path).substr(512);
+  test::writeBytes(path, stripped);
+  try {
+    sealMap(path);
+    FAIL() << "sealed an invalid map";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find("/grasps/pose"), std::string::npos) << msg;
+  }
+  EXPECT_TRUE(test::fileBytes(path) == stripped);
+}
+
+TEST(MapSealTest, TruncatedAndExtendedFilesNameTheLengths) {
+  const std::string path = tempPath("length.h5");
+  writeMap(path, sampleMap(5));
+  const std::string bytes = test::fileBytes(path);
+  const std::string cut = tempPath("length_cut.h5");
+  test::writeBytes(cut, bytes.substr(0, bytes.size() - 10));
+  expectReadError(cut, {"truncated", std::to_string(bytes.size() - 522), "declares"});
+  test::writeBytes(cut, bytes + "x");
+  expectReadError(cut, {"extended", "declares " + std::to_string(bytes.size() - 512)});
+  test::writeBytes(cut, bytes.substr(0, 100));
+  expectReadError(cut, {"truncated"});
+}
+
+TEST(MapSealTest, NewerSealVersionAsksToUpgrade) {
+  const std::string path = tempPath("newer_seal.h5");
+  writeMap(path, sampleMap(3));
+  std::string bytes = test::fileBytes(path);
+  bytes[13] = '7';  // "TASKMAP-SEAL 7"
+  test::writeBytes(path, bytes);
+  expectReadError(path, {"newer taskmap (seal version 7)"});
+}
+
+TEST(MapSealTest, CreationTimeFollowsSourceDateEpoch) {
+  ASSERT_EQ(::unsetenv("SOURCE_DATE_EPOCH"), 0);
+  EXPECT_EQ(mapCreationTime(), "");
+  EXPECT_EQ(mapCreationTime(true).size(), 20u);
+  ASSERT_EQ(::setenv("SOURCE_DATE_EPOCH", "1700000000", 1), 0);
+  EXPECT_EQ(mapCreationTime(), "2023-11-14T22:13:20Z");
+  EXPECT_EQ(mapCreationTime(true), "2023-11-14T22:13:20Z");
+  ASSERT_EQ(::setenv("SOURCE_DATE_EPOCH", "yesterday", 1), 0);
+  try {
+    mapCreationTime();
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("SOURCE_DATE_EPOCH='yesterday'"), std::string::npos);
+  }
+  ASSERT_EQ(::unsetenv("SOURCE_DATE_EPOCH"), 0);
 }
 
 }  // namespace

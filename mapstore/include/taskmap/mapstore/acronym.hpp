@@ -85,7 +85,10 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
 
 /// Reads an ACRONYM grasp file (the dataset's own or one written by writeAcronym). Accepts
 /// any numeric type for numbers, fixed or variable-length strings. Throws Error naming the
-/// file and the missing or malformed dataset.
+/// file and the missing or malformed dataset. Foreign files carry no seal, so what is read is
+/// bounded: at most 1 GiB, read whole into memory and parsed by HDF5 from there; a dataset
+/// may declare at most ~1032 times the file's size in values (deflate's best ratio), a
+/// fixed-length string at most 1 MiB. HDF5 itself may still stop on a crafted file.
 AcronymGrasps readAcronym(const std::string& path);
 
 /// Options of acronymToMap.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file task_map_data.hpp
-/// Everything a task map file holds (schema version 1, mapstore/SCHEMA.md), in memory.
+/// Everything a task map file holds (schema version 2, mapstore/SCHEMA.md), in memory.
 /// Plain data: mapstore reads and writes it, integration queries it, tools show it.
 
 #include <cstdint>
@@ -17,7 +17,7 @@
 namespace taskmap {
 
 /// Schema version this library writes; the reader refuses newer ones.
-constexpr int kMapSchemaVersion = 1;
+constexpr int kMapSchemaVersion = 2;
 
 /// Row-major matrix of doubles (HDF5 layout).
 using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;

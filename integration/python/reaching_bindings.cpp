@@ -1,0 +1,155 @@
+// Python bindings of the reaching stage (docs/REACHING.md): taskmap.Robot (model, forward
+// kinematics, Jacobians) and taskmap.reach (attractor + IK rollout). Configurations and
+// Jacobians are numpy arrays; poses 4x4 matrices or (x y z qw qx qy qz) vectors.
+#include "reaching_bindings.hpp"
+
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
+#include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/reach_scene.hpp"
+
+namespace py = pybind11;
+
+namespace taskmap {
+namespace {
+
+/// A robot with its environment; `object` names the grasped body ("" if none).
+struct PyRobot {
+  RobotModel model;
+  std::string object;
+};
+
+int bodyOf(const PyRobot& r, const std::string& name) {
+  return name.empty() ? -1 : r.model.requireBody(name);
+}
+
+Kinematics kinematicsAt(const PyRobot& r, const Eigen::VectorXd& q) {
+  Kinematics kin(r.model);
+  kin.update(q);
+  return kin;
+}
+
+py::dict reachDict(const ReachResult& res) {
+  Eigen::MatrixXd q(res.q.size(), res.q.front().size());
+  for (size_t i = 0; i < res.q.size(); ++i) q.row(i) = res.q[i].transpose();
+  py::dict d;
+  d["status"] = res.status == ReachStatus::kReached    ? "reached"
+                : res.status == ReachStatus::kCollided ? "collided"
+                                                       : "not_reached";
+  d["message"] = res.message;
+  d["q"] = q;
+  d["position_error"] = res.position_error;
+  d["orientation_error"] = res.orientation_error;
+  d["min_clearance"] = std::isfinite(res.min_clearance) ? py::object(py::float_(res.min_clearance))
+                                                        : py::object(py::none());
+  d["min_clearance_pair"] = res.min_clearance_pair;
+  d["joint_limit_margin"] = res.joint_limit_margin;
+  return d;
+}
+
+}  // namespace
+
+void bindReaching(py::module_& m) {
+  py::class_<PyRobot>(m, "Robot",
+                      "A robot arm (URDF), optionally with a hand on its flange and a scene of "
+                      "fixed bodies (metres, radians; world = robot root frame).")
+      .def_static(
+          "load",
+          [](const std::string& urdf) {
+            return PyRobot{RobotModel::load(urdf), ""};
+          },
+          py::arg("urdf"), "Robot from a URDF (capsules from <stem>.capsules.json if present).")
+      .def_static(
+          "panda_with_humanoid_hand",
+          [](const std::string& robots_dir, const std::string& hands_dir) {
+            return PyRobot{RobotModel::pandaWithHumanoidHand(robots_dir, hands_dir), ""};
+          },
+          py::arg("robots_dir"), py::arg("hands_dir"),
+          "The bundled Panda (<robots_dir>/panda) with the humanoid hand (<hands_dir>/humanoid).")
+      .def(
+          "add_scene",
+          [](PyRobot& r, const std::string& path) {
+            const ReachScene scene = path.empty() ? defaultReachScene() : loadReachScene(path);
+            addSceneTo(scene, r.model);
+            r.object = scene.object;
+          },
+          py::arg("path") = "", "Adds a scene file's bodies ('' = table and cylinder object).")
+      .def_property_readonly("dofs", [](const PyRobot& r) { return r.model.dofs(); })
+      .def_property_readonly("dof_names", [](const PyRobot& r) { return r.model.dofNames(); })
+      .def_property_readonly("lower", [](const PyRobot& r) { return r.model.lower(); })
+      .def_property_readonly("upper", [](const PyRobot& r) { return r.model.upper(); })
+      .def_property_readonly("object", [](const PyRobot& r) { return r.object; })
+      .def_property_readonly("body_names",
+                             [](const PyRobot& r) {
+                               std::vector<std::string> names;
+                               for (const RobotBody& b : r.model.bodies()) names.push_back(b.name);
+                               return names;
+                             })
+      .def(
+          "forward_kinematics",
+          [](const PyRobot& r, const Eigen::VectorXd& q) {
+            const Kinematics kin = kinematicsAt(r, q);
+            std::vector<Eigen::Matrix4d> poses;
+            for (size_t i = 0; i < r.model.bodies().size(); ++i)
+              poses.push_back(kin.pose(static_cast<int>(i)).matrix());
+            return poses;
+          },
+          py::arg("q"), "World pose (4x4) of every body, body_names order.")
+      .def(
+          "jacobian",
+          [](const PyRobot& r, const Eigen::VectorXd& q, const std::string& body,
+             const std::string& reference) {
+            const Kinematics kin = kinematicsAt(r, q);
+            const int b = r.model.requireBody(body), ref = bodyOf(r, reference);
+            Eigen::MatrixXd j(6, r.model.dofs());
+            j.topRows(3) = kin.relativePositionJacobian(b, ref);
+            j.bottomRows(3) = kin.relativeAngularJacobian(b, ref);
+            return j;
+          },
+          py::arg("q"), py::arg("body"), py::arg("reference") = "",
+          "6 x dofs Jacobian of body relative to reference ('' = world) in the reference frame: "
+          "linear rows (eq. 1.4) then angular rows (eq. 1.5).");
+
+  m.def(
+      "reach",
+      [](const PyRobot& r, const Eigen::Matrix<double, 7, 1>& target, const std::string& body,
+         const std::string& reference, const std::optional<Eigen::VectorXd>& q0, int steps,
+         double dt, double relaxation_time, double move_time, bool avoid_collisions) {
+        ReachOptions o;
+        o.steps = steps;
+        o.attractor.dt = dt;
+        o.attractor.relaxation_time = relaxation_time;
+        o.move_time = move_time;
+        if (!avoid_collisions) o.ik.collision_gain = 0.0;
+        CollisionOptions co;
+        if (!r.object.empty()) co.hand_may_touch = {r.object};
+        const CollisionModel collisions(r.model, co);
+        const int b = body.empty() ? r.model.palmBody() : r.model.requireBody(body);
+        if (b < 0) throw Error("reach: the robot has no hand; name the body to move (body=...)");
+        const std::string ref = reference == "object" ? r.object : reference;
+        if (reference == "object" && r.object.empty())
+          throw Error("reach: reference 'object' needs a scene with an object (add_scene)");
+        return reachDict(reach(r.model, &collisions, b, bodyOf(r, ref),
+                               Pose::fromVector7(target).toIsometry(),
+                               q0 ? *q0 : r.model.midConfiguration(), o));
+      },
+      py::arg("robot"), py::arg("target"), py::arg("body") = "", py::arg("reference") = "object",
+      py::arg("q0") = py::none(), py::arg("steps") = 300, py::arg("dt") = 0.01,
+      py::arg("relaxation_time") = 0.2, py::arg("move_time") = 1.0,
+      py::arg("avoid_collisions") = true,
+      "Attractor dynamics + resolved-rate IK rollout moving body (default the palm) to target "
+      "(x y z qw qx qy qz in the reference body's frame; 'object' = the scene's object, '' = "
+      "world). Returns a dict: status, message, q (steps+1 x dofs), position_error, "
+      "orientation_error, min_clearance (None without pairs), min_clearance_pair, "
+      "joint_limit_margin.");
+}
+
+}  // namespace taskmap

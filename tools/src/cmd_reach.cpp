@@ -1,0 +1,232 @@
+// taskmap reach --robot panda --target "x y z qw qx qy qz" [--scene FILE] [--json] [--png FILE]:
+// move the hand to a fixed target with attractor dynamics and resolved-rate IK, avoiding the
+// scene (reaching/, docs/REACHING.md).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "data_dir.hpp"
+#include "reach_picture.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
+#include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/reach_scene.hpp"
+
+namespace taskmap::cli {
+namespace {
+
+struct ReachArgs {
+  std::string robot = "panda", hand = "humanoid", flange, mount, target, frame, scene, start, png;
+  std::vector<std::string> via;
+  ReachOptions options;
+  bool json = false;
+};
+
+Eigen::VectorXd parseNumbers(const std::string& text, int n, const std::string& option) {
+  std::istringstream in(text);
+  std::vector<double> v;
+  std::string word;
+  while (in >> word) {
+    try {
+      size_t used = 0;
+      v.push_back(std::stod(word, &used));
+      if (used != word.size()) throw std::invalid_argument(word);
+    } catch (const std::exception&) {
+      throw Error(option + ": '" + word + "' is not a number");
+    }
+  }
+  if (n >= 0 && static_cast<int>(v.size()) != n)
+    throw Error(option + " needs " + std::to_string(n) + " numbers, got " +
+                std::to_string(v.size()));
+  for (double x : v)
+    if (!std::isfinite(x)) throw Error(option + ": values must be finite");
+  return Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+
+Eigen::Isometry3d parsePose(const std::string& text, const std::string& option) {
+  try {
+    return Pose::fromVector7(parseNumbers(text, 7, option)).toIsometry();
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    throw Error(m.rfind(option, 0) == 0 ? m : option + " \"x y z qw qx qy qz\": " + m);
+  }
+}
+
+/// The robot with its hand (if any) and the scene; returns the controlled body (palm or flange).
+int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot) {
+  const bool panda = args.robot == "panda";
+  if (!panda && !std::filesystem::exists(args.robot))
+    throw Error("--robot '" + args.robot + "' is neither 'panda' nor an existing URDF file");
+  robot = RobotModel::load(panda ? dataDir() + "/robots/panda/panda.urdf" : args.robot);
+  if (args.hand != "none") {
+    const std::string hand_path =
+        std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
+    HandMount mount = RobotModel::humanoidMountOnPanda();
+    if (!args.flange.empty()) mount.flange = args.flange;
+    if (!panda && args.flange.empty())
+      throw Error("--flange LINK is needed to mount a hand on " + args.robot);
+    if (!args.mount.empty()) mount.palm_in_flange = parsePose(args.mount, "--mount");
+    robot.mountHand(HandModel::load(hand_path), mount);
+  }
+  addSceneTo(scene, robot);
+  if (robot.palmBody() >= 0) return robot.palmBody();
+  if (args.flange.empty() && !panda)
+    throw Error("--hand none on " + args.robot + ": give --flange LINK, the body to move");
+  return robot.requireBody(args.flange.empty() ? "fer_link8" : args.flange);
+}
+
+Eigen::VectorXd startConfiguration(const ReachArgs& args, const RobotModel& robot) {
+  if (!args.start.empty()) return parseNumbers(args.start, robot.dofs(), "--start");
+  if (args.robot == "panda") {
+    Eigen::VectorXd q(7);
+    q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;  // Franka's ready pose
+    return q;
+  }
+  return robot.midConfiguration();
+}
+
+const char* statusName(ReachStatus s) {
+  return s == ReachStatus::kReached    ? "reached"
+         : s == ReachStatus::kCollided ? "collided"
+                                       : "not_reached";
+}
+
+nlohmann::json toJson(const ReachArgs& args, const ReachResult& r, const CollisionModel& pairs,
+                      const std::string& frame, double seconds) {
+  const auto vec = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  nlohmann::json j;
+  j["robot"] = args.robot;
+  j["hand"] = args.hand;
+  j["target"] = {{"frame", frame}, {"pose", vec(parseNumbers(args.target, 7, "--target"))}};
+  j["status"] = statusName(r.status);
+  j["message"] = r.message;
+  j["steps"] = r.q.size() - 1;
+  j["dt_s"] = args.options.attractor.dt;
+  j["position_error_m"] = r.position_error;
+  j["orientation_error_rad"] = r.orientation_error;
+  j["collision_pairs"] = pairs.pairs().size();
+  if (std::isfinite(r.min_clearance)) {
+    j["min_clearance_m"] = r.min_clearance;
+    j["min_clearance_pair"] = r.min_clearance_pair;
+    j["min_clearance_step"] = r.min_clearance_step;
+  } else {
+    j["min_clearance_m"] = nullptr;
+  }
+  j["joint_limit_margin"] = r.joint_limit_margin;
+  j["q_start"] = vec(r.q.front());
+  j["q_final"] = vec(r.q.back());
+  j["palm_final"] = vec(Pose::fromIsometry(r.palm.back()).toVector7());
+  j["compute_time_s"] = seconds;
+  return j;
+}
+
+void printText(const ReachResult& r, const CollisionModel& pairs, const std::string& frame) {
+  std::printf("status            %s (%s)\n", statusName(r.status), r.message.c_str());
+  std::printf("steps             %zu\n", r.q.size() - 1);
+  std::printf("final error       %.3g m, %.3g rad (target in the %s frame)\n", r.position_error,
+              r.orientation_error, frame.c_str());
+  if (std::isfinite(r.min_clearance))
+    std::printf("min clearance     %.4f m (%s, step %d; %zu pairs)\n", r.min_clearance,
+                r.min_clearance_pair.c_str(), r.min_clearance_step, pairs.pairs().size());
+  std::printf("joint-limit margin %.4f (rad or m)\n", r.joint_limit_margin);
+}
+
+void runReach(const ReachArgs& args) {
+  args.options.validate();
+  if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" is required");
+  const Eigen::Isometry3d target = parsePose(args.target, "--target");
+  ReachOptions options = args.options;
+  for (const std::string& v : args.via) options.via_points.push_back(parsePose(v, "--via"));
+  const ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
+  RobotModel robot;
+  const int body = buildRobot(args, scene, robot);
+  const std::string frame = !args.frame.empty()    ? args.frame
+                            : scene.object.empty() ? "world"
+                                                   : "object";
+  if (frame != "world" && frame != "object") throw Error("--frame must be 'world' or 'object'");
+  if (frame == "object" && scene.object.empty())
+    throw Error("--frame object needs a scene with an \"object\" body");
+  const int reference = frame == "object" ? robot.requireBody(scene.object) : -1;
+  CollisionOptions co;
+  if (!scene.object.empty()) co.hand_may_touch = {scene.object};
+  const CollisionModel collisions(robot, co);
+  const Eigen::VectorXd q0 = startConfiguration(args, robot);
+  const auto t0 = std::chrono::steady_clock::now();
+  const ReachResult r = reach(robot, &collisions, body, reference, target, q0, options);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (args.json)
+    std::cout << toJson(args, r, collisions, frame, seconds).dump(2) << "\n";
+  else
+    printText(r, collisions, frame);
+  if (!args.png.empty()) {
+    Kinematics kin(robot);
+    const Eigen::Isometry3d ref =
+        reference >= 0 ? kin.pose(reference) : Eigen::Isometry3d::Identity();
+    const int n = static_cast<int>(r.q.size()) - 1;
+    writeReachPicture(robot, r, body, {0, n / 4, n / 2, n}, ref * target, args.png);
+    if (!args.json) std::printf("picture           %s\n", args.png.c_str());
+  }
+  if (r.status != ReachStatus::kReached) {
+    std::cerr << "taskmap reach: " << r.message << "\n";
+    exitCode() = 1;
+  }
+}
+
+const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
+  auto args = std::make_shared<ReachArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "reach",
+      "Move the hand to a fixed palm pose with attractor dynamics and resolved-rate IK, avoiding "
+      "the table and the object (joint-limit and collision null-space terms). Exit status 1 when "
+      "the target is not reached or a collision occurs.");
+  cmd->add_option("--robot", args->robot, "'panda' (the bundled Franka arm) or a robot URDF")
+      ->capture_default_str();
+  cmd->add_option("--hand", args->hand,
+                  "hand on the flange: a name under meshes/hands, a hand URDF, or 'none'")
+      ->capture_default_str();
+  cmd->add_option("--flange", args->flange, "link the hand is mounted on (default fer_link8)");
+  cmd->add_option("--mount", args->mount,
+                  "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the humanoid "
+                  "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
+  cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)")
+      ->required();
+  cmd->add_option("--via", args->via,
+                  "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
+                  "attractor point passes through; repeat for several");
+  cmd->add_option("--frame", args->frame,
+                  "frame of --target: 'object' (default when the scene has one) or 'world'");
+  cmd->add_option("--scene", args->scene,
+                  "scene JSON (docs/REACHING.md); default: a table and an upright cylinder");
+  cmd->add_option("--start", args->start, "start configuration, one value per joint");
+  cmd->add_option("--steps", args->options.steps, "control steps")->capture_default_str();
+  cmd->add_option("--dt", args->options.attractor.dt, "sampling time, seconds")
+      ->capture_default_str();
+  cmd->add_option("--relaxation-time", args->options.attractor.relaxation_time,
+                  "attractor relaxation time T_mc, seconds")
+      ->capture_default_str();
+  cmd->add_option("--move-time", args->options.move_time,
+                  "seconds for the attractor point to reach the target")
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json,
+                "print JSON: status, message, steps, dt_s, position_error_m, "
+                "orientation_error_rad, collision_pairs, min_clearance_m (null without pairs), "
+                "min_clearance_pair, min_clearance_step, joint_limit_margin, q_start, q_final, "
+                "palm_final [x y z qw qx qy qz], compute_time_s");
+  cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
+  cmd->callback([args] { runReach(*args); });
+});
+
+}  // namespace
+}  // namespace taskmap::cli
