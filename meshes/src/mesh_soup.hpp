@@ -3,8 +3,11 @@
 /// Private to the meshes stage: a triangle soup as read from a file, and the steps that turn
 /// it into a validated solid (import with assimp, repair and validation with CGAL).
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,6 +32,37 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
 
 /// Merges points with bit-identical coordinates, remapping faces. Returns the number merged.
 std::size_t mergeIdenticalPoints(MeshSoup* soup);
+
+/// Key of the undirected edge (a, b): the smaller index in the high 32 bits.
+inline std::uint64_t edgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+
+/// Orientation of a face as its vertex cycle rotated so that the smallest index comes first.
+inline std::array<int, 3> canonicalCycle(std::array<int, 3> f) {
+  while (f[0] > f[1] || f[0] > f[2]) std::rotate(f.begin(), f.begin() + 1, f.end());
+  return f;
+}
+
+/// What dropBadFaces removed.
+struct DroppedFaces {
+  std::size_t degenerate = 0;  ///< faces with a repeated vertex
+  std::size_t duplicate = 0;   ///< repeats of a face in the same orientation
+  std::size_t opposite = 0;    ///< pairs of identical faces with opposite orientation
+};
+
+/// Drops faces with a repeated vertex and repeated faces; of identical faces with opposite
+/// orientation keeps the one the surrounding surface asks for, or neither (a fin). In
+/// mesh_faces.cpp.
+DroppedFaces dropBadFaces(MeshSoup* soup);
+
+/// Welds the border vertices closer than tol (metres); returns how many were welded.
+std::size_t weldBorderVertices(MeshSoup* soup, const std::vector<int>& border, double tol);
+
+/// Removes points no face references.
+void dropUnusedPoints(MeshSoup* soup);
 
 /// Result of turning a soup into a solid.
 struct SolidResult {
