@@ -6,9 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_diagnosis.hpp"
 #include "params_json.hpp"
 #include "taskmap/builder/trial_block.hpp"
-#include "build_diagnosis.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "trial_pool.hpp"

@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_diagnosis.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
-#include "build_diagnosis.hpp"
 #include "trial_pool.hpp"
 
 namespace taskmap {
