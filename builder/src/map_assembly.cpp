@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_diagnosis.hpp"
 #include "params_json.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
@@ -72,6 +73,7 @@ void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOp
   map.hand.name = hand.name();
   map.hand.urdf_sha256 = hand.urdfSha256();
   map.hand.joint_names = hand.jointNames();
+  for (const HandLink& l : hand.links()) map.hand.link_names.push_back(l.name);
   map.sampling.sampler = toString(options.sampler.kind);
   map.sampling.seed = options.seed;
   map.sampling.params_json = detail::paramsJson(options, hand);
@@ -148,6 +150,8 @@ void setStatus(bool interrupted, const Prefix& p, const BuildOptions& options, B
     r.status = BuildStatus::kInterrupted;
     r.message = "interrupted after " + std::to_string(p.trials) + " trials with " +
                 std::to_string(p.valid) + " force-closure grasps";
+  } else if (p.stored.empty()) {
+    r.status = BuildStatus::kNoGrasps;  // message: noGraspMessage (needs object and hand)
   } else if (p.valid < options.valid_target) {
     r.status = BuildStatus::kTrialBudgetExhausted;
     r.message = "trial budget of " + std::to_string(options.max_trials) + " spent: found " +
@@ -239,6 +243,8 @@ BuildResult assembleMap(const ObjectModel& object, const HandModel& hand,
     result.timing.clustering_seconds = detail::secondsSince(t_cluster);
   }
   setStatus(interrupted, prefix, options, result);
+  if (result.status == BuildStatus::kNoGrasps)
+    result.message = detail::noGraspMessage(map.sampling.outcomes, prefix.trials, object, hand);
   return result;
 }
 

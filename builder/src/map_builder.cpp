@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_diagnosis.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
 #include "trial_pool.hpp"
@@ -43,6 +44,8 @@ const char* toString(BuildStatus status) {
       return "trial_budget_exhausted";
     case BuildStatus::kInterrupted:
       return "interrupted";
+    case BuildStatus::kNoGrasps:
+      return "no_grasps";
   }
   return "complete";
 }
@@ -65,6 +68,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
                      double progress_interval_seconds) {
   options.validate();
   if (!(progress_interval_seconds > 0.0)) throw Error("progress interval must be positive");
+  detail::checkObjectSize(object, hand);
   const auto t_start = detail::Clock::now();
   BuildTiming timing;
   const int threads = detail::threadCount(options.threads);

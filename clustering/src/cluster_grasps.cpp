@@ -55,10 +55,18 @@ double defaultThreshold(const LinkageMatrix& linkage) {
   return defaultThreshold(linkage, std::max(2, static_cast<int>(std::ceil(0.02 * n - 1e-9))));
 }
 
-double defaultThreshold(const LinkageMatrix& linkage, int min_size) {
-  detail::validateLinkage(linkage, "defaultThreshold");
+namespace {
+
+/// The gap rule's cut, and the distance of the significant merge it cuts (0: none found).
+struct GapCut {
+  double threshold = 0.0;
+  double split = 0.0;
+  double smaller = 0.0;  ///< points in the smaller side of that merge
+};
+
+GapCut gapCut(const LinkageMatrix& linkage, int min_size) {
   const Eigen::Index rows = linkage.rows();
-  if (rows == 0) return 0.0;
+  if (rows == 0) return {};
   const Eigen::Index n = rows + 1;
   const double m = std::max(1, min_size);
   auto size_of = [&](Eigen::Index id) { return id < n ? 1.0 : linkage(id - n, 3); };
@@ -67,6 +75,7 @@ double defaultThreshold(const LinkageMatrix& linkage, int min_size) {
   auto core_of = [&](Eigen::Index id) { return id < n ? 0.0 : core[id - n]; };
   double best_ratio = 0.0;
   double best_threshold = linkage(rows - 1, 2);
+  double best_split = 0.0, best_smaller = 0.0;
   for (Eigen::Index k = 0; k < rows; ++k) {
     const auto a = static_cast<Eigen::Index>(linkage(k, 0));
     const auto b = static_cast<Eigen::Index>(linkage(k, 1));
@@ -84,14 +93,36 @@ double defaultThreshold(const LinkageMatrix& linkage, int min_size) {
     if (ratio >= kMinGapRatio && ratio >= best_ratio) {
       best_ratio = ratio;
       best_threshold = inner > 0.0 ? std::sqrt(inner * d) : 0.5 * d;
+      best_split = d;
+      best_smaller = std::min(size_of(a), size_of(b));
     }
   }
-  if (best_ratio > 0.0) return best_threshold;
+  if (best_ratio > 0.0) return {best_threshold, best_split, best_smaller};
   // One cluster: cut off stragglers that attach far above the core of the whole tree.
   const double top = linkage(rows - 1, 2);
   const double root_core = core[rows - 1];
-  if (root_core > 0.0 && top >= kMinGapRatio * root_core) return std::sqrt(root_core * top);
-  return top;
+  if (root_core > 0.0 && top >= kMinGapRatio * root_core)
+    return {std::sqrt(root_core * top), 0.0, 0.0};
+  return {top, 0.0, 0.0};
+}
+
+/// Number of clusters of at least min_size points when cutting at `threshold`.
+int clustersAtLeast(const LinkageMatrix& linkage, double threshold, int min_size) {
+  const std::vector<int> labels = cutAtDistance(linkage, threshold);
+  std::vector<int> sizes;
+  for (int l : labels) {
+    if (l >= static_cast<int>(sizes.size())) sizes.resize(static_cast<std::size_t>(l) + 1, 0);
+    ++sizes[static_cast<std::size_t>(l)];
+  }
+  return static_cast<int>(
+      std::count_if(sizes.begin(), sizes.end(), [&](int c) { return c >= std::max(1, min_size); }));
+}
+
+}  // namespace
+
+double defaultThreshold(const LinkageMatrix& linkage, int min_size) {
+  detail::validateLinkage(linkage, "defaultThreshold");
+  return gapCut(linkage, min_size).threshold;
 }
 
 double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outlier_budget) {
@@ -120,8 +151,25 @@ double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outl
 }
 
 double defaultCut(const LinkageMatrix& linkage, int min_size, double outlier_budget) {
-  return std::max(defaultThreshold(linkage, min_size),
-                  coverageThreshold(linkage, min_size, outlier_budget));
+  detail::validateLinkage(linkage, "defaultCut");
+  const GapCut gap = gapCut(linkage, min_size);
+  const double coverage = coverageThreshold(linkage, min_size, outlier_budget);
+  if (gap.split > 0.0) {
+    const double n = static_cast<double>(linkage.rows() + 1);
+    if (coverage < gap.split || gap.smaller <= outlier_budget * n)
+      return std::max(gap.threshold, coverage);
+    // A clear split of two families each larger than the outlier budget: the coverage floor
+    // may absorb fragments, never undo the split itself: cut at the highest merge below it.
+    double below = gap.threshold;
+    for (Eigen::Index k = 0; k < linkage.rows(); ++k)
+      if (linkage(k, 2) < gap.split) below = std::max(below, linkage(k, 2));
+    return below;
+  }
+  // No clear gap: a continuum of grasps. One cluster would summarise it by a mean pose that
+  // no grasp has (around a cylinder, of a mug's handle and body); cut at the coverage floor
+  // instead when that leaves at least two clusters of min_size.
+  if (linkage.rows() > 0 && clustersAtLeast(linkage, coverage, min_size) >= 2) return coverage;
+  return std::max(gap.threshold, coverage);
 }
 
 namespace {

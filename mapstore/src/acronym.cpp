@@ -225,16 +225,33 @@ class Reader {
   hsize_t max_values_;
 };
 
+/// Throws unless t is a finite rigid transform.
+void checkBaseToPalm(const Eigen::Isometry3d& t, const char* who) {
+  const Eigen::Matrix3d r = t.linear();
+  if (!t.matrix().allFinite() || (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-9 ||
+      r.determinant() < 0) {
+    throw Error(std::string(who) + ": base_to_palm must be a finite rigid transform");
+  }
+}
+
 }  // namespace
+
+Eigen::Isometry3d acronymFrankaBaseToPalm() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(0, 0, kAcronymFrankaPalmOffset);
+  return t;
+}
 
 void AcronymExportOptions::validate() const {
   if (!(density > 0) || !std::isfinite(density)) {
     throw Error("ACRONYM export: density must be a positive number of kg/m^3");
   }
+  checkBaseToPalm(base_to_palm, "ACRONYM export");
 }
 
 void AcronymImportOptions::validate() const {
   clustering.validate();
+  checkBaseToPalm(base_to_palm, "ACRONYM import");
 }
 
 Eigen::Matrix3d meshInertia(
@@ -271,8 +288,9 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
   const MapGrasps& g = map.grasps;
   const std::size_t n = g.size();
   std::vector<double> transforms(n * 16);
+  const Eigen::Isometry3d palm_to_base = options.base_to_palm.inverse();
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Matrix4d t = g.poseAt(i).toIsometry().matrix();
+    const Eigen::Matrix4d t = (g.poseAt(i).toIsometry() * palm_to_base).matrix();
     for (int r = 0; r < 4; ++r)
       for (int c = 0; c < 4; ++c)
         transforms[i * 16 + static_cast<std::size_t>(r * 4 + c)] = t(r, c);
@@ -310,6 +328,8 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
       w.doubles("object/inertia", {3, 3}, inertia_rm.data());
       w.string("gripper/type", map.hand.name);
       w.doubles("gripper/configuration", {0}, nullptr);
+      Eigen::Matrix<double, 4, 4, Eigen::RowMajor> b = options.base_to_palm.matrix();
+      w.doubles("gripper/taskmap_base_to_palm", {4, 4}, b.data());
       if (!file.close()) throw Error("cannot write '" + path + "': HDF5 failed to close the file");
     } catch (...) {
       file.close();
@@ -424,15 +444,23 @@ TaskMapData acronymToMap(const AcronymGrasps& in, const MapObject& object,
       static_cast<std::uint64_t>(std::count(in.success.begin(), in.success.end(), 1));
   if (successes > 0) m.sampling.outcomes["force_closure"] = successes;
   if (total > successes) m.sampling.outcomes["not_force_closure"] = total - successes;
-  nlohmann::json params = {{"imported_from", "acronym"},
-                           {"source", in.path},
-                           {"object_file", in.object_file},
-                           {"object_scale", in.object_scale},
-                           {"successful_only", options.successful_only},
-                           {"force_closure", "ACRONYM grasps/qualities/flex/object_in_gripper"},
-                           {"epsilon", in.epsilon ? "taskmap epsilon stored in the file"
-                                                  : "object_in_gripper as 0 or 1 (no epsilon "
-                                                    "in ACRONYM)"}};
+  nlohmann::json params = {
+      {"imported_from", "acronym"},
+      {"source", in.path},
+      {"object_file", in.object_file},
+      {"object_scale", in.object_scale},
+      {"successful_only", options.successful_only},
+      {"base_to_palm",
+       {options.base_to_palm.translation().x(), options.base_to_palm.translation().y(),
+        options.base_to_palm.translation().z(),
+        Eigen::Quaterniond(options.base_to_palm.linear()).w(),
+        Eigen::Quaterniond(options.base_to_palm.linear()).x(),
+        Eigen::Quaterniond(options.base_to_palm.linear()).y(),
+        Eigen::Quaterniond(options.base_to_palm.linear()).z()}},
+      {"force_closure", "ACRONYM grasps/qualities/flex/object_in_gripper"},
+      {"epsilon", in.epsilon ? "taskmap epsilon stored in the file"
+                             : "object_in_gripper as 0 or 1 (no epsilon "
+                               "in ACRONYM)"}};
   m.sampling.params_json = params.dump();
   m.quality.friction = in.object_friction.value_or(m.quality.friction);
   m.quality.cone_edges = 0;
@@ -463,9 +491,13 @@ TaskMapData acronymToMap(const AcronymGrasps& in, const MapObject& object,
       throw Error("ACRONYM import from '" + in.path + "': grasps/transforms[" + std::to_string(i) +
                   "] is not a rigid transform");
     }
+    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+    base.translation() = t.topRightCorner<3, 1>();
+    base.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
+    const Eigen::Isometry3d palm = base * options.base_to_palm;
     Pose p;
-    p.position = t.topRightCorner<3, 1>();
-    p.orientation = Eigen::Quaterniond(r).normalized();
+    p.position = palm.translation();
+    p.orientation = Eigen::Quaterniond(palm.linear()).normalized();
     g.pose.row(static_cast<Eigen::Index>(j)) = p.toVector7().transpose();
     g.force_closure[j] = in.success[i];
     g.epsilon[j] = in.epsilon ? (*in.epsilon)[i] : static_cast<double>(in.success[i]);

@@ -60,6 +60,7 @@ void writeHand(hid_t file, const MapHand& h) {
   h5::writeAttr(g, "name", h.name);
   h5::writeAttr(g, "urdf_sha256", h.urdf_sha256);
   h5::writeStrings(g, "joint_names", h.joint_names);
+  if (!h.link_names.empty()) h5::writeStrings(g, "link_names", h.link_names);
 }
 
 void writeSampling(hid_t file, const MapSampling& s) {
@@ -177,6 +178,7 @@ void readHand(hid_t file, MapHand& h) {
   h.name = h5::readAttrString(g, "/hand", "name");
   h.urdf_sha256 = h5::readAttrString(g, "/hand", "urdf_sha256");
   h.joint_names = h5::readStrings(file, "/hand/joint_names");
+  if (h5::exists(g, "link_names")) h.link_names = h5::readStrings(file, "/hand/link_names");
 }
 
 void readSampling(hid_t file, MapSampling& s) {

@@ -184,6 +184,13 @@ Pose MapGrasps::poseAt(std::size_t i) const {
 void TaskMapData::validate() const {
   validateObject(object);
   validateGrasps(grasps, hand.joint_names.size());
+  if (!hand.link_names.empty())
+    for (std::size_t i = 0; i < grasps.contact_links.size(); ++i)
+      if (grasps.contact_links[i] >= static_cast<std::int32_t>(hand.link_names.size()))
+        fail("/grasps/contact_links", "entry " + std::to_string(i) + " is " +
+                                          std::to_string(grasps.contact_links[i]) +
+                                          ", beyond the " + std::to_string(hand.link_names.size()) +
+                                          " links of /hand/link_names");
   std::uint64_t total = 0;
   for (const auto& [name, count] : sampling.outcomes) {
     if (name.empty()) fail("/sampling", "an outcome has an empty name");

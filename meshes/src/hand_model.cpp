@@ -50,6 +50,12 @@ double CollisionShape::boundingRadius() const {
 const std::string& HandModel::name() const {
   return name_;
 }
+const Eigen::Isometry3d& HandModel::rootToPalm() const {
+  return root_to_palm_;
+}
+const std::string& HandModel::robotName() const {
+  return robot_name_;
+}
 const std::string& HandModel::urdfSha256() const {
   return sha_;
 }

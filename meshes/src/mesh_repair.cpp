@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <numeric>
 #include <string>
 #include <unordered_map>
@@ -35,12 +36,6 @@ std::string plural(std::size_t n, const std::string& word) {
   }
   if (word == "vertex") return std::to_string(n) + " vertices";
   return std::to_string(n) + " " + word + "s";
-}
-
-std::uint64_t edgeKey(int a, int b) {
-  if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
 }
 
 struct EdgeStats {
@@ -81,111 +76,12 @@ EdgeStats edgeStats(const MeshSoup& soup) {
   return stats;
 }
 
-/// Drops faces with a repeated vertex and repeated faces. Returns (degenerate, duplicate).
-std::pair<std::size_t, std::size_t> dropBadFaces(MeshSoup* soup) {
-  std::size_t degenerate = 0, duplicate = 0;
-  std::map<std::array<int, 3>, int> seen;
-  std::vector<std::array<int, 3>> kept;
-  kept.reserve(soup->faces.size());
-  for (const auto& f : soup->faces) {
-    if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
-      ++degenerate;
-      continue;
-    }
-    std::array<int, 3> key = f;
-    std::sort(key.begin(), key.end());
-    if (!seen.emplace(key, 1).second) {
-      ++duplicate;
-      continue;
-    }
-    kept.push_back(f);
-  }
-  soup->faces = std::move(kept);
-  return {degenerate, duplicate};
-}
-
-/// Welds border vertices closer than tol (union-find over a hash grid). Returns the count.
-std::size_t weldBorderVertices(MeshSoup* soup, const std::vector<int>& border, double tol) {
-  std::vector<int> parent(soup->points.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  struct CellHash {
-    std::size_t operator()(const Eigen::Vector3i& c) const {
-      return static_cast<std::size_t>(c.x()) * 73856093u ^
-             static_cast<std::size_t>(c.y()) * 19349663u ^
-             static_cast<std::size_t>(c.z()) * 83492791u;
-    }
-  };
-  struct CellEq {
-    bool operator()(const Eigen::Vector3i& a, const Eigen::Vector3i& b) const { return a == b; }
-  };
-  std::unordered_map<Eigen::Vector3i, std::vector<int>, CellHash, CellEq> grid;
-  auto cellOf = [&](const Eigen::Vector3d& p) {
-    return Eigen::Vector3i(static_cast<int>(std::floor(p.x() / tol)),
-                           static_cast<int>(std::floor(p.y() / tol)),
-                           static_cast<int>(std::floor(p.z() / tol)));
-  };
-  std::size_t welded = 0;
-  for (int v : border) {
-    const Eigen::Vector3d& p = soup->points[v];
-    const Eigen::Vector3i c = cellOf(p);
-    for (int dx = -1; dx <= 1; ++dx) {
-      for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find(c + Eigen::Vector3i(dx, dy, dz));
-          if (it == grid.end()) continue;
-          for (int w : it->second) {
-            if ((soup->points[w] - p).norm() <= tol) {
-              const int rv = find(v), rw = find(w);
-              if (rv != rw) {
-                parent[rv] = rw;
-                ++welded;
-              }
-            }
-          }
-        }
-      }
-    }
-    grid[c].push_back(v);
-  }
-  if (welded == 0) return 0;
-  for (auto& f : soup->faces) {
-    for (int& v : f) v = find(v);
-  }
-  return welded;
-}
-
-/// Removes points no face references (left by welding, or unused in the file).
-void dropUnusedPoints(MeshSoup* soup) {
-  std::vector<int> remap(soup->points.size(), -1);
-  std::vector<Eigen::Vector3d> points;
-  for (auto& f : soup->faces) {
-    for (int& v : f) {
-      if (remap[v] < 0) {
-        remap[v] = static_cast<int>(points.size());
-        points.push_back(soup->points[v]);
-      }
-      v = remap[v];
-    }
-  }
-  soup->points = std::move(points);
-}
-
 double signedVolume(const MeshSoup& soup) {
   double v = 0;
   for (const auto& f : soup.faces) {
     v += soup.points[f[0]].dot(soup.points[f[1]].cross(soup.points[f[2]]));
   }
   return v / 6.0;
-}
-
-/// Orientation of a face as its vertex cycle rotated so that the smallest index comes first.
-std::array<int, 3> canonicalCycle(std::array<int, 3> f) {
-  while (f[0] > f[1] || f[0] > f[2]) std::rotate(f.begin(), f.begin() + 1, f.end());
-  return f;
 }
 
 MeshSoup toSoup(const Surface& mesh) {
@@ -209,26 +105,40 @@ MeshSoup toSoup(const Surface& mesh) {
   return soup;
 }
 
-SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
+/// One validation run: the soup being repaired, what was done, how to report.
+struct SolidBuild {
+  MeshSoup soup;
+  std::string what;
+  bool repair = true;
   SolidResult result;
-  auto refuse = [&](const std::string& defect) { throw Error(what + ": " + defect); };
-  auto repaired = [&](const std::string& text, const std::string& defect) {
+  double diagonal = 0.0;  ///< of the input bounding box, metres
+
+  [[noreturn]] void refuse(const std::string& defect) const { throw Error(what + ": " + defect); }
+  [[noreturn]] void refuseOpen(const std::string& defect) const {
+    throw OpenSurfaceError(what + ": " + defect);
+  }
+  /// Records a repair, or refuses `defect` when repair is disabled.
+  void repaired(const std::string& text, const std::string& defect) {
     if (!repair) refuse(defect + " (repair is disabled)");
     result.repairs.push_back(text);
-  };
+  }
+};
 
-  if (soup.points.empty() || soup.faces.empty()) refuse("mesh has no triangles");
+/// Refuses empty input, non-finite coordinates, bad indices and a point-like mesh.
+void checkInput(SolidBuild& b) {
+  const MeshSoup& soup = b.soup;
+  if (soup.points.empty() || soup.faces.empty()) b.refuse("mesh has no triangles");
   for (std::size_t i = 0; i < soup.points.size(); ++i) {
     if (!soup.points[i].allFinite()) {
-      refuse("vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or infinity)");
+      b.refuse("vertex " + std::to_string(i) + " has a non-finite coordinate (NaN or infinity)");
     }
   }
   const int n_points = static_cast<int>(soup.points.size());
   for (std::size_t i = 0; i < soup.faces.size(); ++i) {
     for (int v : soup.faces[i]) {
       if (v < 0 || v >= n_points) {
-        refuse("face " + std::to_string(i) + " references vertex " + std::to_string(v) +
-               " but the mesh has " + plural(soup.points.size(), "vertex"));
+        b.refuse("face " + std::to_string(i) + " references vertex " + std::to_string(v) +
+                 " but the mesh has " + plural(soup.points.size(), "vertex"));
       }
     }
   }
@@ -237,51 +147,70 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const double diagonal = (hi - lo).norm();
-  if (!(diagonal > 0)) refuse("all vertices coincide; the mesh encloses no volume");
+  b.diagonal = (hi - lo).norm();
+  if (!(b.diagonal > 0)) b.refuse("all vertices coincide; the mesh encloses no volume");
+}
 
-  if (const std::size_t merged = mergeIdenticalPoints(&soup); merged > 0) {
-    repaired("merged " + plural(merged, "duplicate vertex") + " with identical coordinates",
-             "mesh has " + plural(merged, "duplicate vertex"));
+/// Merges identical points, drops degenerate and repeated faces and opposite-face pairs.
+void cleanFaces(SolidBuild& b) {
+  if (const std::size_t merged = mergeIdenticalPoints(&b.soup); merged > 0) {
+    b.repaired("merged " + plural(merged, "duplicate vertex") + " with identical coordinates",
+               "mesh has " + plural(merged, "duplicate vertex"));
   }
-  const auto [degenerate, duplicate] = dropBadFaces(&soup);
-  if (degenerate > 0) {
-    repaired("dropped " + plural(degenerate, "degenerate face") + " with a repeated vertex",
-             "mesh has " + plural(degenerate, "degenerate face"));
+  const DroppedFaces d = dropBadFaces(&b.soup);
+  if (d.degenerate > 0) {
+    b.repaired("dropped " + plural(d.degenerate, "degenerate face") + " with a repeated vertex",
+               "mesh has " + plural(d.degenerate, "degenerate face"));
   }
-  if (duplicate > 0) {
-    repaired("dropped " + plural(duplicate, "duplicate face"),
-             "mesh has " + plural(duplicate, "duplicate face"));
+  if (d.duplicate > 0) {
+    b.repaired("dropped " + plural(d.duplicate, "duplicate face"),
+               "mesh has " + plural(d.duplicate, "duplicate face"));
   }
+  if (d.opposite > 0) {
+    b.repaired(
+        "dropped " + plural(d.opposite, "pair") +
+            " of identical faces with opposite orientation (zero-volume fins), both "
+            "faces of each",
+        "mesh has " + plural(d.opposite, "pair") + " of identical faces with opposite orientation");
+  }
+}
 
-  EdgeStats stats = edgeStats(soup);
-  if (stats.border > 0 && repair) {
-    const double tol = 1e-6 * diagonal;
-    const std::size_t welded = weldBorderVertices(&soup, stats.border_vertices, tol);
+/// Welds border vertices (when repairing); refuses a surface that stays open or non-manifold.
+EdgeStats closeBorders(SolidBuild& b) {
+  EdgeStats stats = edgeStats(b.soup);
+  if (stats.border > 0 && b.repair) {
+    const double tol = 1e-6 * b.diagonal;
+    const std::size_t welded = weldBorderVertices(&b.soup, stats.border_vertices, tol);
     if (welded > 0) {
       char buf[64];
       std::snprintf(buf, sizeof buf, "%.3g", tol);
-      result.repairs.push_back("stitched borders: welded " + plural(welded, "border vertex") +
-                               " closer than " + buf + " m");
-      const auto [degenerate2, duplicate2] = dropBadFaces(&soup);
-      if (degenerate2 + duplicate2 > 0) {
-        result.repairs.push_back("dropped " + plural(degenerate2 + duplicate2, "face") +
-                                 " collapsed by stitching");
+      b.result.repairs.push_back("stitched borders: welded " + plural(welded, "border vertex") +
+                                 " closer than " + buf + " m");
+      const DroppedFaces d = dropBadFaces(&b.soup);
+      if (d.degenerate + d.duplicate + 2 * d.opposite > 0) {
+        b.result.repairs.push_back("dropped " +
+                                   plural(d.degenerate + d.duplicate + 2 * d.opposite, "face") +
+                                   " collapsed by stitching");
       }
-      stats = edgeStats(soup);
+      stats = edgeStats(b.soup);
     }
   }
   if (stats.border > 0) {
-    refuse("mesh has " + plural(stats.border, "border edge") + (repair ? " after stitching" : "") +
-           "; the object must be closed to sample its volume");
+    b.refuseOpen("mesh has " + plural(stats.border, "border edge") +
+                 (b.repair ? " after stitching" : "") +
+                 "; the object must be closed to sample its volume");
   }
   if (stats.non_manifold > 0) {
-    refuse("mesh has " + plural(stats.non_manifold, "non-manifold edge") +
-           " (shared by more than two faces); the object must be a manifold solid");
+    b.refuseOpen("mesh has " + plural(stats.non_manifold, "non-manifold edge") +
+                 " (shared by more than two faces); the object must be a manifold solid");
   }
+  return stats;
+}
 
-  // Consistent orientation and manifold vertices.
-  dropUnusedPoints(&soup);
+/// Orients the soup consistently (splitting non-manifold vertices) into a closed surface.
+Surface orientedSurface(SolidBuild& b, const EdgeStats& stats) {
+  dropUnusedPoints(&b.soup);
+  const MeshSoup& soup = b.soup;
   std::vector<std::vector<std::size_t>> polygons(soup.faces.size());
   for (std::size_t i = 0; i < soup.faces.size(); ++i) {
     polygons[i] = {static_cast<std::size_t>(soup.faces[i][0]),
@@ -292,9 +221,9 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
   points.reserve(soup.points.size());
   for (const auto& p : soup.points) points.emplace_back(p.x(), p.y(), p.z());
   if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
-    if (!repair) {
-      refuse(stats.misoriented > 0 ? "faces are not consistently oriented (repair is disabled)"
-                                   : "mesh has non-manifold vertices (repair is disabled)");
+    if (!b.repair) {
+      b.refuse(stats.misoriented > 0 ? "faces are not consistently oriented (repair is disabled)"
+                                     : "mesh has non-manifold vertices (repair is disabled)");
     }
     const std::size_t before = points.size();
     const auto before_polygons = polygons;
@@ -302,96 +231,127 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
     std::size_t flipped = 0;
     for (std::size_t i = 0; i < polygons.size() && i < before_polygons.size(); ++i) {
       // orient_polygon_soup keeps polygon order and only reverses or re-indexes polygons.
-      const auto a = canonicalCycle({int(polygons[i][0] < before ? polygons[i][0] : 0),
+      const auto x = canonicalCycle({int(polygons[i][0] < before ? polygons[i][0] : 0),
                                      int(polygons[i][1] < before ? polygons[i][1] : 0),
                                      int(polygons[i][2] < before ? polygons[i][2] : 0)});
-      const auto b = canonicalCycle(
+      const auto y = canonicalCycle(
           {int(before_polygons[i][0]), int(before_polygons[i][1]), int(before_polygons[i][2])});
-      if (a != b) ++flipped;
+      if (x != y) ++flipped;
     }
     if (points.size() > before) {
-      result.repairs.push_back("split " + plural(points.size() - before, "non-manifold vertex"));
+      b.result.repairs.push_back("split " + plural(points.size() - before, "non-manifold vertex"));
     }
     if (stats.misoriented > 0) {
-      result.repairs.push_back("reoriented faces consistently (" + plural(flipped, "face") +
-                               " changed)");
+      b.result.repairs.push_back("reoriented faces consistently (" + plural(flipped, "face") +
+                                 " changed)");
     }
     if (!PMP::is_polygon_soup_a_polygon_mesh(polygons)) {
-      refuse("faces cannot be oriented consistently (non-orientable or non-manifold surface)");
+      b.refuseOpen(
+          "faces cannot be oriented consistently (non-orientable or non-manifold surface)");
     }
   }
   Surface mesh;
   PMP::polygon_soup_to_polygon_mesh(points, polygons, mesh);
   if (!CGAL::is_closed(mesh)) {
-    refuse("mesh is not closed after orienting its faces; the object must be closed");
+    b.refuseOpen("mesh is not closed after orienting its faces; the object must be closed");
   }
+  return mesh;
+}
 
-  // Zero-area faces with distinct vertices (collinear corners).
+/// Removes zero-area faces with distinct vertices (collinear corners), keeping it closed.
+void removeZeroAreaFaces(SolidBuild& b, Surface& mesh) {
   std::size_t zero_area = 0;
   for (auto f : mesh.faces()) {
     if (PMP::is_degenerate_triangle_face(f, mesh)) ++zero_area;
   }
-  if (zero_area > 0) {
-    if (!repair)
-      refuse("mesh has " + plural(zero_area, "zero-area face") + " (repair is disabled)");
-    const bool all_removed = PMP::remove_degenerate_faces(mesh);
-    mesh.collect_garbage();
-    if (!all_removed || mesh.is_empty() || !CGAL::is_closed(mesh) ||
-        !CGAL::is_valid_polygon_mesh(mesh)) {
-      refuse("mesh has " + plural(zero_area, "zero-area face") +
+  if (zero_area == 0) return;
+  if (!b.repair)
+    b.refuse("mesh has " + plural(zero_area, "zero-area face") + " (repair is disabled)");
+  const bool all_removed = PMP::remove_degenerate_faces(mesh);
+  mesh.collect_garbage();
+  if (!all_removed || mesh.is_empty() || !CGAL::is_closed(mesh) ||
+      !CGAL::is_valid_polygon_mesh(mesh)) {
+    b.refuse("mesh has " + plural(zero_area, "zero-area face") +
              " that could not be removed while keeping it closed");
-    }
-    result.repairs.push_back("removed " + plural(zero_area, "zero-area face"));
   }
+  b.result.repairs.push_back("removed " + plural(zero_area, "zero-area face"));
+}
 
-  const bool self_intersecting = PMP::does_self_intersect(mesh);
-  if (self_intersecting) {
-    result.warnings.push_back(
-        "the surface intersects itself: inside tests unite overlapping parts (positive winding "
-        "number), but volume, centre of mass and inertia count overlaps twice");
-  }
-  std::vector<std::array<int, 3>> before_orient;
+std::vector<std::array<int, 3>> faceCycles(const Surface& mesh) {
+  std::vector<std::array<int, 3>> out;
   for (auto f : mesh.faces()) {
     std::array<int, 3> tri{};
     int c = 0;
     for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) tri[c++] = int(v.idx());
-    before_orient.push_back(canonicalCycle(tri));
+    out.push_back(canonicalCycle(tri));
   }
+  return out;
+}
+
+/// Orients the closed surface outward (warning about self-intersections).
+void orientOutward(SolidBuild& b, Surface& mesh) {
+  const bool self_intersecting = PMP::does_self_intersect(mesh);
+  if (self_intersecting) {
+    b.result.warnings.push_back(
+        "the surface intersects itself: inside tests unite overlapping parts (positive winding "
+        "number), but volume, centre of mass and inertia count overlaps twice");
+  }
+  const std::vector<std::array<int, 3>> before_orient = faceCycles(mesh);
   if (!self_intersecting) {
     PMP::orient_to_bound_a_volume(mesh);
   } else {
     MeshSoup tmp = toSoup(mesh);
     if (signedVolume(tmp) < 0) PMP::reverse_face_orientations(mesh);
   }
+  const std::vector<std::array<int, 3>> after = faceCycles(mesh);
   std::size_t reversed = 0;
-  {
-    std::size_t i = 0;
-    for (auto f : mesh.faces()) {
-      std::array<int, 3> tri{};
-      int c = 0;
-      for (auto v : CGAL::vertices_around_face(mesh.halfedge(f), mesh)) tri[c++] = int(v.idx());
-      if (canonicalCycle(tri) != before_orient[i++]) ++reversed;
-    }
-  }
+  for (std::size_t i = 0; i < after.size(); ++i) reversed += after[i] != before_orient[i];
   if (reversed > 0) {
-    repaired("reversed " + plural(reversed, "face") + " to point outward",
-             "mesh has " + plural(reversed, "inward-facing face"));
+    b.repaired("reversed " + plural(reversed, "face") + " to point outward",
+               "mesh has " + plural(reversed, "inward-facing face"));
   }
+}
+
+SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
+  SolidBuild b{std::move(soup), what, repair, {}, 0.0};
+  checkInput(b);
+  cleanFaces(b);
+  const EdgeStats stats = closeBorders(b);
+  Surface mesh = orientedSurface(b, stats);
+  removeZeroAreaFaces(b, mesh);
+  orientOutward(b, mesh);
 
   MeshSoup out = toSoup(mesh);
   const double volume = signedVolume(out);
-  if (!(volume > 1e-12 * diagonal * diagonal * diagonal)) {
-    refuse("mesh encloses zero volume (flat or collapsed); a solid needs positive volume");
+  if (!(volume > 1e-12 * b.diagonal * b.diagonal * b.diagonal)) {
+    b.refuse("mesh encloses zero volume (flat or collapsed); a solid needs positive volume");
   }
-  result.mesh.vertices = std::move(out.points);
-  result.mesh.faces.reserve(out.faces.size());
-  for (const auto& f : out.faces) result.mesh.faces.emplace_back(f[0], f[1], f[2]);
-  return result;
+  b.result.mesh.vertices = std::move(out.points);
+  b.result.mesh.faces.reserve(out.faces.size());
+  for (const auto& f : out.faces) b.result.mesh.faces.emplace_back(f[0], f[1], f[2]);
+  return std::move(b.result);
 }
 
 }  // namespace
 
-SolidResult makeSolid(MeshSoup soup, const std::string& what, bool repair) {
+double soupVolume(const MeshSoup& soup) {
+  if (soup.points.empty()) return 0.0;
+  Eigen::Vector3d lo = soup.points[0], hi = soup.points[0];
+  for (const auto& p : soup.points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Eigen::Vector3d c = 0.5 * (lo + hi);
+  double v = 0;
+  for (const auto& f : soup.faces) {
+    v += (soup.points[f[0]] - c).dot((soup.points[f[1]] - c).cross(soup.points[f[2]] - c));
+  }
+  return v / 6.0;
+}
+
+namespace {
+
+SolidResult guardedMakeSolid(MeshSoup soup, const std::string& what, bool repair) {
   try {
     return makeSolidImpl(std::move(soup), what, repair);
   } catch (const Error&) {
@@ -403,6 +363,55 @@ SolidResult makeSolid(MeshSoup soup, const std::string& what, bool repair) {
   } catch (...) {
     throw Error(what + ": geometry validation failed");
   }
+}
+
+std::string metres(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g m", v);
+  return buf;
+}
+
+/// Replaces an open surface by its alpha wrap and validates that; reports the volume change.
+SolidResult wrapSolid(const MeshSoup& input, const std::string& what, const SolidOptions& o) {
+  Eigen::Vector3d lo = input.points[0], hi = input.points[0];
+  for (const auto& p : input.points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double diagonal = (hi - lo).norm();
+  const double alpha = o.wrap_alpha > 0 ? o.wrap_alpha : diagonal / 100.0;
+  const double offset = o.wrap_offset > 0 ? o.wrap_offset : diagonal / 3000.0;
+  MeshSoup cleaned = input;
+  mergeIdenticalPoints(&cleaned);
+  dropBadFaces(&cleaned);
+  const double open_volume = std::abs(soupVolume(cleaned));
+  SolidResult r = guardedMakeSolid(alphaWrap(cleaned, alpha, offset, what), what, true);
+  MeshSoup wrapped{r.mesh.vertices, {}};
+  for (const auto& t : r.mesh.faces) wrapped.faces.push_back({t[0], t[1], t[2]});
+  const double volume = soupVolume(wrapped);
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "closed the open surface by alpha wrapping (alpha %s, offset %s): %zu faces, "
+                "volume %.6g m^3 vs %.6g m^3 enclosed by the open input (%+.1f%%)",
+                metres(alpha).c_str(), metres(offset).c_str(), r.mesh.faces.size(), volume,
+                open_volume, open_volume > 0 ? 100.0 * (volume - open_volume) / open_volume : 0.0);
+  r.repairs.insert(r.repairs.begin(), buf);
+  return r;
+}
+
+}  // namespace
+
+SolidResult makeSolid(MeshSoup soup, const std::string& what, const SolidOptions& options) {
+  MeshSoup input;
+  if (options.wrap) input = soup;
+  try {
+    return guardedMakeSolid(std::move(soup), what, options.repair);
+  } catch (const OpenSurfaceError& e) {
+    if (!options.wrap)
+      throw Error(std::string(e.what()) +
+                  "; `--repair wrap` (MeshLoadOptions::wrap) closes it by alpha wrapping");
+  }
+  return wrapSolid(input, what, options);
 }
 
 }  // namespace taskmap::detail

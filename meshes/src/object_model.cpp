@@ -98,7 +98,9 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
   }
   const std::size_t input_vertices = soup.points.size();
   const std::size_t input_faces = soup.faces.size();
-  detail::SolidResult solid = detail::makeSolid(std::move(soup), what, options.repair);
+  detail::SolidResult solid = detail::makeSolid(
+      std::move(soup), what,
+      detail::SolidOptions{options.repair, options.wrap, options.wrap_alpha, options.wrap_offset});
 
   auto impl = std::make_shared<ObjectModel::Impl>();
   impl->scale = options.scale;
@@ -141,6 +143,13 @@ void MeshLoadOptions::validate() const {
                 formatDouble(max_extent) + ")");
   }
   if (max_faces == 0) throw Error("mesh load option max_faces must be positive");
+  if (!(wrap_alpha >= 0) || !std::isfinite(wrap_alpha) || !(wrap_offset >= 0) ||
+      !std::isfinite(wrap_offset)) {
+    throw Error(
+        "mesh load options wrap_alpha and wrap_offset must be finite lengths >= 0 in "
+        "metres (0: automatic)");
+  }
+  if (wrap && !repair) throw Error("mesh load option wrap needs repair (it is a repair)");
 }
 
 ObjectModel ObjectModel::load(const std::string& path, const MeshLoadOptions& options) {

@@ -98,7 +98,7 @@ bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
   try {
     setup.plan = planBuild(args);
     setup.object =
-        std::make_unique<ObjectModel>(ObjectModel::load(args.object, MeshLoadOptions{args.scale}));
+        std::make_unique<ObjectModel>(ObjectModel::load(args.object, meshLoadOptions(args)));
     setup.hand = std::make_unique<HandModel>(HandModel::load(setup.plan.hand_urdf));
     checkGraspOptions(args, setup.plan.options, *setup.hand, setup.plan.hand_urdf);
     setup.runner = std::make_unique<TrialRunner>(*setup.object, *setup.hand, setup.plan.options);
@@ -154,6 +154,12 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   BuildResult result =
       assembleMap(*setup.object, *setup.hand, options, ledger.takePrefix(), false, timing);
+  if (result.status == BuildStatus::kNoGrasps) {
+    checkpoint.remove();
+    std::cerr << "taskmap-mpi build: error: " << result.message << "; nothing written to '"
+              << args.output << "'\n";
+    return 3;
+  }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output, result.map);

@@ -40,6 +40,7 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_option("-o,--output", args.output, "task map to write (.h5)")->required();
   cmd->add_option("--scale", args.scale, "multiplies the mesh coordinates (file units -> m)")
       ->capture_default_str();
+  addMeshRepairOptions(cmd, args.repair);
   addBuildKnobs(*cmd, args);
 }
 
@@ -109,6 +110,13 @@ BuildOptions knobOptions(const BuildArgs& args) {
   return options;
 }
 
+MeshLoadOptions meshLoadOptions(const BuildArgs& args) {
+  MeshLoadOptions load;
+  load.scale = args.scale;
+  applyMeshRepairArgs(args.repair, load);
+  return load;
+}
+
 void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
                        const std::string& hand_path) {
   const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());
@@ -128,6 +136,10 @@ BuildPlan planBuild(const BuildArgs& args) {
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
   plan.hand_urdf = resolveHandUrdf(args.hand);
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
+  const MeshLoadOptions load = meshLoadOptions(args);
+  if (load.wrap)
+    extra["repair"] = {{"wrap", true}, {"alpha", load.wrap_alpha}, {"offset", load.wrap_offset}};
+  if (!load.repair) extra["repair"] = false;
   options.extra_params_json = extra.dump();
   options.validate();
   return plan;

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "mesh_options.hpp"
 #include "taskmap/builder/map_builder.hpp"
 
 namespace taskmap::cli {
@@ -23,9 +24,13 @@ struct BuildArgs {
   int cone_edges = 8;
   std::string grasp;       ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
   double standoff = -1.0;  ///< metres; negative = the hand sidecar's
+  MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
   bool timestamp = false;  ///< store the current time as created_utc
 };
+
+/// How to load the object: --scale and the repair options.
+MeshLoadOptions meshLoadOptions(const BuildArgs& args);
 
 /// Refuses --standoff when the grasp mode in force (--grasp, else the hand's) is not fingertip.
 void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,

@@ -39,7 +39,7 @@ void runBuild(const BuildArgs& args) {
   const BuildOptions& options = plan.options;
   const std::string& hand_path = plan.hand_urdf;
 
-  const ObjectModel object = ObjectModel::load(args.object, MeshLoadOptions{args.scale});
+  const ObjectModel object = ObjectModel::load(args.object, meshLoadOptions(args));
   const HandModel hand = HandModel::load(hand_path);
   checkGraspOptions(args, options, hand, hand_path);
 
@@ -71,6 +71,14 @@ void runBuild(const BuildArgs& args) {
     std::cerr << "taskmap build: " << result.message << "; nothing written to '" << args.output
               << "'\n";
     exitCode() = 130;
+    return;
+  }
+  if (result.status == BuildStatus::kNoGrasps) {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+    std::cerr << "taskmap build: error: " << result.message << "; nothing written to '"
+              << args.output << "'\n";
+    exitCode() = 3;
     return;
   }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);

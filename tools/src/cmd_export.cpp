@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "acronym_frame.hpp"
 #include "command.hpp"
 #include "map_summary.hpp"
 #include "taskmap/core/error.hpp"
@@ -22,6 +23,7 @@ struct ExportArgs {
   double glyph_size = 0.0;  // 0: automatic
   double density = 1000.0;
   std::string object_file;
+  AcronymFrameArgs frame;
 };
 
 Rgba rgba(int cluster) {
@@ -84,6 +86,7 @@ void runExport(const ExportArgs& args) {
     AcronymExportOptions options;
     options.density = args.density;
     options.object_file = args.object_file;
+    options.base_to_palm = baseToPalm(args.frame);
     writeAcronym(args.output, map, options);
   } else {
     exportScene(args.output, sceneOf(map, args.glyph_size), sceneFormatFromString(args.format));
@@ -112,6 +115,7 @@ const CommandRegistrar kRegistrar("export", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--object-file", args->object_file,
                   "acronym: mesh file name for object/file (default <object name>.obj)");
+  addAcronymFrameOptions(cmd, args->frame);
   cmd->callback([args]() { runExport(*args); });
 });
 

@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "acronym_frame.hpp"
 #include "command.hpp"
 #include "isolated.hpp"
 #include "taskmap/clustering/clustering.hpp"
@@ -32,6 +33,7 @@ struct ImportArgs {
   std::optional<double> threshold;
   std::optional<int> clusters;
   double min_size_fraction = 0.02;
+  AcronymFrameArgs frame;
 };
 
 MapObject mapObjectOf(const ObjectModel& model) {
@@ -65,6 +67,7 @@ void runImport(const ImportArgs& args) {
   options.clustering.threshold = args.threshold;
   options.clustering.num_clusters = args.clusters;
   options.clustering.min_size_fraction = args.min_size_fraction;
+  options.base_to_palm = baseToPalm(args.frame);
   options.validate();
   const AcronymGrasps grasps = readAcronym(args.acronym);
   if (!std::filesystem::exists(args.object)) {
@@ -84,7 +87,8 @@ void runImport(const ImportArgs& args) {
             << load.scale << ", "
             << (map.clustering ? std::to_string(map.clustering->clusters.size())
                                : std::string("no"))
-            << " clusters; contacts absent\n";
+            << " clusters; contacts absent; "
+            << describeBaseToPalm(args.frame, options.base_to_palm) << "\n";
 }
 
 const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
@@ -116,6 +120,7 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
   cmd->add_option("--min-size-fraction", args->min_size_fraction,
                   "clusters below this share of the grasps are outliers")
       ->capture_default_str();
+  addAcronymFrameOptions(cmd, args->frame);
   cmd->add_option("--cpu-seconds", args->limits.cpu_seconds,
                   "CPU-time limit of the import (it runs in a child process)")
       ->check(CLI::Range(1, 86400))

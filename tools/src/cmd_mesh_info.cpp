@@ -1,5 +1,5 @@
-// taskmap mesh-info FILE [--scale S] [--json] [--no-repair]: load an object mesh as a solid
-// and print what was found and repaired, and its mass properties.
+// taskmap mesh-info FILE [--scale S] [--json] [--no-repair | --repair wrap]: load an object
+// mesh as a solid and print what was found and repaired, and its mass properties.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
@@ -18,7 +19,7 @@ struct MeshInfoArgs {
   std::string file;
   double scale = 1.0;
   bool json = false;
-  bool no_repair = false;
+  MeshRepairArgs repair;
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -34,7 +35,7 @@ std::string fmt(const Eigen::Vector3d& v) {
 void run(const MeshInfoArgs& args) {
   MeshLoadOptions options;
   options.scale = args.scale;
-  options.repair = !args.no_repair;
+  applyMeshRepairArgs(args.repair, options);
   ObjectModel model;
   try {
     model = ObjectModel::load(args.file, options);
@@ -106,7 +107,7 @@ const CommandRegistrar kRegistrar("mesh-info", [](CLI::App& app) {
   cmd->add_option("--scale", args->scale, "multiplies coordinates (file units to metres)")
       ->check(CLI::PositiveNumber);
   cmd->add_flag("--json", args->json, "print JSON instead of text");
-  cmd->add_flag("--no-repair", args->no_repair, "refuse meshes that need repair");
+  addMeshRepairOptions(cmd, args->repair);
   cmd->callback([args]() { run(*args); });
 });
 

@@ -131,6 +131,7 @@ json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job) {
     entry["seed"] = seed;
     const BuildOptions options = jobOptions(plan, job, seed);
     BuildResult result = buildMap(object, hand, options);
+    if (result.status == BuildStatus::kNoGrasps) throw Error(result.message);
     if (plan.args.knobs.timestamp) result.map.created_utc = mapCreationTime(true);
     const std::string path = (fs::path(plan.dir) / job.file).string();
     writeMap(path, result.map);

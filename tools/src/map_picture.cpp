@@ -86,14 +86,7 @@ struct Projector {
 };
 
 void drawView(cairo_t* cr, const Scene& s, const View& view, const Box& cell, double scale) {
-  // Frame and title.
-  cairo_rectangle(cr, cell.x, cell.y, cell.w, cell.h);
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_fill_preserve(cr);
-  setColor(cr, kFrame);
-  cairo_set_line_width(cr, 1.0);
-  cairo_stroke(cr);
-  text(cr, cell.x + 10, cell.y + 22, view.title, 15, true);
+  drawCell(cr, cell, view.title);
   const Box plot{cell.x + 10, cell.y + 34, cell.w - 20, cell.h - 44};
   Projector pr{plot, scale, 0.5 * (s.lo[view.u] + s.hi[view.u]),
                0.5 * (s.lo[view.v] + s.hi[view.v]), &view};
@@ -269,16 +262,7 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   cairo_surface_flush(surface);
   checkCairo(cairo_status(cr), path);
 
-  // Atomic write: temporary file beside the target, then rename.
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
-  if (st != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
-                "; check that the directory exists and is writable");
-  }
-  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+  writePng(surface, path);
 }
 
 #endif  // TASKMAP_HAVE_CAIRO

@@ -6,6 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
+
+#include <unistd.h>
+
+#include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/error.hpp"
 
 namespace taskmap::cli::draw {
 
@@ -109,14 +116,30 @@ void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double to
   }
 }
 
-void drawHistogram(cairo_t* cr, const Scene& s, const Box& cell) {
+void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double size) {
   cairo_rectangle(cr, cell.x, cell.y, cell.w, cell.h);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_fill_preserve(cr);
   setColor(cr, kFrame);
   cairo_set_line_width(cr, 1.0);
   cairo_stroke(cr);
-  text(cr, cell.x + 10, cell.y + 22, "Epsilon per cluster (stacked, all grasps)", 15, true);
+  text(cr, cell.x + 10, cell.y + 22, title, size, true);
+}
+
+void writePng(cairo_surface_t* surface, const std::string& path) {
+  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
+  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
+  if (st != CAIRO_STATUS_SUCCESS) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
+                "; check that the directory exists and is writable");
+  }
+  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+}
+
+void drawHistogram(cairo_t* cr, const Scene& s, const Box& cell) {
+  drawCell(cr, cell, "Epsilon per cluster (stacked, all grasps)");
 
   const auto& eps = s.map->grasps.epsilon;
   const int k_count = static_cast<int>(s.summary->clusters.size());

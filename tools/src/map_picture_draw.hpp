@@ -57,6 +57,11 @@ void drawArrow(cairo_t* cr, double x0, double y0, double x1, double y1, const Rg
 /// mostly perpendicular to the view), a dot if it points at the viewer, a cross if away.
 void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double toward_viewer,
                         bool axial);
+/// A panel: white cell with a frame and a bold title at (10, 22) from its corner.
+void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double size = 15);
+/// Writes the surface as PNG atomically (temporary file beside path, then rename); throws Error
+/// naming the file when that fails.
+void writePng(cairo_surface_t* surface, const std::string& path);
 /// Stacked histogram of epsilon per cluster (outliers grey on top).
 void drawHistogram(cairo_t* cr, const Scene& s, const Box& cell);
 /// Legend: cluster colours and sizes, marker meanings, map facts.

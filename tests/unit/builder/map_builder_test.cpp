@@ -5,8 +5,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -113,15 +116,73 @@ TEST(MapBuilderTest, KeepInvalidStoresEveryCompletedTrial) {
 TEST(MapBuilderTest, TrialBudgetExhausted) {
   BuildOptions o = smallBuild(2);
   o.valid_target = 100000;
-  o.max_trials = 10;
+  o.max_trials = 200;
   const BuildResult r = buildMap(box(), panda(), o);
   EXPECT_EQ(r.status, BuildStatus::kTrialBudgetExhausted);
-  EXPECT_EQ(r.map.sampling.trials, 10u);
+  EXPECT_EQ(r.map.sampling.trials, 200u);
+  EXPECT_GT(r.map.grasps.size(), 0u);
   std::uint64_t sum = 0;
   for (const auto& [name, count] : r.map.sampling.outcomes) sum += count;
-  EXPECT_EQ(sum, 10u);
+  EXPECT_EQ(sum, 200u);
   EXPECT_NE(r.message.find("trial budget"), std::string::npos);
   EXPECT_NO_THROW(r.map.validate());
+}
+
+TEST(MapBuilderTest, NoGraspStoredNamesTheDominantOutcome) {
+  // The panda with its approach axis reversed backs away from the object: no trial keeps
+  // palm contact, and the build says so instead of returning an empty map as complete.
+  const std::string dir = ::testing::TempDir() + "/reversed_panda_" + std::to_string(::getpid());
+  ASSERT_EQ(std::system(("mkdir -p " + dir).c_str()), 0);
+  const std::string src = std::string(TASKMAP_HANDS_DIR) + "/panda/panda";
+  ASSERT_EQ(std::system(("cp " + src + ".urdf " + dir + "/panda.urdf").c_str()), 0);
+  ASSERT_EQ(std::system(("sed 's/\"approach_axis\": \\[0, 0, 1\\]/\"approach_axis\": [0, 0, "
+                         "-1]/' " +
+                         src + ".hand.json > " + dir + "/panda.hand.json")
+                            .c_str()),
+            0);
+  const HandModel reversed = HandModel::load(dir + "/panda.urdf");
+  ASSERT_EQ(reversed.approachAxis().z(), -1.0);
+  BuildOptions o = smallBuild(2);
+  o.max_trials = 200;
+  const BuildResult r = buildMap(box(), reversed, o);
+  EXPECT_EQ(r.status, BuildStatus::kNoGrasps);
+  EXPECT_EQ(std::string(toString(r.status)), "no_grasps");
+  EXPECT_EQ(r.map.grasps.size(), 0u);
+  EXPECT_NE(r.message.find("no grasp stored after 200 trials: "), std::string::npos) << r.message;
+  // The dominant outcome is named with its share, and what to check.
+  std::string dominant;
+  std::uint64_t most = 0;
+  for (const auto& [name, count] : r.map.sampling.outcomes)
+    if (count > most) {
+      most = count;
+      dominant = name;
+    }
+  EXPECT_NE(r.message.find("% ended " + dominant + "; "), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("approach_axis"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("Units: the object is 0.12 m across"), std::string::npos) << r.message;
+}
+
+TEST(MapBuilderTest, MillimetreObjectIsRefusedBeforeTheBuild) {
+  // A 9 cm box written in millimetres and read as metres: 90 m across (below the loader's
+  // absolute limit of 100 m, far beyond the hand).
+  const ObjectModel mm = ObjectModel::fromMesh(testing::makeBox(40, 50, 90), "box_mm");
+  try {
+    buildMap(mm, panda(), smallBuild(1));
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("object 'box_mm' is 90 m across, 752 times the reach of hand"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("is the mesh in millimetres? pass --scale 0.001"), std::string::npos) << msg;
+  }
+  const ObjectModel tiny = ObjectModel::fromMesh(testing::makeBox(4e-5, 5e-5, 1.2e-4), "box_um");
+  try {
+    buildMap(tiny, panda(), smallBuild(1));
+    FAIL() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("check --scale"), std::string::npos) << e.what();
+  }
 }
 
 TEST(MapBuilderTest, StopFlagInterrupts) {
@@ -164,6 +225,33 @@ TEST(MapBuilderTest, BuiltMapSurvivesWriteAndRead) {
   EXPECT_EQ(back.hand.joint_names, panda().jointNames());
   EXPECT_EQ(back.grasps.rotation_scale, panda().rotationScale());
   EXPECT_EQ(back.sampling.params_json, r.map.sampling.params_json);
+  // Link names: contact_links readable without the hand model, from C++ and from h5py.
+  std::vector<std::string> links;
+  for (const HandLink& l : panda().links()) links.push_back(l.name);
+  EXPECT_EQ(back.hand.link_names, links);
+  ASSERT_FALSE(back.grasps.contact_links.empty());
+  const std::string script = ::testing::TempDir() + "links_" + std::to_string(::getpid()) + ".py";
+  {
+    std::ofstream py(script);
+    py << "import h5py, sys\n"
+          "f = h5py.File(sys.argv[1], 'r')\n"
+          "links = f['hand/link_names'].asstr()[()]\n"
+          "print(' '.join(links[k] for k in f['grasps/contact_links'][()][:3]))\n";
+  }
+  FILE* pipe = ::popen((std::string(TASKMAP_PYTHON) + " " + script + " " + path).c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char buffer[512] = {};
+  const std::string out = std::fgets(buffer, sizeof buffer, pipe) ? buffer : "";
+  EXPECT_EQ(::pclose(pipe), 0);
+  std::string expected;
+  for (std::size_t i = 0; i < 3 && i < back.grasps.contact_links.size(); ++i)
+    expected += (i ? " " : "") + links[static_cast<std::size_t>(back.grasps.contact_links[i])];
+  EXPECT_EQ(out, expected + "\n");
+  // A contact link beyond the stored names is refused.
+  TaskMapData bad = back;
+  bad.grasps.contact_links[0] = static_cast<std::int32_t>(links.size());
+  EXPECT_THROW(bad.validate(), Error);
+  std::remove(script.c_str());
   std::remove(path.c_str());
 }
 

@@ -33,8 +33,10 @@ TEST(AcronymTest, ExportThenImportKeepsPosesFlagsAndEpsilon) {
   const AcronymGrasps a = readAcronym(path);
   ASSERT_EQ(a.transforms.size(), map.grasps.size());
   for (std::size_t i = 0; i < a.transforms.size(); ++i) {
-    EXPECT_LT((a.transforms[i] - map.grasps.poseAt(i).toIsometry().matrix()).cwiseAbs().maxCoeff(),
-              1e-15);
+    // ACRONYM stores the gripper base: palm pose times the inverse base-to-palm transform.
+    const Eigen::Matrix4d base =
+        (map.grasps.poseAt(i).toIsometry() * acronymFrankaBaseToPalm().inverse()).matrix();
+    EXPECT_LT((a.transforms[i] - base).cwiseAbs().maxCoeff(), 1e-15);
   }
   const TaskMapData back = acronymToMap(a, map.object);
   ASSERT_EQ(back.grasps.size(), map.grasps.size());

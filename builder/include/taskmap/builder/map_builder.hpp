@@ -48,9 +48,13 @@ enum class BuildStatus {
   kComplete,              ///< valid_target force-closure grasps found
   kTrialBudgetExhausted,  ///< max_trials spent with fewer found; the map holds what was found
   kInterrupted,           ///< the stop flag was raised; the map holds a partial prefix
+  /// max_trials spent and no grasp stored: the message names the dominant trial outcome and
+  /// what to check (units, approach axis, preshape); the map holds no grasp and must not be
+  /// written as a result.
+  kNoGrasps,
 };
 
-/// "complete", "trial_budget_exhausted", "interrupted".
+/// "complete", "trial_budget_exhausted", "interrupted", "no_grasps".
 const char* toString(BuildStatus status);
 
 /// Where the time went. Stage times are CPU seconds of the worker threads, summed over threads,
@@ -87,8 +91,10 @@ struct BuildResult {
   BuildTiming timing;
 };
 
-/// Runs the pipeline. Throws Error on invalid options. Returns kInterrupted soon after *stop
-/// becomes true (workers finish their current trial). progress_interval_seconds > 0.
+/// Runs the pipeline. Throws Error on invalid options and on an object whose size against the
+/// hand's reach suggests wrong units (over 100 times the reach, or under a hundredth). Returns
+/// kInterrupted soon after *stop becomes true (workers finish their current trial).
+/// progress_interval_seconds > 0.
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
                      const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr,
                      double progress_interval_seconds = 0.25);

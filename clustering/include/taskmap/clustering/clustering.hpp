@@ -74,10 +74,19 @@ double defaultThreshold(const LinkageMatrix& linkage, int min_size);
 /// @param outlier_budget share in [0, 1]; 1 gives 0.
 double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outlier_budget);
 
-/// Default cut of clusterGrasps: max(defaultThreshold(linkage, min_size),
-/// coverageThreshold(linkage, min_size, outlier_budget)). No prior on the number of clusters:
-/// the gap rule finds the natural split; the coverage floor stops it from cutting so low that
-/// many grasps fall into fragments below min_size. Measured on the paper's basket map (1000
+/// Default cut of clusterGrasps. With a significant gap (defaultThreshold finds a merge of two
+/// clusters of min_size with ratio >= kMinGapRatio): max(gap cut, coverageThreshold), except
+/// that when both sides of the gap's merge are families larger than the outlier budget
+/// (outlier_budget * n points), a coverage floor at or above the merge distance would undo the
+/// split: then the cut is the highest merge below that distance (the families stay apart, as
+/// few outliers as that allows). Without one (a continuum of
+/// grasps): the coverage floor when it leaves at least two clusters of min_size, else the gap
+/// rule's one-cluster cut. No prior on the number of clusters: the gap rule finds the natural
+/// split; the coverage floor stops it from cutting so low that many grasps fall into fragments
+/// below min_size. One cluster over a continuum of orientations would be summarised by a mean
+/// pose that no grasp has: measured on real maps (the YCB mug with the humanoid hand, ACRONYM's
+/// mug), the handle grasps then fall into clusters of their own, mixed with body grasps only
+/// where orientations overlap. Measured on the paper's basket map (1000
 /// grasps, Barrett hand, seed 1, average linkage): the gap rule alone leaves 351 outliers; the
 /// default cut gives 15 clusters and 95 outliers, each cluster on one bar of the handle (or
 /// the rim). The bars split into several clusters each because rho weighs orientation: grasps

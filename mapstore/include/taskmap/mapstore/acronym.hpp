@@ -5,7 +5,7 @@
 /// written for that dataset read our maps and its grasps become task maps.
 ///
 /// Layout (datasets; h5py reads them as `f["object/scale"][()]`, as acronym_tools does):
-///   grasps/transforms                         f64 N x 4 x 4, gripper (our palm) frame -> object
+///   grasps/transforms                         f64 N x 4 x 4, gripper base frame -> object
 ///                                             frame (mesh coordinates times object/scale), m
 ///   grasps/qualities/flex/object_in_gripper   i64 (N), 1 = success; we write force closure
 ///   grasps/qualities/taskmap/epsilon          f64 (N), Ferrari-Canny epsilon (our addition;
@@ -22,21 +22,40 @@
 ///   gripper/configuration  f64 (J) joint values of the hand's open configuration when known;
 ///                                  empty for our maps (they store closed values per grasp)
 
+///
+/// Frames: ACRONYM's transforms place the gripper's *base* frame (for its Franka gripper the
+/// hand link, `panda_hand`, at the flange); task maps store the *palm* frame. With B the palm
+/// frame in the base frame (base_to_palm), a palm pose P and an ACRONYM transform T relate by
+///   P = T * B  (import),   T = P * B^-1  (export).
+/// The default B is ACRONYM's Franka gripper: a translation of 0.1034 m along the base z axis
+/// (the approach axis), from the hand link to the point between the fingertips
+/// (kAcronymFrankaPalmOffset); for a hand URDF whose root is the base frame, B is the hand's
+/// root-to-palm transform (`taskmap import/export --hand`). See docs/ACRONYM.md.
+
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 
 namespace taskmap {
 
+/// Offset of the palm frame from ACRONYM's Franka gripper base along its z (approach) axis, m.
+inline constexpr double kAcronymFrankaPalmOffset = 0.1034;
+
+/// Palm frame in ACRONYM's gripper base frame for its Franka gripper: z by 0.1034 m.
+Eigen::Isometry3d acronymFrankaBaseToPalm();
+
 /// Options of writeAcronym.
 struct AcronymExportOptions {
   std::string object_file;  ///< object/file; "" writes "<object name>.obj"
   double density = 1000.0;  ///< kg/m^3 for object/density and object/mass; > 0
+  /// Palm frame in the gripper base frame: transforms written are pose * base_to_palm^-1.
+  Eigen::Isometry3d base_to_palm = acronymFrankaBaseToPalm();
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -77,13 +96,16 @@ AcronymGrasps readAcronym(const std::string& path);
 struct AcronymImportOptions {
   bool successful_only = false;  ///< keep only grasps with object_in_gripper = 1
   bool cluster = true;           ///< run clusterGrasps on the imported poses (needs >= 2)
+  /// Palm frame in the gripper base frame: imported poses are transform * base_to_palm.
+  Eigen::Isometry3d base_to_palm = acronymFrankaBaseToPalm();
   ClusteringOptions clustering;  ///< options of that clustering
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
 
 /// Turns ACRONYM grasps into a task map for object (mesh already scaled by
-/// grasps.object_scale, in metres). Poses are the transforms (rotation re-orthonormalised;
+/// grasps.object_scale, in metres). Poses are the palm frames transform * base_to_palm
+/// (rotation re-orthonormalised;
 /// a transform whose rotation is not a rotation within 1e-6 is refused). force_closure is
 /// object_in_gripper; epsilon is the file's taskmap epsilon when present, else
 /// object_in_gripper as 0 / 1 (ACRONYM has no epsilon). Contacts are absent

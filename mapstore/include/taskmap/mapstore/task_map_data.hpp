@@ -39,6 +39,9 @@ struct MapHand {
   std::string name;
   std::string urdf_sha256;
   std::vector<std::string> joint_names;  ///< J actuated joints, order of MapGrasps::joints
+  /// L hand links in HandModel::links() order (/hand/link_names): MapGrasps::contact_links
+  /// indexes it. Empty for maps written before it was stored and for imported maps.
+  std::vector<std::string> link_names;
 };
 
 /// How trials were sampled (/sampling).

@@ -81,7 +81,10 @@ class HandModel {
   /// joints, links without collision geometry where the sidecar needs it, and bad values.
   static HandModel load(const std::string& urdf_path, const std::string& sidecar_path = "");
 
-  const std::string& name() const;              ///< robot name from the URDF
+  /// Hand name for maps and titles: the sidecar's "name", else the URDF robot name, else (when
+  /// that is a generic word such as "hand" or "gripper") the URDF file stem.
+  const std::string& name() const;
+  const std::string& robotName() const;         ///< robot name from the URDF
   const std::string& urdfSha256() const;        ///< SHA-256 of the URDF file bytes, hex
   const std::string& urdfPath() const;          ///< the URDF file read
   const std::string& sidecarPath() const;       ///< the sidecar file read
@@ -107,6 +110,8 @@ class HandModel {
   int palmLink() const;
   /// Palm frame expressed in the palm link frame.
   const Eigen::Isometry3d& palmFrame() const;
+  /// Palm frame expressed in the URDF root link frame (constant: the palm is fixed to the root).
+  const Eigen::Isometry3d& rootToPalm() const;
   /// The closing motion: which actuated joints close, toward which limit, how fast.
   const std::vector<ClosingJoint>& closing() const;
   /// Squeeze after contact, metres: how far each contact is pressed into the object.
@@ -138,7 +143,7 @@ class HandModel {
   const std::vector<double>& jointLevers() const;
 
  private:
-  std::string name_, sha_, urdf_path_, sidecar_path_;
+  std::string name_, robot_name_, sha_, urdf_path_, sidecar_path_;
   std::vector<HandLink> links_;
   std::vector<HandJoint> joints_;
   std::vector<std::string> actuated_;

@@ -20,6 +20,12 @@ struct MeshLoadOptions {
   bool repair = true;         ///< merge duplicates, stitch borders, orient outward, drop degenerate
   double max_extent = 100.0;  ///< metres; larger bounding boxes are refused as absurd
   std::size_t max_faces = 10'000'000;  ///< larger meshes are refused (memory, time)
+  /// Close a surface that stays open or non-manifold after repair by 3D alpha wrapping
+  /// (CGAL::alpha_wrap_3): the solid becomes a watertight envelope `wrap_offset` outside the
+  /// input that does not enter openings narrower than about `wrap_alpha`. Needs repair.
+  bool wrap = false;
+  double wrap_alpha = 0.0;   ///< metres, >= 0; 0: bounding-box diagonal / 100
+  double wrap_offset = 0.0;  ///< metres, >= 0; 0: bounding-box diagonal / 3000
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };

@@ -1,0 +1,85 @@
+// Object size sanity before a build, and what to check when a build stores no grasp.
+#include "build_diagnosis.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "taskmap/core/error.hpp"
+
+namespace taskmap::detail {
+namespace {
+
+double largestExtent(const ObjectModel& object) {
+  const MassProperties& mp = object.massProperties();
+  return (mp.bounds_max - mp.bounds_min).maxCoeff();
+}
+
+std::string num(double v, const char* fmt = "%.3g") {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+/// What an outcome means for the setup, and what to look at.
+std::string adviceFor(const std::string& outcome) {
+  if (outcome == "no_palm_contact")
+    return "the palm never touched the object when the hand was pulled back: check that the "
+           "sidecar's approach_axis points from the palm toward the object (a reversed axis "
+           "backs away), that the palm link has geometry facing the object, and that the "
+           "preshape opens the fingers wide enough for the palm to reach it";
+  if (outcome == "no_finger_contact")
+    return "closing ended at the joint limits without a finger touching: check that the "
+           "sidecar's approach_axis points from the palm toward the object between the fingers "
+           "(a reversed axis leaves the object behind the palm), the closing direction (toward "
+           "lower/upper), and the preshape opening against the object size";
+  if (outcome == "not_retractable")
+    return "the hand could not be pulled out of the object: check the approach_axis sign and "
+           "geometry fixed to the palm in front of it (e.g. collision capsules of a flange); "
+           "`taskmap hand-info` shows both";
+  if (outcome == "self_collision")
+    return "hand links collide with each other: check the preshape and the closing limits";
+  if (outcome == "step_limit")
+    return "closing did not settle: check for degenerate collision geometry";
+  if (outcome == "not_force_closure")
+    return "grasps closed but none reached force closure: check the friction coefficient, the "
+           "preshape and the object size against the hand";
+  return "check the hand sidecar and the object";
+}
+
+}  // namespace
+
+void checkObjectSize(const ObjectModel& object, const HandModel& hand) {
+  const double extent = largestExtent(object);
+  const double reach = hand.reach();
+  if (!(reach > 0)) return;
+  const std::string what =
+      "object '" + object.name() + "' is " + num(extent, "%.4g") + " m across, ";
+  const std::string of_hand =
+      " the reach of hand '" + hand.name() + "' (" + num(reach) + " m) in its preshape";
+  if (extent > 100.0 * reach) {
+    throw Error(what + num(extent / reach, "%.0f") + " times" + of_hand +
+                ": is the mesh in millimetres? pass --scale 0.001 (MeshLoadOptions::scale)");
+  }
+  if (extent < 0.01 * reach) {
+    throw Error(what + "1/" + num(reach / extent, "%.0f") + " of" + of_hand +
+                ": check --scale (file units to metres)");
+  }
+}
+
+std::string noGraspMessage(const std::map<std::string, std::uint64_t>& outcomes,
+                           std::uint64_t trials, const ObjectModel& object, const HandModel& hand) {
+  std::string dominant = "none";
+  std::uint64_t most = 0;
+  for (const auto& [name, count] : outcomes)
+    if (count > most) {
+      most = count;
+      dominant = name;
+    }
+  const double share = trials > 0 ? 100.0 * static_cast<double>(most) / trials : 0.0;
+  return "no grasp stored after " + std::to_string(trials) + " trials: " + num(share, "%.0f") +
+         "% ended " + dominant + "; " + adviceFor(dominant) + ". Units: the object is " +
+         num(largestExtent(object)) + " m across, the open hand reaches " + num(hand.reach()) +
+         " m (--scale converts file units to metres)";
+}
+
+}  // namespace taskmap::detail

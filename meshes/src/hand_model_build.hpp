@@ -1,0 +1,42 @@
+#pragma once
+// HandModelBuilder: the steps of HandModel::load (private to meshes). The driver in
+// hand_model_load.cpp runs them in order: URDF tree (hand_model_urdf.cpp), sidecar
+// (hand_model_sidecar.cpp), derived quantities (hand_model_derived.cpp).
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "taskmap/meshes/hand_model.hpp"
+
+namespace urdf {
+class ModelInterface;
+}
+
+namespace taskmap {
+
+/// Bytes of the file at `path`; throws Error "cannot read <what> '<path>'" when unreadable.
+std::string readHandFile(const std::string& path, const char* what);
+
+/// Builds a HandModel step by step; each step reads and writes the model's private fields.
+struct HandModelBuilder {
+  /// Loads the URDF and its sidecar into a complete model (HandModel::load).
+  static HandModel build(const std::string& urdf_path, const std::string& sidecar_arg);
+
+  // ---- URDF tree (hand_model_urdf.cpp) ----
+  /// Reads and parses the URDF: name, SHA-256, links and joints depth-first, actuated joints,
+  /// mimic chains resolved to their driver.
+  static void readUrdf(HandModel& h, const std::string& urdf_path);
+
+  // ---- Sidecar (hand_model_sidecar.cpp) ----
+  /// Reads <sidecar> (default <urdf dir>/<stem>.hand.json), checks its keys, returns the JSON.
+  static nlohmann::json readSidecar(HandModel& h, const std::string& sidecar_arg);
+  /// Palm link and frame, approach axis, preshape, closing motion, squeeze, fingers.
+  static void applySidecar(HandModel& h, const nlohmann::json& js);
+
+  // ---- Derived quantities (hand_model_derived.cpp) ----
+  /// Palm-rigid links, root-to-palm transform, link drivers, joint levers, reach and rotation
+  /// scale (the sidecar's rotation_scale overrides the measured one).
+  static void derive(HandModel& h, const nlohmann::json& js);
+};
+
+}  // namespace taskmap

@@ -1,0 +1,335 @@
+// HandModel loading, URDF tree step: urdfdom parse (console_bridge captured), links and joints
+// depth-first from the root, collision shapes (meshes through assimp: each connected part of a
+// mesh becomes the convex hull of its vertices, reduced to the hull's own vertices by qhull),
+// actuated joints and mimic chains.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+#include <assimp/Importer.hpp>
+
+#include "convex_hull.hpp"
+#include "hand_model_build.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/meshes/object_model.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string readFile(const std::string& path, const char* what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(std::string("cannot read ") + what + " '" + path + "': check the path");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Collects console_bridge messages of urdfdom while parsing (the parser reports the element).
+class CaptureHandler : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
+      if (!messages.empty()) messages += "; ";
+      messages += text;
+    }
+  }
+  std::string messages;
+};
+
+urdf::ModelInterfaceSharedPtr parseUrdf(const std::string& xml, const std::string& path) {
+  static std::mutex mutex;  // console_bridge's handler is process-global
+  std::lock_guard<std::mutex> lock(mutex);
+  CaptureHandler handler;
+  console_bridge::useOutputHandler(&handler);
+  const auto old_level = console_bridge::getLogLevel();
+  console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_WARN);
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(xml);
+  } catch (const std::exception& e) {
+    handler.messages += e.what();
+  }
+  console_bridge::restorePreviousOutputHandler();
+  console_bridge::setLogLevel(old_level);
+  if (!model)
+    throw Error("cannot parse URDF '" + path + "': " +
+                (handler.messages.empty() ? std::string("malformed XML") : handler.messages));
+  return model;
+}
+
+Eigen::Isometry3d toIso(const urdf::Pose& p) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(p.position.x, p.position.y, p.position.z);
+  Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  if (q.norm() < 1e-12) q = Eigen::Quaterniond::Identity();
+  t.linear() = q.normalized().toRotationMatrix();
+  return t;
+}
+
+/// Vertex sets of the connected parts of a collision mesh (faces sharing a vertex position),
+/// scaled, in the mesh file's frame.
+std::vector<std::vector<Eigen::Vector3d>> loadMeshParts(const std::string& file,
+                                                        const Eigen::Vector3d& scale,
+                                                        const std::string& urdf_path,
+                                                        const std::string& link) {
+  std::string f = file;
+  if (f.rfind("file://", 0) == 0) f = f.substr(7);
+  if (f.rfind("package://", 0) == 0)
+    throw Error("URDF '" + urdf_path + "': link '" + link + "' mesh '" + file +
+                "' uses package://, which is not supported: use a path relative to the URDF");
+  fs::path p(f);
+  if (p.is_relative()) p = fs::path(urdf_path).parent_path() / p;
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(p.string(), aiProcess_JoinIdenticalVertices);
+  if (!scene || scene->mNumMeshes == 0)
+    throw Error("URDF '" + urdf_path + "': link '" + link + "': cannot read collision mesh '" +
+                p.string() + "': " + importer.GetErrorString());
+  std::vector<std::vector<Eigen::Vector3d>> parts;
+  std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* node,
+                                                                    const aiMatrix4x4& parent) {
+    const aiMatrix4x4 t = parent * node->mTransformation;
+    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+      const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
+      // Union-find over the mesh's vertices through its faces.
+      std::vector<unsigned> root(mesh->mNumVertices);
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) root[v] = v;
+      auto find = [&](unsigned v) {
+        while (root[v] != v) v = root[v] = root[root[v]];
+        return v;
+      };
+      // Vertices at the same position are one (assimp keeps copies with different normals).
+      std::map<std::array<float, 3>, unsigned> at;
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const aiVector3D& a = mesh->mVertices[v];
+        const auto [it, fresh] = at.emplace(std::array<float, 3>{a.x, a.y, a.z}, v);
+        if (!fresh) root[find(v)] = find(it->second);
+      }
+      for (unsigned fi = 0; fi < mesh->mNumFaces; ++fi) {
+        const aiFace& face = mesh->mFaces[fi];
+        for (unsigned c = 1; c < face.mNumIndices; ++c)
+          root[find(face.mIndices[c])] = find(face.mIndices[0]);
+      }
+      std::map<unsigned, std::size_t> part_of_root;
+      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+        const auto [it, fresh] = part_of_root.emplace(find(v), parts.size());
+        if (fresh) parts.emplace_back();
+        const aiVector3D a = t * mesh->mVertices[v];
+        parts[it->second].emplace_back(a.x * scale.x(), a.y * scale.y(), a.z * scale.z());
+      }
+    }
+    for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], t);
+  };
+  walk(scene->mRootNode, aiMatrix4x4());
+  for (auto& pts : parts) {
+    std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  }
+  // Parts of fewer than 4 distinct vertices enclose nothing (stray edges, lone triangles).
+  parts.erase(std::remove_if(parts.begin(), parts.end(),
+                             [](const std::vector<Eigen::Vector3d>& q) { return q.size() < 4; }),
+              parts.end());
+  if (parts.empty())
+    throw Error("URDF '" + urdf_path + "': link '" + link + "': collision mesh '" + p.string() +
+                "' has fewer than 4 vertices");
+  return parts;
+}
+
+/// The convex shapes of one <collision> element (a mesh gives one hull per connected part);
+/// U prefixes errors ("URDF '<path>': ").
+std::vector<CollisionShape> shapesOf(const urdf::Collision& col, const std::string& urdf_path,
+                                     const std::string& link, const std::string& U) {
+  CollisionShape s;
+  s.origin = toIso(col.origin);
+  const urdf::Geometry& g = *col.geometry;
+  switch (g.type) {
+    case urdf::Geometry::BOX: {
+      const auto& b = static_cast<const urdf::Box&>(g);
+      s.type = ShapeType::kBox;
+      s.box_size = Eigen::Vector3d(b.dim.x, b.dim.y, b.dim.z);
+      if (!(s.box_size.minCoeff() > 0.0))
+        throw Error(U + "link '" + link + "': <box size> must be positive");
+      break;
+    }
+    case urdf::Geometry::CYLINDER: {
+      const auto& c = static_cast<const urdf::Cylinder&>(g);
+      s.type = ShapeType::kCylinder;
+      s.radius = c.radius;
+      s.length = c.length;
+      if (!(s.radius > 0.0 && s.length > 0.0))
+        throw Error(U + "link '" + link + "': <cylinder> radius and length must be positive");
+      break;
+    }
+    case urdf::Geometry::SPHERE: {
+      const auto& sp = static_cast<const urdf::Sphere&>(g);
+      s.type = ShapeType::kSphere;
+      s.radius = sp.radius;
+      if (!(s.radius > 0.0))
+        throw Error(U + "link '" + link + "': <sphere radius> must be positive");
+      break;
+    }
+    case urdf::Geometry::MESH: {
+      const auto& m = static_cast<const urdf::Mesh&>(g);
+      std::vector<CollisionShape> out;
+      for (const auto& part : loadMeshParts(
+               m.filename, Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z), urdf_path, link)) {
+        CollisionShape h = s;
+        h.type = ShapeType::kConvex;
+        h.points = detail::convexHull(part, U + "link '" + link + "': collision mesh '" +
+                                                m.filename + "' (a connected part)")
+                       .vertices;
+        out.push_back(std::move(h));
+      }
+      return out;
+    }
+  }
+  return {s};
+}
+
+/// A URDF joint (without child link and driver, which the tree walk and mimic step fill in).
+HandJoint jointOf(const urdf::Joint& uj, int parent_link, const std::string& U) {
+  HandJoint j;
+  j.name = uj.name;
+  j.parent_link = parent_link;
+  j.origin = toIso(uj.parent_to_joint_origin_transform);
+  const Eigen::Vector3d axis(uj.axis.x, uj.axis.y, uj.axis.z);
+  switch (uj.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+      j.type = JointType::kRevolute;
+      break;
+    case urdf::Joint::PRISMATIC:
+      j.type = JointType::kPrismatic;
+      break;
+    case urdf::Joint::FIXED:
+      j.type = JointType::kFixed;
+      break;
+    default:
+      throw Error(U + "joint '" + uj.name +
+                  "' is floating or planar, which hands cannot have: use revolute, "
+                  "prismatic, continuous or fixed");
+  }
+  if (j.type == JointType::kFixed) return j;
+  if (!(axis.norm() > 1e-9)) throw Error(U + "joint '" + uj.name + "' has a zero <axis>");
+  j.axis = axis.normalized();
+  if (uj.type == urdf::Joint::CONTINUOUS) {
+    j.lower = -kPi;
+    j.upper = kPi;
+  } else {
+    if (!uj.limits) throw Error(U + "joint '" + uj.name + "' has no <limit lower upper>");
+    j.lower = uj.limits->lower;
+    j.upper = uj.limits->upper;
+    if (!(j.lower <= j.upper))
+      throw Error(U + "joint '" + uj.name + "': <limit> lower must not exceed upper");
+  }
+  if (uj.mimic) {
+    j.mimic = true;
+    j.multiplier = uj.mimic->multiplier;
+    j.offset = uj.mimic->offset;
+  }
+  return j;
+}
+
+/// The links and joints of a URDF, depth-first from the root (children in URDF order).
+struct TreeWalk {
+  const urdf::ModelInterface& model;
+  const std::string& urdf_path;
+  const std::string& U;
+  std::vector<HandLink>& links;
+  std::vector<HandJoint>& joints;
+
+  /// Appends `link` (reached through joint `parent_joint`, -1 for the root) and its subtree;
+  /// returns its index.
+  int add(const urdf::LinkConstSharedPtr& link, int parent_joint) {
+    HandLink hl;
+    hl.name = link->name;
+    hl.parent_joint = parent_joint;
+    for (const auto& col : link->collision_array)
+      if (col && col->geometry)
+        for (auto& s : shapesOf(*col, urdf_path, link->name, U)) hl.shapes.push_back(std::move(s));
+    const int li = static_cast<int>(links.size());
+    links.push_back(std::move(hl));
+    for (const auto& child_joint : link->child_joints) {
+      const int ji = static_cast<int>(joints.size());
+      joints.push_back(jointOf(*child_joint, li, U));
+      const int child = add(model.getLink(child_joint->child_link_name), ji);
+      joints[static_cast<std::size_t>(ji)].child_link = child;
+    }
+    return li;
+  }
+};
+
+/// Maps every mimic joint to its (transitive) driver: q_j = multiplier * q_driver + offset.
+void resolveMimics(const urdf::ModelInterface& model, std::vector<HandJoint>& joints,
+                   const std::string& U) {
+  for (HandJoint& j : joints) {
+    if (!j.mimic) continue;
+    double mult = 1.0, off = 0.0;
+    const HandJoint* cur = &j;
+    std::set<std::string> seen{j.name};
+    while (cur->mimic) {
+      const auto uj = model.getJoint(cur->name);
+      const std::string target = uj->mimic->joint_name;
+      auto it = std::find_if(joints.begin(), joints.end(),
+                             [&](const HandJoint& x) { return x.name == target; });
+      if (it == joints.end() || it->type == JointType::kFixed)
+        throw Error(U + "joint '" + j.name + "': <mimic joint='" + target +
+                    "'> names no movable joint of the URDF");
+      if (!seen.insert(target).second)
+        throw Error(U + "joint '" + j.name + "': <mimic> chain is cyclic");
+      // q_cur = m_cur * q_target + o_cur; accumulated q_j = mult * q_cur + off.
+      off += mult * cur->offset;
+      mult *= cur->multiplier;
+      cur = &*it;
+    }
+    j.multiplier = mult;
+    j.offset = off;
+    j.driver = cur->driver;
+  }
+}
+
+}  // namespace
+
+void HandModelBuilder::readUrdf(HandModel& h, const std::string& urdf_path) {
+  const std::string xml = readFile(urdf_path, "URDF");
+  h.urdf_path_ = urdf_path;
+  h.sha_ = sha256Hex(xml);
+  const urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
+  h.robot_name_ = model->getName();
+  const std::string U = "URDF '" + urdf_path + "': ";
+  if (!model->getRoot()) throw Error(U + "has no root link");
+  TreeWalk{*model, urdf_path, U, h.links_, h.joints_}.add(model->getRoot(), -1);
+
+  // Actuated joints: movable, not mimic; mimic joints resolve to their (transitive) driver.
+  for (HandJoint& j : h.joints_) {
+    if (j.type == JointType::kFixed || j.mimic) continue;
+    j.driver = static_cast<int>(h.actuated_.size());
+    h.actuated_.push_back(j.name);
+    h.lower_.push_back(j.lower);
+    h.upper_.push_back(j.upper);
+  }
+  resolveMimics(*model, h.joints_, U);
+  if (h.actuated_.empty()) throw Error(U + "has no actuated (non-fixed, non-mimic) joint");
+}
+
+std::string readHandFile(const std::string& path, const char* what) {
+  return readFile(path, what);
+}
+
+}  // namespace taskmap

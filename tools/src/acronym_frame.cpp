@@ -1,0 +1,53 @@
+// Which transform takes ACRONYM's gripper base frame to the palm frame (acronym_frame.hpp).
+#include "acronym_frame.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "data_dir.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/acronym.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+
+namespace taskmap::cli {
+
+void addAcronymFrameOptions(CLI::App* cmd, AcronymFrameArgs& args) {
+  cmd->add_option("--palm-offset", args.palm_offset,
+                  "palm frame = ACRONYM gripper base frame moved this far along its z "
+                  "(approach) axis, m (default 0.1034: ACRONYM's Franka gripper)");
+  cmd->add_option("--hand", args.hand,
+                  "take the palm frame in the gripper base frame from this hand (URDF or bundled "
+                  "name): its root-to-palm transform, for a URDF whose root is the base frame");
+}
+
+Eigen::Isometry3d baseToPalm(const AcronymFrameArgs& args) {
+  if (args.palm_offset && !args.hand.empty())
+    throw Error("--palm-offset and --hand both set the palm frame: give one");
+  if (!args.hand.empty()) {
+    const std::string urdf =
+        std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
+    return HandModel::load(urdf).rootToPalm();
+  }
+  Eigen::Isometry3d t = acronymFrankaBaseToPalm();
+  if (args.palm_offset) {
+    if (!std::isfinite(*args.palm_offset)) throw Error("--palm-offset must be a finite length");
+    t.translation() = Eigen::Vector3d(0, 0, *args.palm_offset);
+  }
+  return t;
+}
+
+std::string describeBaseToPalm(const AcronymFrameArgs& args, const Eigen::Isometry3d& t) {
+  char buf[200];
+  const Eigen::Vector3d p = t.translation();
+  std::snprintf(buf, sizeof buf, "palm frame = gripper base frame shifted by (%.4g, %.4g, %.4g) m",
+                p.x(), p.y(), p.z());
+  std::string s = buf;
+  if (!args.hand.empty())
+    s += " (root to palm of hand " + args.hand + ")";
+  else if (!args.palm_offset)
+    s += " (ACRONYM's Franka gripper)";
+  return s;
+}
+
+}  // namespace taskmap::cli
