@@ -1,11 +1,9 @@
 // Fig. 1.16: cost terms per iteration of the trajectory optimisation, drawn with cairo.
 #include "cost_picture.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <filesystem>
 #include <limits>
+#include <memory>
 
 #include "taskmap/core/error.hpp"
 
@@ -13,7 +11,6 @@
 #include <cairo.h>
 
 #include "map_picture_draw.hpp"
-#include "taskmap/core/atomic_file.hpp"
 #endif
 
 namespace taskmap::cli {
@@ -83,17 +80,10 @@ void writeCostPicture(const std::vector<CostSeries>& left, const std::vector<Cos
   drawPanel(cr, 0, left, "trajectory cost terms per iteration");
   drawPanel(cr, kPanelWidth, right, "task map terms per iteration");
   cairo_surface_flush(surface);
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
   cairo_destroy(cr);
-  cairo_surface_destroy(surface);
-  if (st != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
-                "; check that the directory exists and is writable");
-  }
-  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+  const std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> owned(
+      surface, &cairo_surface_destroy);
+  draw::writePng(surface, path);
 }
 #endif
 

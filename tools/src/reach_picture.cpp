@@ -2,12 +2,10 @@
 // capsule), swept rectangles as round-joined stroked polygons, three orthographic views.
 #include "reach_picture.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
-#include <filesystem>
 #include <limits>
+#include <memory>
 
 #include "taskmap/core/error.hpp"
 
@@ -15,7 +13,6 @@
 #include <cairo.h>
 
 #include "map_picture_draw.hpp"
-#include "taskmap/core/atomic_file.hpp"
 #endif
 
 namespace taskmap::cli {
@@ -163,17 +160,10 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
           " (blue to orange), palm path black, environment grey, target red",
       14);
   cairo_surface_flush(surface);
-  const std::string tmp = path + ".tmp" + std::to_string(::getpid());
-  const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
   cairo_destroy(cr);
-  cairo_surface_destroy(surface);
-  if (st != CAIRO_STATUS_SUCCESS) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error("cannot write picture '" + path + "': " + cairo_status_to_string(st) +
-                "; check that the directory exists and is writable");
-  }
-  commitTemporaryFile(tmp, path, "cannot write picture '" + path + "'");
+  const std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> owned(
+      surface, &cairo_surface_destroy);
+  draw::writePng(surface, path);
 }
 #endif
 
