@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "taskmap/core/pose.hpp"
 #include "taskmap/reaching/attractor.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
+#include "taskmap/reaching/movement_terms.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace py = pybind11;
@@ -65,6 +67,75 @@ py::dict planDict(const GraspPlan& plan) {
   for (std::size_t t = 0; t < b.optimization.cost.q.size(); ++t)
     q.row(static_cast<Eigen::Index>(t)) = b.optimization.cost.q[t].transpose();
   d["q"] = q;
+  return d;
+}
+
+/// One cluster's plan with the keys of `taskmap reach --map --json` (tools/src/reach_map.cpp).
+py::dict clusterPlanDict(const ClusterPlan& c) {
+  const int it = c.optimization.iterations;
+  py::dict d;
+  d["start_cluster"] = c.cluster;
+  d["comfort"] = c.comfort;
+  d["cluster"] = c.grasp_cluster;
+  d["grasp_index"] = c.grasp_index;
+  d["iterations"] = it;
+  d["iterations_to_manifold"] = c.iterations_to_manifold;
+  d["iterations_to_quality"] = c.iterations_to_quality;
+  d["min_clearance_m"] = c.min_clearance;
+  d["joint_limit_margin_rad"] = c.joint_limit_margin;
+  d["velocity_ratio"] = c.velocity_ratio;
+  d["collision_free"] = c.collision_free;
+  d["cost"] = c.optimization.cost.total;
+  d["ms"] = c.milliseconds;
+  d["ms_per_iteration"] = c.milliseconds / std::max(1, it);
+  return d;
+}
+
+/// The whole report of `taskmap reach --map --json` plus q (steps+1 x dofs) of the best plan.
+py::dict mapReachDict(const GraspPlan& plan, double plan_ms, const MovementTerms& movement) {
+  py::dict d;
+  d["status"] = plan.status == GraspPlanStatus::kPlanned  ? "planned"
+                : plan.status == GraspPlanStatus::kUnsafe ? "unsafe"
+                                                          : "unreachable";
+  d["message"] = plan.message;
+  d["ms_per_plan"] = plan_ms;
+  py::list ranking, plans;
+  for (const ClusterRank& r : plan.ranking) {
+    py::dict c;
+    c["cluster"] = r.cluster;
+    c["reachable"] = r.reachable;
+    c["comfort"] = std::isfinite(r.comfort) ? py::object(py::float_(r.comfort)) : py::none();
+    ranking.append(c);
+  }
+  for (const ClusterPlan& c : plan.plans) plans.append(clusterPlanDict(c));
+  d["ranking"] = ranking;
+  d["plans"] = plans;
+  if (plan.best < 0) return d;
+  const ClusterPlan& b = plan.plans[plan.best];
+  for (auto item : clusterPlanDict(b)) d[item.first] = item.second;
+  py::list history;
+  for (std::size_t i = 0; i < b.optimization.history.size(); ++i) {
+    const TrajectoryCost& t = b.optimization.history[i];
+    py::dict h;
+    h["total"] = t.total;
+    h["path_length"] = t.path_length;
+    h["end_velocity"] = t.end_velocity;
+    h["collision"] = t.collision;
+    h["joint_limit"] = t.joint_limit;
+    h["proximity"] = b.proximity.at(i);
+    h["quality"] = b.quality.at(i);
+    h["nearest_distance_m"] = b.nearest_distance.at(i);
+    history.append(h);
+  }
+  d["cost_history"] = history;
+  d["proximity_over_movement"] = movement.proximity;
+  d["quality_over_movement"] = movement.quality;
+  const auto& q = b.optimization.cost.q;
+  d["q_final"] = std::vector<double>(q.back().data(), q.back().data() + q.back().size());
+  Eigen::MatrixXd qm(q.size(), q.front().size());
+  for (std::size_t t = 0; t < q.size(); ++t)
+    qm.row(static_cast<Eigen::Index>(t)) = q[t].transpose();
+  d["q"] = qm;
   return d;
 }
 
@@ -181,6 +252,52 @@ void bindReaching(py::module_& m) {
       "world). Returns a dict: status, message, q (steps+1 x dofs), position_error, "
       "orientation_error, min_clearance (None without pairs), min_clearance_pair, "
       "joint_limit_margin.");
+
+  m.def(
+      "reach",
+      [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
+         bool all_clusters, int iterations, double proximity_weight, double quality_weight,
+         int steps, double dt) {
+        if (r.object.empty())
+          throw Error("reach: a map needs a robot with a scene object (add_scene)");
+        if (r.model.palmBody() < 0) throw Error("reach: a map needs a robot with a hand");
+        CollisionOptions co;
+        co.hand_may_touch = {r.object};
+        const CollisionModel collisions(r.model, co);
+        TrajectoryProblem p;
+        p.robot = &r.model;
+        p.collisions = &collisions;
+        p.body = r.model.palmBody();
+        p.reference = r.model.requireBody(r.object);
+        p.q0 = q0 ? *q0 : r.model.midConfiguration();
+        p.reach.steps = steps;
+        p.reach.attractor.dt = dt;
+        GraspPlanOptions o;
+        o.all_clusters = all_clusters;
+        o.optimizer.max_iterations = iterations;
+        o.map_weights.proximity = proximity_weight;
+        o.map_weights.quality = quality_weight;
+        const auto t0 = std::chrono::steady_clock::now();
+        const GraspPlan plan = planGrasp(p, map, o);
+        const double ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count();
+        MovementTerms movement;
+        if (plan.best >= 0)
+          movement = movementTerms(map, r.model, p.body, p.reference,
+                                   plan.plans[plan.best].optimization.cost.q, o.map_weights);
+        return mapReachDict(plan, ms, movement);
+      },
+      py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0,
+      py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
+      "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
+      "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
+      "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
+      "iterations_to_manifold, iterations_to_quality, min_clearance_m, joint_limit_margin_rad, "
+      "velocity_ratio, collision_free, ms_per_iteration, cost_history (dicts per iteration), "
+      "proximity_over_movement, quality_over_movement (weighted, per step), q_final) and q, "
+      "the joint trajectory (steps+1 x dofs, rad) as a numpy array.");
 
   m.def(
       "plan_grasp",

@@ -24,7 +24,9 @@ using h5::Id;
 constexpr const char* kFormat = "taskmap-trajectory";
 constexpr int kShapeColumns = 15;  // center 3, axes 9 (column-major u v n), half_u, half_v, r
 
-std::string rowsText(std::size_t n) { return std::to_string(n); }
+std::string rowsText(std::size_t n) {
+  return std::to_string(n);
+}
 
 void requireRows(const RowMatrixXd& m, std::size_t rows, Eigen::Index cols,
                  const std::string& name) {
@@ -114,10 +116,9 @@ void writeGroups(hid_t file, const TrajectoryRecord& r) {
     h5::writeStrings(g, "cost_terms", r.cost_terms);
     h5::writeDataset(g, "cost_history", h5::Type::kF64, r.cost_history.data(),
                      static_cast<std::size_t>(r.cost_history.rows()), r.cost_terms.size());
-    h5::writeVector(g, "proximity_over_movement", h5::Type::kF64,
-                    r.proximity_over_movement.data(), s);
-    h5::writeVector(g, "quality_over_movement", h5::Type::kF64, r.quality_over_movement.data(),
+    h5::writeVector(g, "proximity_over_movement", h5::Type::kF64, r.proximity_over_movement.data(),
                     s);
+    h5::writeVector(g, "quality_over_movement", h5::Type::kF64, r.quality_over_movement.data(), s);
   }
   Id g = h5::createGroup(file, "bodies");
   h5::writeStrings(g, "names", r.body_names);
@@ -150,8 +151,8 @@ void readRobot(hid_t file, TrajectoryRecord& r) {
   r.hand = h5::readAttrString(g, "/robot", "hand");
   r.dt = h5::readAttrDouble(g, "/robot", "dt_s");
   r.joint_names = h5::readStrings(file, "/robot/joint_names");
-  r.joints = toRows(h5::readF64(file, "/robot/joints", 2, r.joint_names.size()),
-                    r.joint_names.size());
+  r.joints =
+      toRows(h5::readF64(file, "/robot/joints", 2, r.joint_names.size()), r.joint_names.size());
   r.palm_world = toRows(h5::readF64(file, "/robot/palm_world", 2, 7), 7);
   r.palm_object = toRows(h5::readF64(file, "/robot/palm_object", 2, 7), 7);
 }
@@ -183,8 +184,8 @@ void readPlan(hid_t file, TrajectoryRecord& r) {
   r.cluster = static_cast<int>(cluster);
   r.grasp_index = h5::readAttrInt(g, "/plan", "grasp_index");
   r.cost_terms = h5::readStrings(file, "/plan/cost_terms");
-  r.cost_history = toRows(h5::readF64(file, "/plan/cost_history", 2, r.cost_terms.size()),
-                          r.cost_terms.size());
+  r.cost_history =
+      toRows(h5::readF64(file, "/plan/cost_history", 2, r.cost_terms.size()), r.cost_terms.size());
   const auto p = h5::readF64(file, "/plan/proximity_over_movement", 1);
   const auto q = h5::readF64(file, "/plan/quality_over_movement", 1);
   r.proximity_over_movement =
@@ -281,8 +282,7 @@ void TrajectoryRecord::validate() const {
   requirePoses(palm_object, "palm_object");
   requireRows(object_vertices, static_cast<std::size_t>(object_vertices.rows()), 3,
               "object vertices");
-  if ((object_faces.array() < 0).any() ||
-      (object_faces.array() >= object_vertices.rows()).any())
+  if ((object_faces.array() < 0).any() || (object_faces.array() >= object_vertices.rows()).any())
     throw Error("object faces index a vertex outside [0, " + rowsText(object_vertices.rows()) +
                 ")");
   requireRows(cost_history, static_cast<std::size_t>(cost_history.rows()),

@@ -82,6 +82,35 @@ class ReachingTest(unittest.TestCase):
                                                           os.path.join(SRC, "meshes", "hands"))
             taskmap.plan_grasp(bare, m)
 
+    def test_reach_with_a_map_returns_the_cli_report(self):
+        robot = panda()
+        poses = np.array([SIDE_GRASP + np.array([0, 0, dz, 0, 0, 0, 0])
+                          for dz in np.linspace(-0.03, 0.03, 12)])
+        labels = [0 if p[2] < 0.02 else 1 for p in poses]
+        m = taskmap.TaskMap.from_arrays(poses, np.linspace(0.05, 0.2, 12), labels)
+        r = taskmap.reach(robot, m, q0=READY, iterations=4, steps=250)
+        self.assertIn(r["status"], ("planned", "unsafe"), r["message"])
+        for key in ("iterations", "iterations_to_manifold", "iterations_to_quality", "cluster",
+                    "grasp_index", "min_clearance_m", "joint_limit_margin_rad", "collision_free",
+                    "ms_per_iteration", "ms_per_plan", "ranking", "plans", "q_final"):
+            self.assertIn(key, r)
+        self.assertEqual(r["q"].shape, (251, 7))
+        np.testing.assert_array_equal(r["q"][-1], r["q_final"])
+        np.testing.assert_array_equal(r["q"][0], READY)
+        history = r["cost_history"]
+        self.assertEqual(len(history), r["iterations"] + 1)
+        self.assertLess(history[-1]["total"], history[0]["total"])
+        self.assertEqual(len(r["proximity_over_movement"]), 251)
+        self.assertEqual(len(r["quality_over_movement"]), 251)
+        # The last step is the final hand pose the terminal cost evaluated.
+        self.assertAlmostEqual(r["proximity_over_movement"][-1], history[-1]["proximity"],
+                               delta=1e-9 * (1 + abs(history[-1]["proximity"])))
+        self.assertAlmostEqual(r["quality_over_movement"][-1], history[-1]["quality"],
+                               delta=1e-9)
+        self.assertGreater(r["proximity_over_movement"][0], r["proximity_over_movement"][-1])
+        # The fixed-target reach keeps its signature.
+        self.assertEqual(taskmap.reach(robot, SIDE_GRASP, q0=READY, steps=50)["q"].shape, (51, 7))
+
     def test_errors_are_value_errors(self):
         robot = panda()
         with self.assertRaises(taskmap.Error):

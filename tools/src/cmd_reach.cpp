@@ -158,13 +158,18 @@ void runReachWithMap(const ReachArgs& args) {
   CollisionOptions co;
   co.hand_may_touch = {scene.object};
   const CollisionModel collisions(robot, co);
-  runMapReach(args.map, robot, collisions, body, robot.requireBody(scene.object),
+  MapReachArgs map_args = args.map;
+  map_args.robot = args.robot;
+  map_args.hand = args.hand;
+  runMapReach(map_args, robot, collisions, body, robot.requireBody(scene.object),
               startConfiguration(args, robot), args.options, args.json, args.png);
 }
 
 void runReach(const ReachArgs& args) {
   args.options.validate();
   if (!args.map.map.empty()) return runReachWithMap(args);
+  if (!args.map.output.empty() || !args.map.glb.empty())
+    throw Error("-o/--output and --glb write the trajectory of a plan with --map MAP");
   if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" (or --map) is required");
   const Eigen::Isometry3d target = parsePose(args.target, "--target");
   ReachOptions options = args.options;
@@ -236,6 +241,11 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
   cmd->add_option("--quality-weight", args->map.quality_weight,
                   "with --map: w_map,q (0 switches the quality criterion off)")
       ->capture_default_str();
+  cmd->add_option("-o,--output", args->map.output,
+                  "with --map: write the planned trajectory (joints, palm and body poses per "
+                  "step, cost history; mapstore/TRAJECTORY.md); `taskmap export-glb` renders it");
+  cmd->add_option("--glb", args->map.glb,
+                  "with --map: also write the trajectory as glTF binary for Blender");
   cmd->add_option("--via", args->via,
                   "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
                   "attractor point passes through; repeat for several");
@@ -260,7 +270,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                 "palm_final [x y z qw qx qy qz], compute_time_s; with --map: iterations, "
                 "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
                 "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
-                "cost_history, plans (per cluster), ranking");
+                "cost_history, proximity_over_movement, quality_over_movement, plans (per "
+                "cluster), ranking");
   cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
   cmd->callback([args] { runReach(*args); });
 });

@@ -1,9 +1,9 @@
-// Fig. 1.16: cost terms per iteration of the trajectory optimisation, drawn with cairo.
+// Fig. 1.16: cost terms per iteration of the trajectory optimisation and the map terms over
+// the movement, drawn with cairo.
 #include "cost_picture.hpp"
 
 #include <algorithm>
 #include <limits>
-#include <memory>
 
 #include "taskmap/core/error.hpp"
 
@@ -16,8 +16,7 @@
 namespace taskmap::cli {
 
 #ifndef TASKMAP_HAVE_CAIRO
-void writeCostPicture(const std::vector<CostSeries>&, const std::vector<CostSeries>&,
-                      const std::string& path) {
+void writeCostPicture(const std::vector<CostPanel>&, const std::string& path) {
   throw Error("cannot write picture '" + path + "': this taskmap was built without cairo");
 }
 #else
@@ -27,8 +26,8 @@ constexpr int kPanelWidth = 640, kHeight = 480, kMargin = 60;
 const draw::Rgb kColors[] = {{0.1, 0.1, 0.1}, {0.0, 0.45, 0.75}, {0.85, 0.35, 0.0},
                              {0.0, 0.6, 0.3}, {0.6, 0.2, 0.7},   {0.8, 0.1, 0.1}};
 
-void drawPanel(cairo_t* cr, double x0, const std::vector<CostSeries>& series,
-               const std::string& title) {
+void drawPanel(cairo_t* cr, double x0, const CostPanel& panel) {
+  const std::vector<CostSeries>& series = panel.series;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   std::size_t n = 1;
   for (const CostSeries& s : series) {
@@ -46,12 +45,12 @@ void drawPanel(cairo_t* cr, double x0, const std::vector<CostSeries>& series,
   cairo_set_line_width(cr, 1.0);
   cairo_rectangle(cr, left, top, right - left, bottom - top);
   cairo_stroke(cr);
-  draw::text(cr, left, 28, title, 16, true);
+  draw::text(cr, left, 28, panel.title, 16, true);
   draw::text(cr, x0 + 4, top + 10, draw::format("%.3g", hi), 12);
   draw::text(cr, x0 + 4, bottom, draw::format("%.3g", lo), 12);
   draw::text(cr, left, bottom + 20, "0", 12);
-  draw::text(cr, right - 30, bottom + 20, std::to_string(n - 1), 12);
-  draw::text(cr, (left + right) / 2 - 30, bottom + 36, "iteration", 13);
+  draw::text(cr, right - 30, bottom + 20, draw::format("%.4g", (n - 1) * panel.x_scale), 12);
+  draw::text(cr, (left + right) / 2 - 30, bottom + 36, panel.x_label, 13);
   for (std::size_t k = 0; k < series.size(); ++k) {
     const auto& v = series[k].second;
     if (v.empty()) continue;
@@ -70,20 +69,15 @@ void drawPanel(cairo_t* cr, double x0, const std::vector<CostSeries>& series,
 
 }  // namespace
 
-void writeCostPicture(const std::vector<CostSeries>& left, const std::vector<CostSeries>& right,
-                      const std::string& path) {
-  cairo_surface_t* surface =
-      cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 2 * kPanelWidth, kHeight);
-  cairo_t* cr = cairo_create(surface);
+void writeCostPicture(const std::vector<CostPanel>& panels, const std::string& path) {
+  const int width = kPanelWidth * static_cast<int>(std::max<std::size_t>(1, panels.size()));
+  const draw::Canvas canvas(width, kHeight, CAIRO_FORMAT_ARGB32, path);
+  cairo_t* cr = canvas.cr();
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
-  drawPanel(cr, 0, left, "trajectory cost terms per iteration");
-  drawPanel(cr, kPanelWidth, right, "task map terms per iteration");
-  cairo_surface_flush(surface);
-  cairo_destroy(cr);
-  const std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> owned(
-      surface, &cairo_surface_destroy);
-  draw::writePng(surface, path);
+  for (std::size_t i = 0; i < panels.size(); ++i)
+    drawPanel(cr, static_cast<double>(kPanelWidth * i), panels[i]);
+  canvas.write();
 }
 #endif
 

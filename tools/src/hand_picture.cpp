@@ -131,11 +131,6 @@ void drawPanel(cairo_t* cr, const HandModel& hand, const std::vector<PlacedShape
   text(cr, cell.x + 12, cell.y + cell.h - 18, lengthLabel(bar), 11);
 }
 
-void check(cairo_status_t status, const std::string& path) {
-  if (status != CAIRO_STATUS_SUCCESS)
-    throw Error("cannot draw picture '" + path + "': " + cairo_status_to_string(status));
-}
-
 }  // namespace
 
 void writeHandPicture(const HandModel& hand, const std::string& path) {
@@ -157,17 +152,8 @@ void writeHandPicture(const HandModel& hand, const std::string& path) {
   const double cw = (W - 40 - 2 * gap) / 3, ch = (H - top - 20 - gap) / 2;
   const double scale = 0.85 * std::min(cw, ch - 30) / std::max((hi - lo).maxCoeff(), 1e-6);
 
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, W, H);
-  cairo_t* cr = cairo_create(surface);
-  struct Cleanup {
-    cairo_surface_t* s;
-    cairo_t* c;
-    ~Cleanup() {
-      cairo_destroy(c);
-      cairo_surface_destroy(s);
-    }
-  } cleanup{surface, cr};
-  check(cairo_status(cr), path);
+  const Canvas canvas(W, H, CAIRO_FORMAT_RGB24, path);
+  cairo_t* cr = canvas.cr();
   cairo_set_source_rgb(cr, 0.96, 0.96, 0.95);
   cairo_paint(cr);
   text(cr, 20, 34, "Hand " + hand.name() + ": preshape (top row) and fully closed (bottom row)", 22,
@@ -181,9 +167,7 @@ void writeHandPicture(const HandModel& hand, const std::string& path) {
     for (int c = 0; c < 3; ++c)
       drawPanel(cr, hand, rows[r], kHandViews[c],
                 Box{20 + c * (cw + gap), top + r * (ch + gap), cw, ch}, scale, mid);
-  cairo_surface_flush(surface);
-  check(cairo_status(cr), path);
-  writePng(surface, path);
+  canvas.write();
 }
 
 #endif  // TASKMAP_HAVE_CAIRO

@@ -173,12 +173,6 @@ void drawView(cairo_t* cr, const Scene& s, const View& view, const Box& cell, do
   text(cr, bx + bar_px / 2, by - 8, lengthLabel(bar_m), 12, false, 0.5);
 }
 
-void checkCairo(cairo_status_t status, const std::string& path) {
-  if (status != CAIRO_STATUS_SUCCESS) {
-    throw Error("cannot draw picture '" + path + "': " + cairo_status_to_string(status));
-  }
-}
-
 }  // namespace
 
 void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
@@ -217,18 +211,8 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   s.hi += Eigen::Vector3d::Constant(s.arrow_length);
 
   const double W = options.width, H = options.height;
-  cairo_surface_t* surface =
-      cairo_image_surface_create(CAIRO_FORMAT_RGB24, options.width, options.height);
-  cairo_t* cr = cairo_create(surface);
-  struct Cleanup {
-    cairo_surface_t* s;
-    cairo_t* c;
-    ~Cleanup() {
-      cairo_destroy(c);
-      cairo_surface_destroy(s);
-    }
-  } cleanup{surface, cr};
-  checkCairo(cairo_status(cr), path);
+  const Canvas canvas(options.width, options.height, CAIRO_FORMAT_RGB24, path);
+  cairo_t* cr = canvas.cr();
 
   cairo_set_source_rgb(cr, 0.96, 0.96, 0.95);
   cairo_paint(cr);
@@ -259,10 +243,7 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   drawView(cr, s, kViews[2], cells[2], scale);
   drawHistogram(cr, s, cells[3]);
   drawLegend(cr, s, Box{W - 20 - legend_w, area.y, legend_w, area.h});
-  cairo_surface_flush(surface);
-  checkCairo(cairo_status(cr), path);
-
-  writePng(surface, path);
+  canvas.write();
 }
 
 #endif  // TASKMAP_HAVE_CAIRO

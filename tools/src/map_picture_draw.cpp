@@ -126,6 +126,34 @@ void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double siz
   text(cr, cell.x + 10, cell.y + 22, title, size, true);
 }
 
+void checkStatus(cairo_status_t status, const std::string& path) {
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw Error("cannot draw picture '" + path + "': " + cairo_status_to_string(status));
+}
+
+Canvas::Canvas(int width, int height, cairo_format_t format, const std::string& path)
+    : path_(path),
+      surface_(cairo_image_surface_create(format, width, height)),
+      cr_(cairo_create(surface_)) {
+  const cairo_status_t status = cairo_status(cr_);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    cairo_destroy(cr_);
+    cairo_surface_destroy(surface_);
+    checkStatus(status, path);
+  }
+}
+
+Canvas::~Canvas() {
+  cairo_destroy(cr_);
+  cairo_surface_destroy(surface_);
+}
+
+void Canvas::write() const {
+  cairo_surface_flush(surface_);
+  checkStatus(cairo_status(cr_), path_);
+  writePng(surface_, path_);
+}
+
 void writePng(cairo_surface_t* surface, const std::string& path) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());

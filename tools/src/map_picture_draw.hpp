@@ -1,6 +1,6 @@
 #pragma once
-// Private drawing helpers of map_picture.cpp (cairo): colours, text, arrows, markers, and the
-// histogram and legend panels. Included only when the tool is built with cairo.
+// Shared drawing helpers of the tool's pictures (cairo): the canvas, colours, text, arrows,
+// markers, and the map picture's histogram and legend panels. Included only with cairo.
 
 #include <string>
 #include <vector>
@@ -59,6 +59,26 @@ void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double to
                         bool axial);
 /// A panel: white cell with a frame and a bold title at (10, 22) from its corner.
 void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double size = 15);
+/// An image surface and its cairo context, destroyed together. The constructor throws Error
+/// naming the picture when cairo cannot create them (e.g. out of memory).
+class Canvas {
+ public:
+  Canvas(int width, int height, cairo_format_t format, const std::string& path);
+  Canvas(const Canvas&) = delete;
+  Canvas& operator=(const Canvas&) = delete;
+  ~Canvas();
+  cairo_t* cr() const { return cr_; }                    ///< the drawing context
+  cairo_surface_t* surface() const { return surface_; }  ///< the image
+  /// Flushes, checks that drawing succeeded and writes the PNG atomically (writePng).
+  void write() const;
+
+ private:
+  std::string path_;
+  cairo_surface_t* surface_;
+  cairo_t* cr_;
+};
+/// Throws Error("cannot draw picture '<path>': <cairo's message>") unless status is success.
+void checkStatus(cairo_status_t status, const std::string& path);
 /// Writes the surface as PNG atomically (temporary file beside path, then rename); throws Error
 /// naming the file when that fails.
 void writePng(cairo_surface_t* surface, const std::string& path);

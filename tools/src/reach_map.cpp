@@ -13,7 +13,9 @@
 
 #include "command.hpp"
 #include "cost_picture.hpp"
+#include "glb_export.hpp"
 #include "reach_picture.hpp"
+#include "reach_trajectory.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 
@@ -75,7 +77,7 @@ nlohmann::json clusterJson(const ClusterPlan& c) {
           {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
 }
 
-nlohmann::json toJson(const GraspPlan& plan, double plan_ms) {
+nlohmann::json toJson(const GraspPlan& plan, double plan_ms, const MovementTerms& movement) {
   nlohmann::json j;
   j["status"] = statusName(plan.status);
   j["message"] = plan.message;
@@ -94,6 +96,8 @@ nlohmann::json toJson(const GraspPlan& plan, double plan_ms) {
   const ClusterPlan& b = plan.plans[plan.best];
   j.update(clusterJson(b));
   j["cost_history"] = costHistory(b);
+  j["proximity_over_movement"] = movement.proximity;
+  j["quality_over_movement"] = movement.quality;
   const auto& q = b.optimization.cost.q;
   j["q_final"] = std::vector<double>(q.back().data(), q.back().data() + q.back().size());
   return j;
@@ -119,7 +123,8 @@ std::string costPicturePath(const std::string& png) {
          "_costs.png";
 }
 
-void drawCosts(const ClusterPlan& b, const std::string& path) {
+void drawCosts(const ClusterPlan& b, const MovementTerms& movement, double dt,
+               const std::string& path) {
   std::vector<double> total, length, velocity, collision, limit;
   for (const TrajectoryCost& t : b.optimization.history) {
     total.push_back(t.total);
@@ -128,12 +133,40 @@ void drawCosts(const ClusterPlan& b, const std::string& path) {
     collision.push_back(t.collision);
     limit.push_back(t.joint_limit);
   }
-  writeCostPicture({{"total", total},
-                    {"path length", length},
-                    {"end velocity", velocity},
-                    {"collision", collision},
-                    {"joint limit", limit}},
-                   {{"proximity g_p", b.proximity}, {"quality g_q", b.quality}}, path);
+  writeCostPicture(
+      {{"trajectory cost terms per iteration",
+        "iteration",
+        1.0,
+        {{"total", total},
+         {"path length", length},
+         {"end velocity", velocity},
+         {"collision", collision},
+         {"joint limit", limit}}},
+       {"task map terms per iteration",
+        "iteration",
+        1.0,
+        {{"proximity g_p", b.proximity}, {"quality g_q", b.quality}}},
+       {"proximity over the final movement",
+        "time [s]",
+        dt,
+        {{"proximity g_p", movement.proximity}}},
+       {"quality over the final movement", "time [s]", dt, {{"quality g_q", movement.quality}}}},
+      path);
+}
+
+/// -o trajectory.h5 and --glb out.glb of the chosen plan.
+void writeOutputs(const MapReachArgs& args, const RobotModel& robot, int palm, int object,
+                  const TaskMap& map, const GraspPlan& plan, const MovementTerms& movement,
+                  double dt, bool json) {
+  if (args.output.empty() && args.glb.empty()) return;
+  if (plan.best < 0) throw Error("no trajectory to write: " + plan.message);
+  const TrajectoryRecord record = trajectoryRecord(robot, palm, object, map, plan.plans[plan.best],
+                                                   movement, {args.robot, args.hand, args.map, dt});
+  if (!args.output.empty()) writeTrajectory(args.output, record);
+  if (!args.glb.empty()) writeGlb(record, args.glb);
+  if (json) return;
+  if (!args.output.empty()) std::printf("trajectory        %s\n", args.output.c_str());
+  if (!args.glb.empty()) std::printf("glb               %s\n", args.glb.c_str());
 }
 
 }  // namespace
@@ -159,8 +192,12 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   const GraspPlan plan = planGrasp(p, map, o);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  MovementTerms movement;
+  if (plan.best >= 0)
+    movement = movementTerms(map, robot, palm, object, plan.plans[plan.best].optimization.cost.q,
+                             o.map_weights);
   if (json)
-    std::cout << toJson(plan, ms).dump(2) << "\n";
+    std::cout << toJson(plan, ms, movement).dump(2) << "\n";
   else
     printText(plan, ms);
   if (!png.empty() && plan.best >= 0) {
@@ -177,8 +214,9 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
         kin.pose(object) * map.pose(static_cast<std::size_t>(b.grasp_index)).toIsometry();
     const int n = static_cast<int>(r.q.size()) - 1;
     writeReachPicture(robot, r, palm, {0, n / 3, 2 * n / 3, n}, grasp, png);
-    drawCosts(b, costPicturePath(png));
+    drawCosts(b, movement, options.attractor.dt, costPicturePath(png));
   }
+  writeOutputs(args, robot, palm, object, map, plan, movement, options.attractor.dt, json);
   if (plan.status != GraspPlanStatus::kPlanned) {
     std::cerr << "taskmap reach: " << plan.message << "\n";
     exitCode() = 1;

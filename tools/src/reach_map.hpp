@@ -18,12 +18,17 @@ struct MapReachArgs {
   int iterations = 40;            ///< optimiser iterations
   double proximity_weight = 1.0;  ///< w_map,p
   double quality_weight = 1.0;    ///< w_map,q
+  std::string output;             ///< trajectory file to write (mapstore/TRAJECTORY.md), or ""
+  std::string glb;                ///< GLB file to write (tools/src/glb_export.hpp), or ""
+  std::string robot = "panda";    ///< --robot, recorded in the trajectory file
+  std::string hand = "humanoid";  ///< --hand, recorded in the trajectory file
 };
 
 /// Pose of the object from "x y z yaw" (yaw about world z). Throws Error naming the option.
 Eigen::Isometry3d parseObjectPose(const std::string& text);
 
-/// Plans and prints (text or JSON), draws snapshots to png when given; sets the exit code to 1
+/// Plans and prints (text or JSON), draws snapshots to png when given, writes the trajectory
+/// file and GLB when asked (also for an unsafe plan, to inspect it); sets the exit code to 1
 /// when the plan is not safe or nothing is reachable.
 void runMapReach(const MapReachArgs& args, const RobotModel& robot,
                  const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <limits>
-#include <memory>
 
 #include "taskmap/core/error.hpp"
 
@@ -111,8 +110,8 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
   for (const View& v : kViews)
     scale = std::min({scale, (cell - 2 * margin) / std::max(1e-6, hi[v.u] - lo[v.u]),
                       (kHeight - title - 2 * margin) / std::max(1e-6, hi[v.v] - lo[v.v])});
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, kWidth, kHeight);
-  cairo_t* cr = cairo_create(surface);
+  const draw::Canvas canvas(kWidth, kHeight, CAIRO_FORMAT_ARGB32, path);
+  cairo_t* cr = canvas.cr();
   draw::setColor(cr, Rgb{1, 1, 1});
   cairo_paint(cr);
   Kinematics kin(robot);
@@ -159,11 +158,7 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
           }() +
           " (blue to orange), palm path black, environment grey, target red",
       14);
-  cairo_surface_flush(surface);
-  cairo_destroy(cr);
-  const std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)> owned(
-      surface, &cairo_surface_destroy);
-  draw::writePng(surface, path);
+  canvas.write();
 }
 #endif
 

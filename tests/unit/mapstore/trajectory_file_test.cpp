@@ -21,8 +21,8 @@ namespace {
 
 std::string tempPath(const std::string& name) {
   static const std::string dir = [] {
-    const std::string d = ::testing::TempDir() + "trajectory_file_test_" +
-                          std::to_string(::getpid());
+    const std::string d =
+        ::testing::TempDir() + "trajectory_file_test_" + std::to_string(::getpid());
     EXPECT_EQ(std::system(("mkdir -p '" + d + "'").c_str()), 0);
     return d;
   }();

@@ -40,11 +40,11 @@ struct TrajectoryShape {
 /// Everything a trajectory file holds (mapstore/TRAJECTORY.md). S = steps + 1 rows per
 /// time series, D joints, B bodies, I + 1 cost-history rows (iteration 0 first).
 struct TrajectoryRecord {
-  std::string generator;    ///< writer name and version
-  std::string created_utc;  ///< ISO 8601 UTC or "" (reproducible bytes)
-  std::string robot;        ///< "panda" or the robot URDF path given to the planner
-  std::string hand;         ///< hand name or URDF path ("none" without a hand)
-  double dt = 0.01;         ///< time step between rows, seconds (> 0)
+  std::string generator;                 ///< writer name and version
+  std::string created_utc;               ///< ISO 8601 UTC or "" (reproducible bytes)
+  std::string robot;                     ///< "panda" or the robot URDF path given to the planner
+  std::string hand;                      ///< hand name or URDF path ("none" without a hand)
+  double dt = 0.01;                      ///< time step between rows, seconds (> 0)
   std::vector<std::string> joint_names;  ///< D joint names, column order of joints
   RowMatrixXd joints;                    ///< S x D joint angles, rad (m for prismatic joints)
   RowMatrixXd palm_world;                ///< S x 7 palm pose in the world
@@ -53,20 +53,20 @@ struct TrajectoryRecord {
   Pose object_pose;                      ///< object frame in the world
   RowMatrixXd object_vertices;           ///< V x 3 object mesh (the map's), object frame
   Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor> object_faces;  ///< F x 3
-  std::string map_path;               ///< task map file the plan used
-  std::string map_sha256;             ///< SHA-256 (hex) of that file's bytes
-  int start_cluster = -1;             ///< cluster the optimisation started from
-  int cluster = -1;                   ///< cluster of the final nearest grasp
-  std::int64_t grasp_index = -1;      ///< final nearest grasp (row of the map's /grasps)
-  std::vector<std::string> cost_terms;  ///< names of the cost_history columns
-  RowMatrixXd cost_history;             ///< (I + 1) x terms, one row per iteration
+  std::string map_path;                     ///< task map file the plan used
+  std::string map_sha256;                   ///< SHA-256 (hex) of that file's bytes
+  int start_cluster = -1;                   ///< cluster the optimisation started from
+  int cluster = -1;                         ///< cluster of the final nearest grasp
+  std::int64_t grasp_index = -1;            ///< final nearest grasp (row of the map's /grasps)
+  std::vector<std::string> cost_terms;      ///< names of the cost_history columns
+  RowMatrixXd cost_history;                 ///< (I + 1) x terms, one row per iteration
   Eigen::VectorXd proximity_over_movement;  ///< S weighted g_p at the palm pose of each step
   Eigen::VectorXd quality_over_movement;    ///< S weighted g_q at the palm pose of each step
   std::vector<std::string> body_names;      ///< B bodies (robot links, hand, environment)
   std::vector<std::int32_t> body_parents;   ///< B parent body index, -1 for the world
   std::vector<std::int32_t> body_roles;     ///< B: 0 robot, 1 hand, 2 environment
-  RowMatrixXd body_poses;  ///< S x 7B world pose of body b at columns 7b .. 7b + 6
-  std::vector<TrajectoryShape> shapes;  ///< collision primitives of the bodies
+  RowMatrixXd body_poses;                   ///< S x 7B world pose of body b at columns 7b .. 7b + 6
+  std::vector<TrajectoryShape> shapes;      ///< collision primitives of the bodies
 
   /// Number of rows of the time series (steps + 1).
   std::size_t rows() const { return static_cast<std::size_t>(joints.rows()); }

@@ -1,0 +1,29 @@
+#pragma once
+// `taskmap reach --map ... -o trajectory.h5`: the planned trajectory as a TrajectoryRecord
+// (mapstore/TRAJECTORY.md).
+
+#include <string>
+#include <vector>
+
+#include "taskmap/mapstore/trajectory_file.hpp"
+#include "taskmap/reaching/grasp_planner.hpp"
+#include "taskmap/reaching/movement_terms.hpp"
+
+namespace taskmap::cli {
+
+/// What the record names besides the plan: the planner's inputs.
+struct TrajectorySource {
+  std::string robot;     ///< "panda" or the robot URDF path
+  std::string hand;      ///< hand name or URDF path
+  std::string map_path;  ///< the task map file (its SHA-256 is computed here)
+  double dt = 0.01;      ///< control step, seconds
+};
+
+/// The record of plan b (the chosen ClusterPlan): joints, palm and body poses per step, the
+/// collision primitives, the object mesh of the map at the object body's pose, the cost
+/// history (one column per term) and the map terms over the movement.
+TrajectoryRecord trajectoryRecord(const RobotModel& robot, int palm, int object, const TaskMap& map,
+                                  const ClusterPlan& b, const MovementTerms& movement,
+                                  const TrajectorySource& source);
+
+}  // namespace taskmap::cli
