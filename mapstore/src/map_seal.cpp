@@ -139,6 +139,11 @@ std::string readWhole(const std::string& path, std::size_t max_bytes) {
 }
 
 std::string readVerified(const std::string& path) {
+  return readVerified(path, "task map", kResealHint);
+}
+
+std::string readVerified(const std::string& path, const std::string& kind,
+                         const std::string& hint) {
   std::size_t size = 0;
   Fd f = openForReading(path, &size);
   std::string bytes(std::min(size, kSealBytes), '\0');
@@ -149,8 +154,8 @@ std::string readVerified(const std::string& path) {
       throw Error(
           "the file has no taskmap seal: HDF5 written by another tool (or by taskmap before "
           "schema 2), so its integrity cannot be checked" +
-          std::string(kResealHint));
-    throw Error("not a task map: no taskmap seal at the start of the file (" +
+          hint);
+    throw Error("not a " + kind + ": no taskmap seal at the start of the file (" +
                 std::to_string(size) + " bytes; truncated, damaged or another format)");
   }
   if (size < kSealBytes)
@@ -165,7 +170,7 @@ std::string readVerified(const std::string& path) {
     throw Error("its length does not match its seal (" + std::to_string(content) +
                 " bytes follow the seal, which declares " + std::to_string(p.bytes) +
                 "): " + (content < p.bytes ? "truncated" : "extended") +
-                ", or changed by another tool" + kResealHint);
+                ", or changed by another tool" + hint);
   bytes.resize(size);
   if (!readAt(f.fd, bytes.data() + kSealBytes, content, static_cast<off_t>(kSealBytes)))
     throw Error("the file changed while being read");
@@ -173,7 +178,7 @@ std::string readVerified(const std::string& path) {
     throw Error(
         "the content does not match its seal (SHA-256 differs): the file is damaged, or was "
         "changed by another tool" +
-        std::string(kResealHint));
+        hint);
   if (!hdf5At(bytes, kSealBytes)) throw Error("the sealed content is not an HDF5 file");
   return bytes;
 }

@@ -17,6 +17,10 @@ constexpr std::size_t kSealBytes = 512;
 /// saying what is wrong: missing, too short, no seal, damaged seal, newer seal version,
 /// truncated or extended, content not matching the seal.
 std::string readVerified(const std::string& path);
+/// readVerified for a sealed file of another kind: messages call it `kind` (e.g. "trajectory
+/// file") and end the damaged/unsealed cases with `hint` (what to do; "" for nothing).
+std::string readVerified(const std::string& path, const std::string& kind,
+                         const std::string& hint);
 
 /// True when bytes hold an HDF5 superblock signature where HDF5 looks for one: offset 0, 512,
 /// 1024, 2048, ... (after a user block).

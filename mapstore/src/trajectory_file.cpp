@@ -323,7 +323,8 @@ void writeTrajectory(const std::string& path, const TrajectoryRecord& record) {
 
 TrajectoryRecord readTrajectory(const std::string& path) {
   try {
-    const std::string bytes = seal::readVerified(path);
+    const std::string bytes = seal::readVerified(
+        path, "trajectory file", "; write it again with `taskmap reach --map ... -o FILE`");
     std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
     h5::silenceErrors();
     Id file = h5::openImage(bytes, "cannot open the sealed content as HDF5");
