@@ -8,13 +8,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -199,6 +202,69 @@ TEST(TrajectoryCli, GlbParsesAndAssimpImportsIt) {
   const double ticks = a->mTicksPerSecond > 0 ? a->mTicksPerSecond : 1.0;
   EXPECT_NEAR(a->mDuration / ticks, 300 * 0.01, 1e-4);
   EXPECT_EQ(a->mChannels[0]->mNumPositionKeys, 301u);
+}
+
+/// Distance from p (body frame) to the primitive's core (segment or rectangle).
+double coreDistance(const TrajectoryShape& s, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d local = s.axes.transpose() * (p - s.center);
+  const Eigen::Vector3d nearest(std::clamp(local.x(), -s.half_u, s.half_u),
+                                std::clamp(local.y(), -s.half_v, s.half_v), 0.0);
+  return (local - nearest).norm();
+}
+
+/// Volume of a sphere-swept segment or rectangle.
+double shapeVolume(const TrajectoryShape& s) {
+  const double r = s.radius, u = 2 * s.half_u, v = 2 * s.half_v;
+  return 4.0 / 3.0 * M_PI * r * r * r + M_PI * r * r * (u + v) + 2 * r * u * v;
+}
+
+TEST(TrajectoryCli, GlbMeshesAreClosedOutwardSurfacesOfThePrimitives) {
+  const Planned& p = planned();
+  const TrajectoryRecord r = readTrajectory(p.trajectory);
+  const std::string bytes = test::fileBytes(p.glb);
+  const nlohmann::json j = checkGlb(bytes);
+  const char* bin = bytes.data() + 20 + u32(bytes, 12) + 8;
+  const auto view = [&](std::size_t accessor) {
+    const auto& v = j["bufferViews"][j["accessors"][accessor]["bufferView"].get<std::size_t>()];
+    return bin + v["byteOffset"].get<std::size_t>();
+  };
+  int checked = 0;
+  for (std::size_t b = 0; b < r.body_names.size(); ++b) {
+    const nlohmann::json& node = j["nodes"][b];
+    if (!node.contains("mesh")) continue;
+    const auto& prim = j["meshes"][node["mesh"].get<std::size_t>()]["primitives"][0];
+    const std::size_t pa = prim["attributes"]["POSITION"], ia = prim["indices"];
+    const std::size_t nv = j["accessors"][pa]["count"], ni = j["accessors"][ia]["count"];
+    const float* f = reinterpret_cast<const float*>(view(pa));
+    const auto* idx = reinterpret_cast<const std::uint32_t*>(view(ia));
+    std::vector<Eigen::Vector3d> v(nv);
+    for (std::size_t i = 0; i < nv; ++i)
+      v[i] = Eigen::Vector3d(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+    double volume = 0.0, expected = 0.0;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    for (std::size_t t = 0; t + 2 < ni; t += 3) {
+      volume += v[idx[t]].dot(v[idx[t + 1]].cross(v[idx[t + 2]])) / 6.0;
+      for (int e = 0; e < 3; ++e) ++edges[{idx[t + e], idx[t + (e + 1) % 3]}];
+    }
+    for (const auto& [edge, count] : edges) {  // closed and consistently oriented
+      EXPECT_EQ(count, 1);
+      EXPECT_EQ(edges.count({edge.second, edge.first}), 1u);
+    }
+    std::vector<const TrajectoryShape*> shapes;
+    for (const TrajectoryShape& s : r.shapes)
+      if (s.body == static_cast<int>(b)) shapes.push_back(&s), expected += shapeVolume(s);
+    for (const Eigen::Vector3d& x : v) {  // every vertex on some primitive's surface
+      double best = INFINITY;
+      for (const TrajectoryShape* s : shapes)
+        best = std::min(best, std::abs(coreDistance(*s, x) - s->radius));
+      EXPECT_LT(best, 1e-6) << r.body_names[b];
+    }
+    // Inscribed polyhedra of convex shapes: at most the exact volume, and close to it.
+    EXPECT_LE(volume, expected * (1 + 1e-6)) << r.body_names[b];
+    EXPECT_GE(volume, 0.9 * expected) << r.body_names[b];
+    ++checked;
+  }
+  EXPECT_GE(checked, 8);  // arm links, palm, table
 }
 
 TEST(TrajectoryCli, BadInputGivesClearErrors) {
