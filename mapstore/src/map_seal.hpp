@@ -19,8 +19,7 @@ constexpr std::size_t kSealBytes = 512;
 std::string readVerified(const std::string& path);
 /// readVerified for a sealed file of another kind: messages call it `kind` (e.g. "trajectory
 /// file") and end the damaged/unsealed cases with `hint` (what to do; "" for nothing).
-std::string readVerified(const std::string& path, const std::string& kind,
-                         const std::string& hint);
+std::string readVerified(const std::string& path, const std::string& kind, const std::string& hint);
 
 /// True when bytes hold an HDF5 superblock signature where HDF5 looks for one: offset 0, 512,
 /// 1024, 2048, ... (after a user block).

@@ -3,9 +3,11 @@
 #include "glb_export.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -19,6 +21,12 @@ namespace {
 constexpr int kFloat = 5126, kUnsignedInt = 5125;  // glTF componentType
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 constexpr int kLatitudes = 8, kLongitudes = 16;  // sphere tessellation of the primitives
+/// Materials by body role (robot, hand, environment), then the object.
+const std::pair<const char*, std::array<double, 3>> kMaterials[] = {
+    {"robot", {0.9, 0.45, 0.1}},
+    {"hand", {0.2, 0.45, 0.85}},
+    {"environment", {0.6, 0.6, 0.6}},
+    {"object", {0.55, 0.35, 0.2}}};
 
 /// A triangle mesh in one body's frame.
 struct MeshData {
@@ -101,12 +109,15 @@ class GltfBuilder {
          {"type", "SCALAR"}});
     return static_cast<int>(json["accessors"].size()) - 1;
   }
-  /// A mesh of one triangle primitive; returns its index.
-  int mesh(const std::string& name, const MeshData& m) {
+  /// A mesh of one triangle primitive with material (kMaterials index); returns its index.
+  int mesh(const std::string& name, const MeshData& m, int material) {
     const int pos = floats(m.positions, "VEC3", 3, kArrayBuffer), idx = indices(m.indices);
-    json["meshes"].push_back(
-        {{"name", name},
-         {"primitives", {{{"attributes", {{"POSITION", pos}}}, {"indices", idx}, {"mode", 4}}}}});
+    json["meshes"].push_back({{"name", name},
+                              {"primitives",
+                               {{{"attributes", {{"POSITION", pos}}},
+                                 {"indices", idx},
+                                 {"material", material},
+                                 {"mode", 4}}}}});
     return static_cast<int>(json["meshes"].size()) - 1;
   }
 
@@ -136,7 +147,8 @@ std::vector<int> addNodes(const TrajectoryRecord& r, GltfBuilder& g) {
   std::vector<int> children;
   for (std::size_t b = 0; b < r.body_names.size(); ++b) {
     nlohmann::json node = nodeAt(r.body_names[b], r.bodyPose(0, b));
-    if (!meshes[b].indices.empty()) node["mesh"] = g.mesh(r.body_names[b], meshes[b]);
+    if (!meshes[b].indices.empty())
+      node["mesh"] = g.mesh(r.body_names[b], meshes[b], r.body_roles[b]);
     g.json["nodes"].push_back(node);
     children.push_back(static_cast<int>(g.json["nodes"].size()) - 1);
   }
@@ -149,7 +161,7 @@ std::vector<int> addNodes(const TrajectoryRecord& r, GltfBuilder& g) {
       for (int k = 0; k < 3; ++k)
         m.indices.push_back(static_cast<std::uint32_t>(r.object_faces(i, k)));
     nlohmann::json node = nodeAt("object_mesh", r.object_pose);
-    node["mesh"] = g.mesh(r.object_name, m);
+    node["mesh"] = g.mesh(r.object_name, m, 3);
     g.json["nodes"].push_back(node);
     children.push_back(static_cast<int>(g.json["nodes"].size()) - 1);
   }
@@ -197,6 +209,12 @@ std::string glbBytes(const TrajectoryRecord& record) {
   GltfBuilder g;
   g.json["nodes"] = nlohmann::json::array();
   g.json["meshes"] = nlohmann::json::array();
+  g.json["materials"] = nlohmann::json::array();
+  for (const auto& [name, rgb] : kMaterials)
+    g.json["materials"].push_back(
+        {{"name", name},
+         {"pbrMetallicRoughness",
+          {{"baseColorFactor", {rgb[0], rgb[1], rgb[2], 1.0}}, {"metallicFactor", 0.0}}}});
   const std::vector<int> children = addNodes(record, g);
   const double s = std::sqrt(0.5);
   g.json["nodes"].push_back(
