@@ -163,6 +163,7 @@ nlohmann::json checkGlb(const std::string& bytes) {
     const auto* idx = reinterpret_cast<const std::uint32_t*>(bytes.data() + bin_at + 8 +
                                                              v["byteOffset"].get<std::size_t>());
     EXPECT_EQ(ia["count"].get<std::size_t>() % 3, 0u);
+    EXPECT_LT(prim["material"].get<std::size_t>(), j["materials"].size());
     for (std::size_t i = 0; i < ia["count"].get<std::size_t>(); ++i) EXPECT_LT(idx[i], vertices);
   }
   return j;
@@ -196,6 +197,7 @@ TEST(TrajectoryCli, GlbParsesAndAssimpImportsIt) {
   EXPECT_GE(countNodes(scene->mRootNode), r.body_names.size() + 2);
   EXPECT_LE(countNodes(scene->mRootNode), r.body_names.size() + 3);  // + assimp's own root
   EXPECT_EQ(scene->mNumMeshes, j["meshes"].size());
+  EXPECT_GE(scene->mNumMaterials, 4u);  // robot, hand, environment, object
   ASSERT_EQ(scene->mNumAnimations, 1u);
   const aiAnimation* a = scene->mAnimations[0];
   EXPECT_EQ(a->mNumChannels, moving);
