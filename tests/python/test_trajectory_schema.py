@@ -4,7 +4,8 @@
 Builds a small basket map with the mounted (humanoid) hand, plans a reach at the paper's
 reference position, then checks every documented group, dataset and attribute, and relations
 computed independently in numpy: the palm in the object frame from the world poses, the palm
-body's column of /bodies/poses, the JSON report's numbers, the primitives' axes.
+body's column of /bodies/poses, the JSON report's numbers, the primitives' axes; and that
+taskmap.reach(robot, map) in Python returns the CLI's report for the same problem.
 """
 import hashlib
 import json
@@ -51,7 +52,8 @@ class TrajectorySchemaTest(unittest.TestCase):
                         "-o", cls.map], check=True, capture_output=True)
         run = subprocess.run([CLI, "reach", "--map", cls.map, "--scene",
                               os.path.join(SRC, "reaching", "scenes", "basket_reference.json"),
-                              "--object-pose", "0.5 0 0 1.5708", "--iterations", "2", "--json",
+                              "--object-pose", "0.5 0 0 1.5707963267948966", "--iterations", "2",
+                              "--json",
                               "-o", cls.path, "--glb", cls.glb],
                              capture_output=True, text=True)
         assert run.returncode in (0, 1), run.stdout + run.stderr
@@ -162,6 +164,34 @@ class TrajectorySchemaTest(unittest.TestCase):
         times = gltf["accessors"][anim["samplers"][0]["input"]]
         self.assertEqual(times["count"], 301)
         self.assertAlmostEqual(times["max"][0], 3.0, places=5)
+
+    def test_python_reach_returns_the_cli_report(self):
+        """taskmap.reach(robot, map) on the same problem: the same keys (plus q) and values."""
+        import taskmap
+        robot = taskmap.Robot.panda_with_humanoid_hand(os.path.join(SRC, "reaching", "robots"),
+                                                       os.path.join(SRC, "meshes", "hands"))
+        # The scene file's basket stands where --object-pose puts it (yaw pi/2 at (0.5, 0)).
+        robot.add_scene(os.path.join(SRC, "reaching", "scenes", "basket_reference.json"))
+        ready = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
+        r = taskmap.reach(robot, taskmap.TaskMap.load(self.map), q0=ready, iterations=2)
+        c = self.report
+        self.assertEqual(set(r) - {"q"}, set(c))
+        for k in ("status", "cluster", "start_cluster", "grasp_index", "iterations",
+                  "iterations_to_manifold", "iterations_to_quality", "collision_free"):
+            self.assertEqual(r[k], c[k], k)
+        self.assertEqual(len(r["ranking"]), len(c["ranking"]))
+        self.assertEqual(len(r["plans"]), len(c["plans"]))
+        for a, b in zip(r["cost_history"], c["cost_history"]):
+            self.assertEqual(set(a), set(b))
+            for k in a:
+                self.assertAlmostEqual(a[k], b[k], delta=1e-9 * (1 + abs(b[k])))
+        np.testing.assert_allclose(r["proximity_over_movement"], c["proximity_over_movement"],
+                                   rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(r["quality_over_movement"], c["quality_over_movement"],
+                                   rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(r["q"][-1], c["q_final"], atol=1e-9)
+        with h5py.File(self.path, "r") as f:
+            np.testing.assert_allclose(r["q"], f["robot/joints"][()], atol=1e-9)
 
     def test_damaged_file_is_refused_by_export(self):
         with open(self.path, "rb") as f:
