@@ -185,6 +185,25 @@ TEST(TrajectoryCli, GlbParsesAndAssimpImportsIt) {
   EXPECT_EQ(j["nodes"].size(), r.body_names.size() + 2);  // bodies, object mesh, world
   ASSERT_EQ(j["animations"].size(), 1u);
   EXPECT_EQ(j["animations"][0]["channels"].size(), 2 * moving);
+  // Every channel's keys are the stored body poses (float32), glTF quaternions x y z w.
+  const char* bin = bytes.data() + 20 + u32(bytes, 12) + 8;
+  const auto& anim = j["animations"][0];
+  for (const auto& c : anim["channels"]) {
+    const std::size_t b = c["target"]["node"], sampler = c["sampler"];
+    const auto& out = j["accessors"][anim["samplers"][sampler]["output"].get<std::size_t>()];
+    const auto& v = j["bufferViews"][out["bufferView"].get<std::size_t>()];
+    const float* f = reinterpret_cast<const float*>(bin + v["byteOffset"].get<std::size_t>());
+    ASSERT_EQ(out["count"].get<std::size_t>(), r.rows());
+    for (std::size_t t : {std::size_t{0}, r.rows() / 2, r.rows() - 1}) {
+      const Pose p = r.bodyPose(t, b);
+      if (c["target"]["path"] == "translation") {
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[3 * t + k], p.position[k], 1e-6);
+      } else {
+        const Eigen::Quaterniond q(f[4 * t + 3], f[4 * t], f[4 * t + 1], f[4 * t + 2]);
+        EXPECT_LT(q.angularDistance(p.orientation), 1e-5) << r.body_names[b];
+      }
+    }
+  }
   // export-glb of the file gives the same bytes as reach --glb.
   const std::string again = tempPath("again.glb");
   const testing::CliRun e = testing::runTaskmap("export-glb " + p.trajectory + " -o " + again);
