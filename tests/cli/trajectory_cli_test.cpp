@@ -195,12 +195,12 @@ TEST(TrajectoryCli, GlbParsesAndAssimpImportsIt) {
     const float* f = reinterpret_cast<const float*>(bin + v["byteOffset"].get<std::size_t>());
     ASSERT_EQ(out["count"].get<std::size_t>(), r.rows());
     for (std::size_t t : {std::size_t{0}, r.rows() / 2, r.rows() - 1}) {
-      const Pose p = r.bodyPose(t, b);
+      const Pose pose = r.bodyPose(t, b);
       if (c["target"]["path"] == "translation") {
-        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[3 * t + k], p.position[k], 1e-6);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(f[3 * t + k], pose.position[k], 1e-6);
       } else {
         const Eigen::Quaterniond q(f[4 * t + 3], f[4 * t], f[4 * t + 1], f[4 * t + 2]);
-        EXPECT_LT(q.angularDistance(p.orientation), 1e-5) << r.body_names[b];
+        EXPECT_LT(q.angularDistance(pose.orientation), 1e-5) << r.body_names[b];
       }
     }
   }
