@@ -303,6 +303,9 @@ TEST(TrajectoryCli, BadInputGivesClearErrors) {
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.out.find("truncated"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(tempPath("x.glb")));
+  r = testing::runTaskmap("export-glb " + p.trajectory + " -o /nonexistent_dir_tm/x.glb");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("/nonexistent_dir_tm/x.glb"), std::string::npos) << r.out;
   r = testing::runTaskmap("reach --target \"0.5 0 0.2 1 0 0 0\" -o " + tempPath("t.h5"));
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.out.find("--map"), std::string::npos) << r.out;
