@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "reaching_bindings.hpp"
+#include "trajectory_bindings.hpp"
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
@@ -228,6 +229,7 @@ PYBIND11_MODULE(taskmap, m) {
   });
 
   bindReaching(m);
+  bindTrajectory(m);
 
   py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
       .def_static(

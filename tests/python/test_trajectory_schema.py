@@ -193,6 +193,28 @@ class TrajectorySchemaTest(unittest.TestCase):
         with h5py.File(self.path, "r") as f:
             np.testing.assert_allclose(r["q"], f["robot/joints"][()], atol=1e-9)
 
+    def test_read_trajectory_matches_h5py(self):
+        import taskmap
+        t = taskmap.read_trajectory(self.path)
+        with h5py.File(self.path, "r") as f:
+            np.testing.assert_array_equal(t["joints"], f["robot/joints"][()])
+            np.testing.assert_array_equal(t["palm_object"], f["robot/palm_object"][()])
+            np.testing.assert_array_equal(t["cost_history"], f["plan/cost_history"][()])
+            np.testing.assert_array_equal(t["shapes"]["params"], f["shapes/params"][()])
+            poses = f["bodies/poses"][()]
+            self.assertEqual(t["body_poses"].shape, (301, len(t["body_names"]), 7))
+            np.testing.assert_array_equal(t["body_poses"].reshape(301, -1), poses)
+            self.assertEqual(t["joint_names"], [text(n) for n in f["robot/joint_names"][()]])
+        self.assertEqual(t["dt"], 0.01)
+        self.assertEqual(t["cluster"], self.report["cluster"])
+        bad = os.path.join(self.dir, "short.h5")
+        with open(self.path, "rb") as src, open(bad, "wb") as dst:
+            dst.write(src.read()[:4000])
+        with self.assertRaisesRegex(taskmap.Error, "short.h5.*truncated"):
+            taskmap.read_trajectory(bad)
+        with self.assertRaisesRegex(ValueError, "not a trajectory file"):
+            taskmap.read_trajectory(self.map)
+
     def test_damaged_file_is_refused_by_export(self):
         with open(self.path, "rb") as f:
             data = bytearray(f.read())
