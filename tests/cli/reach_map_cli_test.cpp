@@ -48,6 +48,32 @@ TEST(ReachMapCli, RefusesBadInputWithMessages) {
       "reach --map /nonexistent/m.h5 --object-pose \"0.5 0 0 0\" --target \"0 0 0 1 0 0 0\"");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.out.find("exclude"), std::string::npos) << r.out;
+  r = testing::runTaskmap("reach --map no_such_map --object-pose \"0.5 0 0 0\"");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("bundled map"), std::string::npos) << r.out;
+  r = testing::runTaskmap(
+      "reach --map basket_humanoid --object-pose \"0.5 0 0 0\" --descent newton");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("--descent"), std::string::npos) << r.out;
+}
+
+/// The bundled reference map by name; the final grasp re-simulated (or not) in the JSON.
+TEST(ReachMapCli, BundledMapAndResimulatedGrasp) {
+  const std::string base = "reach --map basket_humanoid --scene " + kScenes +
+                           "basket_reference.json --object-pose \"0.5 0 0 1.5708\" "
+                           "--iterations 2 --json";
+  testing::CliRun r = testing::runTaskmap(base);
+  ASSERT_EQ(r.code, 0) << r.out;
+  nlohmann::json j = parseJson(r.out);
+  ASSERT_TRUE(j.contains("resimulated")) << r.out;
+  const nlohmann::json& s = j["resimulated"];
+  EXPECT_TRUE(s["outcome"].is_string());
+  EXPECT_EQ(s["force_closure"].get<bool>(), s["epsilon"].get<double>() > 0.0);
+  EXPECT_GE(s["contacts"].get<int>(), 0);
+  r = testing::runTaskmap(base + " --no-resimulate");
+  ASSERT_EQ(r.code, 0) << r.out;
+  j = parseJson(r.out);
+  EXPECT_FALSE(j.contains("resimulated"));
 }
 #else
 /// The reference map of the mounted (humanoid) hand on the basket, built once.

@@ -223,7 +223,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
   cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
   cmd->add_option("--map", args->map.map,
-                  "task map of the mounted hand: optimise the reach over attractor points with "
+                  "task map of the mounted hand (a file or a bundled map name, e.g. "
+                  "basket_humanoid): optimise the reach over attractor points with "
                   "the map as the target (needs --object-pose)");
   cmd->add_option("--object-pose", args->map.object_pose,
                   "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
@@ -236,6 +237,12 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
   cmd->add_option("--quality-weight", args->map.quality_weight,
                   "with --map: w_map,q (0 switches the quality criterion off)")
       ->capture_default_str();
+  cmd->add_option("--descent", args->map.descent,
+                  "with --map: 'bfgs' (quasi-Newton) or 'gradient' (normalised steepest descent)")
+      ->capture_default_str();
+  cmd->add_flag("--resimulate,!--no-resimulate", args->map.resimulate,
+                "with --map: re-simulate the final grasp with grasp_sim on the map's hand and "
+                "object (JSON \"resimulated\"; default on)");
   cmd->add_option("--via", args->via,
                   "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
                   "attractor point passes through; repeat for several");
@@ -260,7 +267,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                 "palm_final [x y z qw qx qy qz], compute_time_s; with --map: iterations, "
                 "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
                 "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
-                "cost_history, plans (per cluster), ranking");
+                "cost_history, plans (per cluster), ranking, resimulated {outcome, force_closure, "
+                "epsilon, contacts}");
   cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
   cmd->callback([args] { runReach(*args); });
 });

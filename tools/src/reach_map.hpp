@@ -18,7 +18,13 @@ struct MapReachArgs {
   int iterations = 40;            ///< optimiser iterations
   double proximity_weight = 1.0;  ///< w_map,p
   double quality_weight = 1.0;    ///< w_map,q
+  bool resimulate = true;         ///< re-simulate the final grasp with grasp_sim
+  std::string descent = "bfgs";   ///< "bfgs" or "gradient"
 };
+
+/// --map as a file: the path itself when it exists, else the bundled map of that name
+/// (`<dataDir()>/maps/<name>.h5`, e.g. "basket_humanoid"). Throws Error naming both.
+std::string resolveMapPath(const std::string& map);
 
 /// Pose of the object from "x y z yaw" (yaw about world z). Throws Error naming the option.
 Eigen::Isometry3d parseObjectPose(const std::string& text);

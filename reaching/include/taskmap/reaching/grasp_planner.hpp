@@ -21,6 +21,9 @@ struct GraspPlanOptions {
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
+  /// Descent: BFGS (optimizeTrajectoryBfgs, default) or the normalised gradient descent of
+  /// optimizeTrajectory (docs/REACHING.md "Descent").
+  bool bfgs = true;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };
