@@ -257,7 +257,7 @@ void bindReaching(py::module_& m) {
       "reach",
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight,
-         int steps, double dt) {
+         int steps, double dt, const std::string& descent) {
         if (r.object.empty())
           throw Error("reach: a map needs a robot with a scene object (add_scene)");
         if (r.model.palmBody() < 0) throw Error("reach: a map needs a robot with a hand");
@@ -273,7 +273,10 @@ void bindReaching(py::module_& m) {
         p.reach.steps = steps;
         p.reach.attractor.dt = dt;
         GraspPlanOptions o;
+        if (descent != "bfgs" && descent != "gradient")
+          throw Error("reach: descent must be 'bfgs' or 'gradient', not '" + descent + "'");
         o.all_clusters = all_clusters;
+        o.bfgs = descent == "bfgs";
         o.optimizer.max_iterations = iterations;
         o.map_weights.proximity = proximity_weight;
         o.map_weights.quality = quality_weight;
@@ -289,8 +292,9 @@ void bindReaching(py::module_& m) {
         return mapReachDict(plan, ms, movement);
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
-      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1000.0,
       py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
+      py::arg("descent") = "bfgs",
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
       "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
       "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
@@ -323,7 +327,7 @@ void bindReaching(py::module_& m) {
         return planDict(planGrasp(p, map, o));
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
-      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1000.0,
       py::arg("quality_weight") = 1.0,
       "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
       "planning): clusters ranked by comfort, trajectory over attractor points optimised with "

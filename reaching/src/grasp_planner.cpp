@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/reaching/trajectory_bfgs.hpp"
 
 namespace taskmap {
 
@@ -112,7 +113,8 @@ ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank&
     plan.nearest.push_back(static_cast<std::int64_t>(record->evaluation.proximity.nearest.index));
   };
   const auto start = std::chrono::steady_clock::now();
-  plan.optimization = optimizeTrajectory(p, {via, target}, opt);
+  plan.optimization = o.bfgs ? optimizeTrajectoryBfgs(p, {via, target}, opt)
+                             : optimizeTrajectory(p, {via, target}, opt);
   plan.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   measure(p, map, plan);

@@ -4,13 +4,19 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <future>
 #include <iostream>
+#include <numeric>
 #include <set>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap {
 namespace {
@@ -48,19 +54,63 @@ TEST(ReachMapCli, RefusesBadInputWithMessages) {
       "reach --map /nonexistent/m.h5 --object-pose \"0.5 0 0 0\" --target \"0 0 0 1 0 0 0\"");
   EXPECT_NE(r.code, 0);
   EXPECT_NE(r.out.find("exclude"), std::string::npos) << r.out;
+  r = testing::runTaskmap("reach --map no_such_map --object-pose \"0.5 0 0 0\"");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("bundled map"), std::string::npos) << r.out;
+  r = testing::runTaskmap(
+      "reach --map basket_humanoid --object-pose \"0.5 0 0 0\" --descent newton");
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("--descent"), std::string::npos) << r.out;
+}
+
+/// The bundled reference map by name; the final grasp re-simulated (or not) in the JSON.
+TEST(ReachMapCli, BundledMapAndResimulatedGrasp) {
+  const std::string base = "reach --map basket_humanoid --scene " + kScenes +
+                           "basket_reference.json --object-pose \"0.5 0 0 1.5708\" "
+                           "--iterations 2 --json";
+  testing::CliRun r = testing::runTaskmap(base);
+  ASSERT_EQ(r.code, 0) << r.out;
+  nlohmann::json j = parseJson(r.out);
+  ASSERT_TRUE(j.contains("resimulated")) << r.out;
+  const nlohmann::json& s = j["resimulated"];
+  EXPECT_TRUE(s["outcome"].is_string());
+  EXPECT_EQ(s["force_closure"].get<bool>(), s["epsilon"].get<double>() > 0.0);
+  EXPECT_GE(s["contacts"].get<int>(), 0);
+  r = testing::runTaskmap(base + " --no-resimulate");
+  ASSERT_EQ(r.code, 0) << r.out;
+  j = parseJson(r.out);
+  EXPECT_FALSE(j.contains("resimulated"));
 }
 #else
-/// The reference map of the mounted (humanoid) hand on the basket, built once.
-const std::string& basketMap() {
-  static const std::string path = [] {
-    const std::string p = tempPath("basket_humanoid.h5");
-    const testing::CliRun r = testing::runTaskmap(
-        "build --object " + std::string(TASKMAP_SOURCE_DIR) +
-        "/meshes/objects/basket.obj --hand humanoid --valid 300 --seed 1 --threads 1 -o " + p);
-    EXPECT_EQ(r.code, 0) << r.out;
-    return p;
-  }();
-  return path;
+const std::string kMap = std::string(TASKMAP_SOURCE_DIR) + "/meshes/maps/basket_humanoid.h5";
+
+/// The checked-in map (meshes/maps/README.md) rebuilt with its recorded command reproduces it.
+TEST(ReachMapCliSlow, ReferenceMapRebuildReproducesTheCheckedInFile) {
+  const std::string out = tempPath("basket_rebuilt.h5");
+  const testing::CliRun r = testing::runShell(
+      std::string("cd ") + TASKMAP_SOURCE_DIR + " && " + TASKMAP_BINARY_DIR +
+      "/bin/taskmap build --object meshes/objects/basket.obj --hand "
+      "meshes/hands/humanoid/humanoid.urdf --valid 300 --seed 1 --threads 1 -q -o " +
+      out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TaskMapData a = readMap(kMap), b = readMap(out);
+  ASSERT_EQ(a.grasps.size(), b.grasps.size());
+  EXPECT_TRUE(a.grasps.pose == b.grasps.pose);
+  EXPECT_EQ(a.grasps.epsilon, b.grasps.epsilon);
+  EXPECT_EQ(a.sampling.trials, b.sampling.trials);
+  ASSERT_TRUE(a.clustering && b.clustering);
+  EXPECT_EQ(a.clustering->labels, b.clustering->labels);
+  EXPECT_EQ(a.sampling.params_json, b.sampling.params_json);
+}
+
+nlohmann::json reach(const std::string& scene, const std::string& pose, const std::string& extra) {
+  const testing::CliRun r =
+      testing::runTaskmap("reach --map basket_humanoid --scene " + kScenes + scene +
+                          " --object-pose \"" + pose + "\" --json " + extra);
+  EXPECT_EQ(r.code, 0) << r.out;
+  nlohmann::json j = parseJson(r.out);
+  EXPECT_FALSE(j.is_null()) << r.out;
+  return j;
 }
 
 TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
@@ -71,17 +121,15 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
   std::set<int> clusters;
   const std::string png = tempPath("reach_map.png");
   for (const auto& [name, pose] : cases) {
-    const testing::CliRun r = testing::runTaskmap(
-        "reach --map " + basketMap() + " --scene " + kScenes + "basket_" + name +
-        ".json --object-pose \"" + pose + "\" --all-clusters --json --png " + png);
-    ASSERT_EQ(r.code, 0) << name << "\n" << r.out;
-    const nlohmann::json j = parseJson(r.out);
-    ASSERT_FALSE(j.is_null()) << r.out;
+    const nlohmann::json j = reach("basket_" + name + ".json", pose, "--all-clusters --png " + png);
+    ASSERT_TRUE(j.contains("resimulated")) << j.dump();
+    const nlohmann::json& s = j["resimulated"];
     std::cout << name << ": cluster " << j["cluster"] << ", grasp " << j["grasp_index"]
               << ", iterations " << j["iterations"] << ", to manifold "
               << j["iterations_to_manifold"] << ", to quality " << j["iterations_to_quality"]
               << ", clearance " << j["min_clearance_m"] << " m, " << j["ms_per_iteration"]
-              << " ms/iteration, " << j["ms_per_plan"] << " ms/plan\n";
+              << " ms/iteration, " << j["ms_per_plan"] << " ms/plan, re-simulated " << s["outcome"]
+              << " epsilon " << s["epsilon"] << "\n";
     EXPECT_EQ(j["status"], "planned");
     EXPECT_TRUE(j["collision_free"].get<bool>());
     EXPECT_GE(j["min_clearance_m"].get<double>(), 0.0);
@@ -89,6 +137,9 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
     EXPECT_LE(j["velocity_ratio"].get<double>(), 1.0 + 1e-9);
     EXPECT_GE(j["iterations_to_manifold"].get<int>(), 0);
     EXPECT_LE(j["iterations_to_manifold"].get<int>(), 15);
+    EXPECT_GE(j["iterations_to_quality"].get<int>(), 0);
+    EXPECT_LE(j["iterations_to_quality"].get<int>(), 25);
+    EXPECT_TRUE(s["force_closure"].get<bool>()) << name << ": " << s.dump();
     EXPECT_EQ(j["cost_history"].size(), j["iterations"].get<std::size_t>() + 1);
     const auto& h = j["cost_history"];
     EXPECT_LT(h.back()["total"].get<double>(), h.front()["total"].get<double>());
@@ -97,6 +148,69 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
   EXPECT_GE(clusters.size(), 2u);  // the chosen grasp depends on where the basket stands
   EXPECT_TRUE(fs::exists(png));    // Fig. 1.17 snapshots
   EXPECT_TRUE(fs::exists(tempPath("reach_map_costs.png")));  // Fig. 1.16 cost terms
+}
+
+/// Basket position (i, j) of the 5 x 5 grid: x 0.42..0.62 m, y -0.2..0.2 m, yaw 90 degrees
+/// + 15 ((i + j) mod 5 - 2), i.e. 60..120 degrees spread over the grid.
+std::string gridPose(int i, int j) {
+  const double yaw = (90.0 + 15.0 * ((i + j) % 5 - 2)) * M_PI / 180.0;
+  return std::to_string(0.42 + 0.05 * i) + " " + std::to_string(-0.2 + 0.1 * j) + " 0 " +
+         std::to_string(yaw);
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+/// The g_q comparison (docs/REACHING.md "Quality on and off"): same weights, quality on and off.
+TEST(ReachMapCliSlow, QualityTermRaisesTheResimulatedEpsilonOnTheGrid) {
+  std::vector<std::future<nlohmann::json> > runs;
+  for (int k = 0; k < 50; ++k) {
+    const int cell = k / 2, on = 1 - k % 2;
+    runs.push_back(std::async(std::launch::deferred, [cell, on] {
+      return reach("basket_reference.json", gridPose(cell / 5, cell % 5),
+                   "--quality-weight " + std::to_string(on));
+    }));
+  }
+  // Two CLI processes at a time (their results do not depend on it).
+  std::vector<nlohmann::json> result(runs.size());
+  for (std::size_t k = 0; k < runs.size(); k += 2) {
+    auto second = std::async(std::launch::async, [&runs, k] { return runs[k + 1].get(); });
+    result[k] = runs[k].get();
+    result[k + 1] = second.get();
+  }
+  std::vector<double> with, without;
+  int planned_with = 0, planned_without = 0, wins = 0, losses = 0, closure_with = 0;
+  for (std::size_t k = 0; k < result.size(); k += 2) {
+    const nlohmann::json &a = result[k], &b = result[k + 1];
+    ASSERT_TRUE(a.contains("resimulated") && b.contains("resimulated")) << a.dump() << b.dump();
+    planned_with += a["status"] == "planned";
+    planned_without += b["status"] == "planned";
+    const double ea = a["resimulated"]["epsilon"].get<double>();
+    const double eb = b["resimulated"]["epsilon"].get<double>();
+    closure_with += a["resimulated"]["force_closure"].get<bool>();
+    with.push_back(ea);
+    without.push_back(eb);
+    wins += ea > eb;
+    losses += ea < eb;
+    std::cout << "cell " << k / 2 << " ("
+              << gridPose(static_cast<int>(k / 2) / 5, static_cast<int>(k / 2) % 5)
+              << "): g_q on grasp " << a["grasp_index"] << " epsilon " << ea << ", off grasp "
+              << b["grasp_index"] << " epsilon " << eb << "\n";
+  }
+  const auto mean = [](const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  };
+  std::cout << "planned " << planned_with << " / " << planned_without << " of 25; force closure "
+            << "with g_q " << closure_with << "; epsilon mean " << mean(with) << " / "
+            << mean(without) << ", median " << median(with) << " / " << median(without)
+            << "; g_q on wins " << wins << ", loses " << losses << "\n";
+  EXPECT_GE(planned_with, 23);  // >= 90% of 25
+  EXPECT_GE(planned_without, 23);
+  EXPECT_GT(mean(with), mean(without));
+  EXPECT_GT(median(with), median(without));
+  EXPECT_GT(wins, losses);
 }
 #endif
 

@@ -228,7 +228,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
   cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
   cmd->add_option("--map", args->map.map,
-                  "task map of the mounted hand: optimise the reach over attractor points with "
+                  "task map of the mounted hand (a file or a bundled map name, e.g. "
+                  "basket_humanoid): optimise the reach over attractor points with "
                   "the map as the target (needs --object-pose)");
   cmd->add_option("--object-pose", args->map.object_pose,
                   "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
@@ -246,6 +247,12 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "step, cost history; mapstore/TRAJECTORY.md); `taskmap export-glb` renders it");
   cmd->add_option("--glb", args->map.glb,
                   "with --map: also write the trajectory as glTF binary for Blender");
+  cmd->add_option("--descent", args->map.descent,
+                  "with --map: 'bfgs' (quasi-Newton) or 'gradient' (normalised steepest descent)")
+      ->capture_default_str();
+  cmd->add_flag("--resimulate,!--no-resimulate", args->map.resimulate,
+                "with --map: re-simulate the final grasp with grasp_sim on the map's hand and "
+                "object (JSON \"resimulated\"; default on)");
   cmd->add_option("--via", args->via,
                   "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
                   "attractor point passes through; repeat for several");
@@ -271,7 +278,7 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                 "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
                 "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
                 "cost_history, proximity_over_movement, quality_over_movement, plans (per "
-                "cluster), ranking");
+                "cluster), ranking, resimulated {outcome, force_closure, epsilon, contacts}");
   cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
   cmd->callback([args] { runReach(*args); });
 });

@@ -6,15 +6,19 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "cost_picture.hpp"
+#include "data_dir.hpp"
 #include "glb_export.hpp"
 #include "reach_picture.hpp"
+#include "reach_resimulate.hpp"
 #include "reach_trajectory.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
@@ -33,6 +37,15 @@ Eigen::Isometry3d parseObjectPose(const std::string& text) {
   t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
   t.linear() = Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitZ()).toRotationMatrix();
   return t;
+}
+
+std::string resolveMapPath(const std::string& map) {
+  if (std::filesystem::exists(map)) return map;
+  const bool name = map.find('/') == std::string::npos && map.find('.') == std::string::npos;
+  const std::string bundled = name ? dataDir() + "/maps/" + map + ".h5" : std::string();
+  if (!bundled.empty() && std::filesystem::exists(bundled)) return bundled;
+  throw Error("--map '" + map + "' is neither a map file nor a bundled map name" +
+              (name ? " (no " + bundled + ")" : std::string()));
 }
 
 namespace {
@@ -160,13 +173,30 @@ void writeOutputs(const MapReachArgs& args, const RobotModel& robot, int palm, i
                   double dt, bool json) {
   if (args.output.empty() && args.glb.empty()) return;
   if (plan.best < 0) throw Error("no trajectory to write: " + plan.message);
-  const TrajectoryRecord record = trajectoryRecord(robot, palm, object, map, plan.plans[plan.best],
-                                                   movement, {args.robot, args.hand, args.map, dt});
+  const TrajectoryRecord record =
+      trajectoryRecord(robot, palm, object, map, plan.plans[plan.best], movement,
+                       {args.robot, args.hand, resolveMapPath(args.map), dt});
   if (!args.output.empty()) writeTrajectory(args.output, record);
   if (!args.glb.empty()) writeGlb(record, args.glb);
   if (json) return;
   if (!args.output.empty()) std::printf("trajectory        %s\n", args.output.c_str());
   if (!args.glb.empty()) std::printf("glb               %s\n", args.glb.c_str());
+}
+
+/// Palm pose in the object frame at the plan's last step.
+Pose finalPalmInObject(const RobotModel& robot, const ClusterPlan& b, int palm, int object) {
+  Kinematics kin(robot);
+  kin.update(b.optimization.cost.q.back());
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = kin.relativePosition(palm, object);
+  t.linear() = kin.relativeRotation(palm, object);
+  return Pose::fromIsometry(t);
+}
+
+void printResimulation(const Resimulation& r) {
+  std::printf("re-simulated      %s, %s, epsilon %.4f, %d contacts (%zu fingers)\n",
+              r.outcome.c_str(), r.force_closure ? "force closure" : "no force closure", r.epsilon,
+              r.contacts, r.fingers.size());
 }
 
 }  // namespace
@@ -175,7 +205,9 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
                  const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,
                  const ReachOptions& options, bool json, const std::string& png) {
   if (args.iterations < 1) throw Error("--iterations must be >= 1");
-  const TaskMap map = TaskMap::load(args.map);
+  if (args.descent != "bfgs" && args.descent != "gradient")
+    throw Error("--descent must be 'bfgs' or 'gradient', not '" + args.descent + "'");
+  const TaskMap map = TaskMap::load(resolveMapPath(args.map));
   TrajectoryProblem p;
   p.robot = &robot;
   p.collisions = &collisions;
@@ -185,6 +217,7 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   p.reach = options;
   GraspPlanOptions o;
   o.all_clusters = args.all_clusters;
+  o.bfgs = args.descent == "bfgs";
   o.optimizer.max_iterations = args.iterations;
   o.map_weights.proximity = args.proximity_weight;
   o.map_weights.quality = args.quality_weight;
@@ -196,10 +229,18 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   if (plan.best >= 0)
     movement = movementTerms(map, robot, palm, object, plan.plans[plan.best].optimization.cost.q,
                              o.map_weights);
-  if (json)
-    std::cout << toJson(plan, ms, movement).dump(2) << "\n";
-  else
+  std::optional<Resimulation> resim;
+  if (args.resimulate && plan.best >= 0)
+    resim =
+        resimulateGrasp(map.data(), finalPalmInObject(robot, plan.plans[plan.best], palm, object));
+  if (json) {
+    nlohmann::json j = toJson(plan, ms, movement);
+    if (resim) j["resimulated"] = resimulationJson(*resim);
+    std::cout << j.dump(2) << "\n";
+  } else {
     printText(plan, ms);
+    if (resim) printResimulation(*resim);
+  }
   if (!png.empty() && plan.best >= 0) {
     const ClusterPlan& b = plan.plans[plan.best];
     ReachResult r;

@@ -17,10 +17,15 @@ namespace taskmap {
 /// Options of planGrasp.
 struct GraspPlanOptions {
   TrajectoryOptimizerOptions optimizer;  ///< descent (on_iteration is used internally)
-  MapCostWeights map_weights;            ///< w_map,p and w_map,q
+  /// w_map,p and w_map,q: proximity 1000 keeps the final pose within millimetres of a sample
+  /// (docs/REACHING.md "Chosen weights").
+  MapCostWeights map_weights{1000.0, 1.0};
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
+  /// Descent: BFGS (optimizeTrajectoryBfgs, default) or the normalised gradient descent of
+  /// optimizeTrajectory (docs/REACHING.md "Descent").
+  bool bfgs = true;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };

@@ -1,0 +1,76 @@
+// Re-simulation of a planned grasp (tools/src/reach_resimulate.cpp) on the checked-in reference
+// map: started from a stored grasp's own palm pose, grasp_sim with the map's hand, object and
+// options must give back that grasp (force closure, epsilon); the hand is found by content.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <cmath>
+#include <string>
+
+#include "reach_resimulate.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap::cli {
+namespace {
+
+const std::string kMap = std::string(TASKMAP_SOURCE_DIR) + "/meshes/maps/basket_humanoid.h5";
+
+class ReachResimulate : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ::setenv("TASKMAP_DATA_DIR", (std::string(TASKMAP_BINARY_DIR) + "/share/taskmap").c_str(), 1);
+  }
+};
+
+TEST_F(ReachResimulate, StoredGraspsComeBackWithTheirQuality) {
+  const TaskMapData map = readMap(kMap);
+  int ok = 0, closure = 0, close_epsilon = 0;
+  const int n = 20;
+  for (int i = 0; i < n; ++i) {
+    const std::size_t k = static_cast<std::size_t>(i) * map.grasps.size() / n;
+    const Resimulation r = resimulateGrasp(map, map.grasps.poseAt(k));
+    ok += r.outcome == "ok";
+    closure += r.force_closure;
+    close_epsilon += std::abs(r.epsilon - map.grasps.epsilon[k]) <= 0.2 * map.grasps.epsilon[k];
+    EXPECT_EQ(r.force_closure, r.epsilon > 0.0);
+    EXPECT_LT((r.start.position - map.grasps.poseAt(k).position).norm(), 1e-12);
+  }
+  std::cout << ok << " ok, " << closure << " force closure, " << close_epsilon
+            << " epsilon within 20% of the map's, of " << n << "\n";
+  // The stored pose is the squeezed end state: the simulator backs out of the object and closes
+  // again, so small differences are expected, not a different grasp.
+  EXPECT_EQ(ok, n);  // measured: 20 ok, 20 force closure, 20 epsilon within 20%
+  EXPECT_GE(closure, n - 1);
+  EXPECT_GE(close_epsilon, n - 2);
+}
+
+TEST_F(ReachResimulate, FindsTheHandByContentAndRefusesAnUnknownOne) {
+  TaskMapData map = readMap(kMap);
+  map.sampling.params_json = R"({"hand": "/nonexistent/humanoid.urdf"})";
+  EXPECT_NE(mapHandUrdf(map).find("humanoid.urdf"), std::string::npos);  // bundled, same SHA
+  map.hand.urdf_sha256 = std::string(64, '0');
+  try {
+    mapHandUrdf(map);
+    FAIL() << "an unknown hand must be refused";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("--no-resimulate"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/humanoid.urdf"), std::string::npos);
+  }
+}
+
+TEST_F(ReachResimulate, AFarPoseTouchesNothing) {
+  const TaskMapData map = readMap(kMap);
+  Pose far = map.grasps.poseAt(0);
+  far.position += Eigen::Vector3d(2.0, 0.0, 0.0);
+  const Resimulation r = resimulateGrasp(map, far);
+  EXPECT_NE(r.outcome, "ok");
+  EXPECT_FALSE(r.force_closure);
+  EXPECT_EQ(r.epsilon, 0.0);
+  const nlohmann::json j = resimulationJson(r);
+  for (const char* key : {"outcome", "force_closure", "epsilon", "contacts"})
+    EXPECT_TRUE(j.contains(key)) << key;
+}
+
+}  // namespace
+}  // namespace taskmap::cli
