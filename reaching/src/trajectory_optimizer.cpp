@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/reaching/ik_step_derivative.hpp"
 
 namespace taskmap {
 
@@ -36,6 +37,11 @@ void TrajectoryProblem::validate() const {
     throw Error("trajectory problem: q0 is outside the joint limits");
   if (!(step_jacobian_epsilon > 0.0) || step_jacobian_epsilon > 1e-2)
     throw Error("trajectory problem: step_jacobian_epsilon must be in (0, 1e-2]");
+  if (step_derivative == StepDerivative::kAnalytic && reference >= 0 &&
+      !robot->bodyDofs()[reference].empty())
+    throw Error(
+        "trajectory problem: the analytic step derivative needs a reference body no "
+        "joint moves; use StepDerivative::kFiniteDifferences");
 }
 
 void TrajectoryOptimizerOptions::validate() const {
@@ -82,21 +88,24 @@ void addStateCost(const TrajectoryProblem& p, const Kinematics& kin, TrajectoryC
 }
 
 /// Forward pass: attractor states, joint trajectory, cost terms, direct dC/dq_t per step.
+/// With dq, also the IK step traces of the analytic backward pass (into *traces when given).
 void forwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
                  const std::vector<Eigen::VectorXd>& x, TrajectoryCost& c,
-                 std::vector<Eigen::VectorXd>* dq) {
+                 std::vector<Eigen::VectorXd>* dq, std::vector<IkStepTrace>* traces) {
   const int steps = p.reach.steps, n = p.robot->dofs();
   const double dt = p.reach.attractor.dt;
   Kinematics kin(*p.robot);
   kin.update(p.q0);
   c.q.assign(1, p.q0);
   if (dq) dq->assign(steps + 1, Eigen::VectorXd::Zero(n));
+  if (traces) traces->resize(steps);
   Eigen::Vector3d previous_position = kin.relativePosition(p.body, p.reference);
   Eigen::Matrix3Xd previous_jacobian;
   for (int t = 0; t < steps; ++t) {
     if (t == steps - 1) previous_jacobian = kin.relativePositionJacobian(p.body, p.reference);
     if (t == steps - 1) previous_position = kin.relativePosition(p.body, p.reference);
-    const Eigen::VectorXd q = reachStep(ik, kin, p.frame, dt, x[t], x[t + 1]);
+    const Eigen::VectorXd q =
+        reachStep(ik, kin, p.frame, dt, x[t], x[t + 1], traces ? &(*traces)[t] : nullptr);
     kin.update(q);
     const Eigen::VectorXd delta = q - c.q.back();
     c.path_length += p.weights.path_length * delta.squaredNorm() / dt;
@@ -131,7 +140,29 @@ double projectedStep(const ResolvedRateIK& ik, Kinematics& kin, const Trajectory
 }
 
 /// Backward pass: lambda_t = dC/dq_t + (dF/dq_t)^T lambda_{t+1}, dC/dx_t accumulated from
-/// (dF/dx_t)^T lambda_{t+1}; each IK step linearised by central differences (docs/REACHING.md T3).
+/// (dF/dx_t)^T lambda_{t+1}; each IK step's products analytic (docs/REACHING.md T3).
+std::vector<Eigen::VectorXd> analyticBackwardPass(const TrajectoryProblem& p,
+                                                  const ResolvedRateIK& ik,
+                                                  const std::vector<Eigen::VectorXd>& x,
+                                                  const TrajectoryCost& c,
+                                                  const std::vector<Eigen::VectorXd>& dq,
+                                                  const std::vector<IkStepTrace>& traces) {
+  const int steps = p.reach.steps;
+  ReachStepDerivative derivative(ik, p.frame, p.reach.attractor.dt, p.step_jacobian_epsilon);
+  Kinematics kin(*p.robot);
+  std::vector<Eigen::VectorXd> dx(steps + 1, Eigen::VectorXd::Zero(6));
+  Eigen::VectorXd lambda = dq[steps];
+  for (int t = steps - 1; t >= 0; --t) {
+    kin.update(c.q[t]);
+    const ReachStepAdjoint a = derivative.vectorJacobian(kin, x[t], x[t + 1], traces[t], lambda);
+    dx[t] += a.x;
+    dx[t + 1] += a.x_next;
+    lambda = dq[t] + a.q;
+  }
+  return dx;
+}
+
+/// The same products by finite differences of lambda^T F (the oracle, docs/REACHING.md T3).
 std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
                                           const std::vector<Eigen::VectorXd>& x,
                                           const TrajectoryCost& c,
@@ -190,9 +221,14 @@ TrajectoryCost evaluateTrajectory(const TrajectoryProblem& problem,
                           points, problem.reach.move_time / k, problem.reach.steps);
   TrajectoryCost c;
   std::vector<Eigen::VectorXd> dq;
-  forwardPass(problem, ik, x, c, gradient ? &dq : nullptr);
+  std::vector<IkStepTrace> traces;
+  const bool analytic = problem.step_derivative == StepDerivative::kAnalytic;
+  forwardPass(problem, ik, x, c, gradient ? &dq : nullptr,
+              gradient && analytic ? &traces : nullptr);
   if (!gradient) return c;
-  const std::vector<Eigen::VectorXd> dx = backwardPass(problem, ik, x, c, dq);
+  const std::vector<Eigen::VectorXd> dx = analytic
+                                              ? analyticBackwardPass(problem, ik, x, c, dq, traces)
+                                              : backwardPass(problem, ik, x, c, dq);
   const std::vector<Eigen::VectorXd> w = attractorWeights(problem, k);
   c.gradient = Eigen::VectorXd::Zero(6 * k);
   for (std::size_t t = 0; t < dx.size(); ++t)

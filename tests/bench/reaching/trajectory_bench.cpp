@@ -63,6 +63,7 @@ BENCHMARK(BM_RolloutCostAndGradient)->Unit(benchmark::kMillisecond);
 void BM_RolloutCostAndForwardDifferenceGradient(benchmark::State& state) {
   const Setup& s = setup();
   TrajectoryProblem p = s.problem;
+  p.step_derivative = StepDerivative::kFiniteDifferences;
   p.central_step_jacobian = false;
   p.step_jacobian_epsilon = 1e-8;
   for (auto _ : state) benchmark::DoNotOptimize(evaluateTrajectory(p, s.points, true));

@@ -94,6 +94,16 @@ TEST(TrajectoryOptimizer, GradientMatchesCentralDifferencesOfWholeRollouts) {
   std::cout << "gradient " << c.gradient.transpose() << "\nfinite d " << fd.transpose()
             << "\nrelative error " << rel << "\n";
   EXPECT_LT(rel, 1e-5);
+  // The oracle path (central differences of lambda^T F per IK step) agrees as well, and with the
+  // analytic products to far below the tolerance.
+  f.problem.step_derivative = StepDerivative::kFiniteDifferences;
+  const TrajectoryCost oracle = evaluateTrajectory(f.problem, f.points, true);
+  const double rel_oracle = (oracle.gradient - fd).norm() / fd.norm();
+  const double rel_paths = (oracle.gradient - c.gradient).norm() / oracle.gradient.norm();
+  std::cout << "finite-difference step products: relative error " << rel_oracle
+            << ", analytic vs finite-difference products " << rel_paths << "\n";
+  EXPECT_LT(rel_oracle, 1e-5);
+  EXPECT_LT(rel_paths, 1e-6);
   // Forward differences for the step Jacobians: half the cost, error O(eps) plus round-off,
   // 7e-6 here at eps = 1e-8: near the 1e-5 bound, so the default stays central.
   f.problem.central_step_jacobian = false;
@@ -138,6 +148,15 @@ TEST(TrajectoryOptimizer, RefusesInvalidInputWithAMessage) {
   f.problem.weights.path_length = 1.0;
   f.problem.q0[0] = 10.0;
   EXPECT_THROW(evaluateTrajectory(f.problem, f.points, false), Error);
+  f.problem.q0 = readyPose();
+  f.problem.reference = f.robot.requireBody("fer_link3");  // moves with the joints
+  try {
+    evaluateTrajectory(f.problem, f.points, true);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("kFiniteDifferences"), std::string::npos);
+  }
+  f.problem.reference = f.robot.requireBody("object");
   TrajectoryOptimizerOptions o;
   o.max_iterations = 0;
   EXPECT_THROW(optimizeTrajectory(f.problem, f.points, o), Error);
