@@ -17,7 +17,7 @@ namespace taskmap {
 namespace {
 
 struct StepFixture {
-  RobotModel robot = test::pandaWithHand();
+  RobotModel robot = test::pandaInDefaultScene();
   std::unique_ptr<CollisionModel> collisions;
   std::unique_ptr<ResolvedRateIK> ik;
   int palm = -1, object = -1;
@@ -26,7 +26,6 @@ struct StepFixture {
 
   explicit StepFixture(double boundary_distance) {
     const ReachScene scene = defaultReachScene();
-    addSceneTo(scene, robot);
     CollisionOptions co;
     co.hand_may_touch = {scene.object};
     co.boundary_distance = boundary_distance;
@@ -98,12 +97,6 @@ struct StepFixture {
   }
 };
 
-Eigen::VectorXd readyPose() {
-  Eigen::VectorXd q(7);
-  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
-  return q;
-}
-
 TEST(ReachStepDerivative, MatchesCentralDifferencesOnRandomSteps) {
   const StepFixture f(0.05);
   std::mt19937 rng(5);
@@ -123,7 +116,7 @@ TEST(ReachStepDerivative, MatchesCentralDifferencesOnRandomSteps) {
 
 TEST(ReachStepDerivative, HoldsTheVelocityScalingJoint) {
   const StepFixture f(0.05);
-  const Eigen::VectorXd q = readyPose();
+  const Eigen::VectorXd q = test::readyPose();
   Eigen::VectorXd x = f.taskAt(q), x_next = x;
   x_next.head<3>() += Eigen::Vector3d(0.05, -0.04, 0.03);  // 5 m/s feed-forward
   x_next.tail<3>() += Eigen::Vector3d(0.02, 0.01, -0.03);
@@ -137,7 +130,7 @@ TEST(ReachStepDerivative, HoldsTheVelocityScalingJoint) {
 TEST(ReachStepDerivative, HoldsLockedJoints) {
   const StepFixture f(0.05);
   // Joint 3 (the elbow) just inside its upper limit, the goal pulling the palm to fold it more.
-  Eigen::VectorXd q = readyPose();
+  Eigen::VectorXd q = test::readyPose();
   q[3] = f.robot.upper()[3] - 1e-3;
   Eigen::VectorXd x = f.taskAt(q), x_next = x;
   bool locked = false;
