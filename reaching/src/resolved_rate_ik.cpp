@@ -154,6 +154,7 @@ IkVelocity ResolvedRateIK::velocity(const Kinematics& kin, const std::vector<Tas
     Eigen::VectorXd grad_c;
     out.collision_cost = collisions_->cost(kin, &grad_c);
     grad += options_.collision_gain * grad_c;
+    if (trace) trace->collision_gradient = std::move(grad_c);
   }
   const Eigen::VectorXd wg = w_inv.cwiseProduct(grad);
   out.qdot -= wg - jw.transpose() * ldlt.solve(j * wg);
@@ -163,6 +164,8 @@ IkVelocity ResolvedRateIK::velocity(const Kinematics& kin, const std::vector<Tas
     trace->jacobian = std::move(j);
     trace->w_inv = std::move(w_inv);
     trace->task_error = out.task_error;
+    trace->collision_cost = out.collision_cost;
+    if (!collisions_) trace->collision_gradient.resize(0);
     trace->gradient = std::move(grad);
     trace->qdot = out.qdot;
   }

@@ -75,6 +75,8 @@ struct IkStepTrace {
   double scale = 1.0;          ///< s = max(1, max_i |qdot_i| / qdot_max,i); the step uses qdot / s
   int scale_joint = -1;        ///< the joint i attaining s when s > 1, else -1
   std::vector<bool> clamped;   ///< joints clamped onto a limit after the last pass
+  double collision_cost = 0.0;  ///< H_coll(q) (eq. 1.10), 0 without a collision model
+  Eigen::VectorXd collision_gradient;  ///< dH_coll/dq (eq. 1.16), empty without a model
 };
 
 /// Joint limit cost H_jl = 1/2 sum ((q_i - q_mid,i) / (q_max,i - q_min,i))^2 (eq. 1.8) and its
