@@ -113,7 +113,10 @@ ReachStepAdjoint ReachStepDerivative::vectorJacobian(const Kinematics& kin,
   const Eigen::VectorXd range = robot.upper() - robot.lower();
   out.q += ik_->options().joint_limit_gain * g_bar.cwiseQuotient(range.cwiseProduct(range));
   const double g_norm = g_bar.norm();
-  if (ik_->collisions() && ik_->options().collision_gain > 0.0 && g_norm > 0.0) {
+  // H_coll(q) = 0 means every pair lies in the zero zone (eq. 1.9; all terms are >= 0): the
+  // Hessian is zero there (up to the zone boundary, a kink), and the difference is skipped.
+  if (ik_->collisions() && ik_->options().collision_gain > 0.0 && g_norm > 0.0 &&
+      t.collision_cost > 0.0) {
     const Eigen::VectorXd dir = g_bar / g_norm;
     Eigen::VectorXd plus, minus;
     scratch_.update(kin.q() + epsilon_ * dir);

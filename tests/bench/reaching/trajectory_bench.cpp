@@ -4,8 +4,8 @@
 // analytic step products and, as the same-run baseline, with the finite-difference products
 // (central: the previous default; forward), and ten iterations of each. Per plan (all clusters):
 // with TASKMAP_BENCH_BASKET_MAP naming a map of the humanoid hand on meshes/objects/basket.obj
-// (docs/REACHING.md), planGrasp on reaching/scenes/basket_reference.json, analytic and
-// finite-difference products.
+// (docs/REACHING.md), planGrasp on reaching/scenes/basket_{reference,forward,sideways}.json,
+// analytic and finite-difference products, with and without screening the clusters.
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -91,7 +91,8 @@ void BM_TenIterations(benchmark::State& state) {
 }
 BENCHMARK(BM_TenIterations)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-/// planGrasp over every reachable cluster of the basket map at the reference position.
+/// planGrasp over every reachable cluster of the basket map: args (step products: 0 analytic,
+/// 1 central differences; screen_iterations; scene: 0 reference, 1 forward, 2 sideways).
 void BM_PlanAllClusters(benchmark::State& state) {
   const char* path = std::getenv("TASKMAP_BENCH_BASKET_MAP");
   if (!path) {
@@ -99,8 +100,10 @@ void BM_PlanAllClusters(benchmark::State& state) {
     return;
   }
   static const TaskMap map = TaskMap::load(path);
-  static const std::unique_ptr<bench::PandaScene> scene = bench::pandaInScene(
-      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json"));
+  const char* scenes[] = {"reference", "forward", "sideways"};
+  const std::unique_ptr<bench::PandaScene> scene = bench::pandaInScene(
+      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_" +
+                     scenes[state.range(2)] + ".json"));
   TrajectoryProblem base;
   base.robot = &scene->robot;
   base.collisions = scene->collisions.get();
@@ -110,18 +113,37 @@ void BM_PlanAllClusters(benchmark::State& state) {
   const TrajectoryProblem p = withStepProducts(base, static_cast<int>(state.range(0)));
   GraspPlanOptions o;
   o.all_clusters = true;
-  int iterations = 0, clusters = 0;
+  o.screen_iterations = static_cast<int>(state.range(1));
+  int iterations = 0, clusters = 0, chosen = -1;
+  double cost = 0.0;
   for (auto _ : state) {
     const GraspPlan plan = planGrasp(p, map, o);
     clusters = static_cast<int>(plan.plans.size());
     for (const ClusterPlan& c : plan.plans) iterations += c.optimization.iterations;
+    chosen = plan.best >= 0 ? plan.plans[plan.best].grasp_cluster : -1;
+    cost = plan.best >= 0 ? plan.plans[plan.best].optimization.cost.total : 0.0;
     benchmark::DoNotOptimize(plan.best);
   }
-  state.SetLabel(modeName(static_cast<int>(state.range(0))));
+  state.SetLabel(std::string(modeName(static_cast<int>(state.range(0)))) + ", " +
+                 scenes[state.range(2)]);
   state.counters["clusters"] = clusters;
+  state.counters["chosen_cluster"] = chosen;
+  state.counters["cost"] = cost;
   state.counters["iterations"] = benchmark::Counter(iterations, benchmark::Counter::kAvgIterations);
 }
-BENCHMARK(BM_PlanAllClusters)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_PlanAllClusters)
+    ->Args({1, 0, 0})
+    ->Args({0, 0, 0})
+    ->Args({0, 5, 0})
+    ->Args({0, 10, 0})
+    ->Args({0, 0, 1})
+    ->Args({0, 5, 1})
+    ->Args({0, 10, 1})
+    ->Args({0, 0, 2})
+    ->Args({0, 5, 2})
+    ->Args({0, 10, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace taskmap

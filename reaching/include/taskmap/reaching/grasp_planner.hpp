@@ -21,6 +21,10 @@ struct GraspPlanOptions {
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
+  /// With all_clusters: optimise every reachable cluster for only this many iterations, then
+  /// re-run the cheapest (safe first) with the full optimizer.max_iterations (docs/REACHING.md
+  /// "Screening"). 0 = off (every cluster optimised fully); >= 0. Default 5.
+  int screen_iterations = 5;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };
