@@ -231,9 +231,9 @@ ResolvedRateIK trajectoryIk(const TrajectoryProblem& problem) {
 TrajectoryCost rollOut(const TrajectoryProblem& problem, const ResolvedRateIK& ik,
                        const std::vector<Eigen::VectorXd>& points, bool derivatives, Tape& tape) {
   const int k = static_cast<int>(points.size());
-  tape.x = attractorTrajectory(problem.reach.attractor,
-                               Eigen::VectorXd(startTaskVariables(problem)), points,
-                               problem.reach.move_time / k, problem.reach.steps);
+  tape.x =
+      attractorTrajectory(problem.reach.attractor, Eigen::VectorXd(startTaskVariables(problem)),
+                          points, problem.reach.move_time / k, problem.reach.steps);
   TrajectoryCost c;
   forwardPass(problem, ik, tape, c, derivatives);
   return c;
@@ -242,10 +242,9 @@ TrajectoryCost rollOut(const TrajectoryProblem& problem, const ResolvedRateIK& i
 /// The backward pass on a rollout taken with derivatives: c.gradient = dC/dP (T2, T3).
 void addGradient(const TrajectoryProblem& problem, const ResolvedRateIK& ik, int k,
                  const Tape& tape, TrajectoryCost& c) {
-  const std::vector<Eigen::VectorXd> dx =
-      problem.step_derivative == StepDerivative::kAnalytic
-          ? analyticBackwardPass(problem, ik, tape, c)
-          : backwardPass(problem, ik, tape.x, c, tape.dq);
+  const std::vector<Eigen::VectorXd> dx = problem.step_derivative == StepDerivative::kAnalytic
+                                              ? analyticBackwardPass(problem, ik, tape, c)
+                                              : backwardPass(problem, ik, tape.x, c, tape.dq);
   const std::vector<Eigen::VectorXd> w = attractorWeights(problem, k);
   c.gradient = Eigen::VectorXd::Zero(6 * k);
   for (std::size_t t = 0; t < dx.size(); ++t)

@@ -65,16 +65,16 @@ struct IkVelocity {
 /// Intermediate values of one ResolvedRateIK::step() that its derivative needs
 /// (ik_step_derivative.hpp, docs/REACHING.md T3). Values of the final pass (after locking).
 struct IkStepTrace {
-  std::vector<bool> locked;    ///< joints held still (would have left their range)
-  Eigen::MatrixXd jacobian;    ///< task Jacobian J with the locked columns zeroed
-  Eigen::VectorXd w_inv;       ///< diagonal of W^-1 with the locked entries zeroed
-  Eigen::VectorXd task_error;  ///< x_d - x (rotation vectors for kOrientation)
-  Eigen::VectorXd gradient;    ///< g = alpha_jl dH_jl/dq + alpha_c dH_coll/dq
-  Eigen::VectorXd multiplier;  ///< y = (J W^-1 J^T + lambda^2 E)^-1 (xdot_d + K e + J W^-1 g)
-  Eigen::VectorXd qdot;        ///< velocity of eq. 1.1 before the velocity-limit scaling
-  double scale = 1.0;          ///< s = max(1, max_i |qdot_i| / qdot_max,i); the step uses qdot / s
-  int scale_joint = -1;        ///< the joint i attaining s when s > 1, else -1
-  std::vector<bool> clamped;   ///< joints clamped onto a limit after the last pass
+  std::vector<bool> locked;     ///< joints held still (would have left their range)
+  Eigen::MatrixXd jacobian;     ///< task Jacobian J with the locked columns zeroed
+  Eigen::VectorXd w_inv;        ///< diagonal of W^-1 with the locked entries zeroed
+  Eigen::VectorXd task_error;   ///< x_d - x (rotation vectors for kOrientation)
+  Eigen::VectorXd gradient;     ///< g = alpha_jl dH_jl/dq + alpha_c dH_coll/dq
+  Eigen::VectorXd multiplier;   ///< y = (J W^-1 J^T + lambda^2 E)^-1 (xdot_d + K e + J W^-1 g)
+  Eigen::VectorXd qdot;         ///< velocity of eq. 1.1 before the velocity-limit scaling
+  double scale = 1.0;           ///< s = max(1, max_i |qdot_i| / qdot_max,i); the step uses qdot / s
+  int scale_joint = -1;         ///< the joint i attaining s when s > 1, else -1
+  std::vector<bool> clamped;    ///< joints clamped onto a limit after the last pass
   double collision_cost = 0.0;  ///< H_coll(q) (eq. 1.10), 0 without a collision model
   Eigen::VectorXd collision_gradient;  ///< dH_coll/dq (eq. 1.16), empty without a model
 };
