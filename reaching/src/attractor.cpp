@@ -93,7 +93,7 @@ Eigen::Isometry3d goalPose(const Eigen::VectorXd& x, const Eigen::Matrix3d& targ
 
 Eigen::VectorXd reachStep(const ResolvedRateIK& ik, const Kinematics& kin,
                           const Eigen::Matrix3d& frame, double dt, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& x_next) {
+                          const Eigen::VectorXd& x_next, IkStepTrace* trace) {
   const Eigen::Isometry3d goal = goalPose(x_next, frame);
   const Eigen::Isometry3d now = goalPose(x, frame);
   std::vector<TaskGoal> goals(2);
@@ -101,7 +101,7 @@ Eigen::VectorXd reachStep(const ResolvedRateIK& ik, const Kinematics& kin,
   goals[0].velocity = (goal.translation() - now.translation()) / dt;
   goals[1].rotation = now.linear();
   goals[1].velocity = rotationLog(goal.linear() * now.linear().transpose()) / dt;
-  return ik.step(kin, goals, dt);
+  return ik.step(kin, goals, dt, nullptr, trace);
 }
 
 namespace {

@@ -18,6 +18,8 @@ void GraspPlanOptions::validate() const {
   map_weights.validate();
   if (!(via_height >= 0.0) || !std::isfinite(via_height))
     throw Error("grasp plan options: via_height must be finite and >= 0 metres");
+  if (screen_iterations < 0)
+    throw Error("grasp plan options: screen_iterations must be >= 0 (0 = no screening)");
 }
 
 namespace {
@@ -139,9 +141,16 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
   kin.update(problem.q0);
   const Pose object_world = bodyPose(kin, problem.reference);
   plan.ranking = rankClusters(map, object_world, rolloutIk(problem), comfort(problem));
+  // Screening: short optimisations of every reachable cluster, the winner re-run in full.
+  const int reachable = static_cast<int>(std::count_if(
+      plan.ranking.begin(), plan.ranking.end(), [](const ClusterRank& r) { return r.reachable; }));
+  const bool screen = options.all_clusters && reachable > 1 && options.screen_iterations > 0 &&
+                      options.screen_iterations < options.optimizer.max_iterations;
+  GraspPlanOptions first = options;
+  if (screen) first.optimizer.max_iterations = options.screen_iterations;
   for (const ClusterRank& rank : plan.ranking) {
     if (!rank.reachable) break;
-    plan.plans.push_back(planFrom(problem, map, rank, options));
+    plan.plans.push_back(planFrom(problem, map, rank, first));
     if (!options.all_clusters) break;
   }
   if (plan.plans.empty()) {
@@ -152,8 +161,15 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
     if (safe(a) != safe(b)) return safe(a);
     return a.optimization.cost.total < b.optimization.cost.total;
   };
-  plan.best = static_cast<int>(std::min_element(plan.plans.begin(), plan.plans.end(), cheaper) -
-                               plan.plans.begin());
+  const auto cheapest = [&plan, &cheaper] {
+    return static_cast<int>(std::min_element(plan.plans.begin(), plan.plans.end(), cheaper) -
+                            plan.plans.begin());
+  };
+  plan.best = cheapest();
+  if (screen) {  // plans[i] started from ranking[i] (the reachable clusters come first)
+    plan.plans[plan.best] = planFrom(problem, map, plan.ranking[plan.best], options);
+    plan.best = cheapest();
+  }
   const ClusterPlan& b = plan.plans[plan.best];
   plan.status = safe(b) ? GraspPlanStatus::kPlanned : GraspPlanStatus::kUnsafe;
   plan.message = (safe(b) ? "planned: grasp " : "unsafe plan: grasp ") +

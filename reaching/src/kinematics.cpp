@@ -94,6 +94,39 @@ Eigen::Matrix<double, 6, Eigen::Dynamic> Kinematics::jacobian(int body) const {
   return j;
 }
 
+void Kinematics::addJacobianAdjoint(int body,
+                                    const Eigen::Matrix<double, 6, Eigen::Dynamic>& adjoint,
+                                    Eigen::Ref<Eigen::VectorXd> g) const {
+  assert(adjoint.cols() == robot_->dofs() && g.size() == robot_->dofs());
+  if (body < 0) return;
+  // Along the chain (root first), for a joint k before or at joint d: dJp_d/dq_k = a_k x Jp_d,
+  // dJr_d/dq_k = a_k x a_d (revolute k); for k after d: dJp_d/dq_k = a_d x Jp_k (revolute d).
+  // Hence g_k = a_k . sum_{d >= k} (Jp_d x Gp_d + Jr_d x Gr_d) + Jp_k . sum_{d < k} (Gp_d x a_d).
+  const std::vector<int>& chain = robot_->bodyDofs()[body];
+  const Eigen::Vector3d p = poses_[body].translation();
+  const int m = static_cast<int>(chain.size());
+  std::vector<Eigen::Vector3d> jp(m);
+  for (int i = 0; i < m; ++i) {
+    const int d = chain[i];
+    jp[i] = prismatic_[d] ? axis_world_[d]
+                          : Eigen::Vector3d(axis_world_[d].cross(p - origin_world_[d]));
+  }
+  Eigen::Vector3d suffix = Eigen::Vector3d::Zero(), prefix = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> after(m);
+  for (int i = m - 1; i >= 0; --i) {
+    const int d = chain[i];
+    suffix += jp[i].cross(adjoint.col(d).head<3>());
+    if (!prismatic_[d]) suffix += axis_world_[d].cross(adjoint.col(d).tail<3>());
+    after[i] = suffix;
+  }
+  for (int i = 0; i < m; ++i) {
+    const int k = chain[i];
+    if (!prismatic_[k]) g[k] += axis_world_[k].dot(after[i]);
+    g[k] += jp[i].dot(prefix);
+    if (!prismatic_[k]) prefix += adjoint.col(k).head<3>().cross(axis_world_[k]);
+  }
+}
+
 Eigen::Vector3d Kinematics::relativePosition(int body, int reference) const {
   if (reference < 0) return poses_[body].translation();
   const Eigen::Isometry3d& r = poses_[reference];

@@ -113,6 +113,11 @@ IkVelocity ResolvedRateIK::velocity(const Kinematics& kin,
 
 IkVelocity ResolvedRateIK::velocity(const Kinematics& kin, const std::vector<TaskGoal>& goals,
                                     const std::vector<bool>& locked) const {
+  return velocity(kin, goals, locked, nullptr);
+}
+
+IkVelocity ResolvedRateIK::velocity(const Kinematics& kin, const std::vector<TaskGoal>& goals,
+                                    const std::vector<bool>& locked, IkStepTrace* trace) const {
   assert(static_cast<int>(locked.size()) == robot_->dofs());
   IkVelocity out;
   Eigen::MatrixXd j;
@@ -149,22 +154,46 @@ IkVelocity ResolvedRateIK::velocity(const Kinematics& kin, const std::vector<Tas
     Eigen::VectorXd grad_c;
     out.collision_cost = collisions_->cost(kin, &grad_c);
     grad += options_.collision_gain * grad_c;
+    if (trace) trace->collision_gradient = std::move(grad_c);
   }
   const Eigen::VectorXd wg = w_inv.cwiseProduct(grad);
   out.qdot -= wg - jw.transpose() * ldlt.solve(j * wg);
+  if (trace) {
+    trace->multiplier = ldlt.solve(xdot + j * wg);
+    trace->locked = locked;
+    trace->jacobian = std::move(j);
+    trace->w_inv = std::move(w_inv);
+    trace->task_error = out.task_error;
+    trace->collision_cost = out.collision_cost;
+    if (!collisions_) trace->collision_gradient.resize(0);
+    trace->gradient = std::move(grad);
+    trace->qdot = out.qdot;
+  }
   return out;
 }
 
 Eigen::VectorXd ResolvedRateIK::step(const Kinematics& kin, const std::vector<TaskGoal>& goals,
                                      double dt, IkVelocity* out) const {
+  return step(kin, goals, dt, out, nullptr);
+}
+
+Eigen::VectorXd ResolvedRateIK::step(const Kinematics& kin, const std::vector<TaskGoal>& goals,
+                                     double dt, IkVelocity* out, IkStepTrace* trace) const {
   if (!(dt > 0.0) || !std::isfinite(dt)) throw Error("IK step: dt must be > 0 seconds");
   std::vector<bool> locked(robot_->dofs(), false);
   IkVelocity v;
   Eigen::VectorXd q;
   for (int pass = 0; pass <= robot_->dofs(); ++pass) {
-    v = velocity(kin, goals, locked);
+    v = velocity(kin, goals, locked, trace);
     // Respect the velocity limits by scaling the whole step (keeps its direction).
-    v.qdot /= std::max(1.0, v.qdot.cwiseAbs().cwiseQuotient(robot_->velocityLimits()).maxCoeff());
+    int fastest = 0;
+    const double ratio =
+        v.qdot.cwiseAbs().cwiseQuotient(robot_->velocityLimits()).maxCoeff(&fastest);
+    v.qdot /= std::max(1.0, ratio);
+    if (trace) {
+      trace->scale = std::max(1.0, ratio);
+      trace->scale_joint = ratio > 1.0 ? fastest : -1;
+    }
     q = kin.q() + dt * v.qdot;
     bool changed = false;
     for (int i = 0; i < robot_->dofs(); ++i) {
@@ -173,6 +202,11 @@ Eigen::VectorXd ResolvedRateIK::step(const Kinematics& kin, const std::vector<Ta
       }
     }
     if (!changed) break;
+  }
+  if (trace) {
+    trace->clamped.assign(robot_->dofs(), false);
+    for (int i = 0; i < robot_->dofs(); ++i)
+      trace->clamped[i] = q[i] < robot_->lower()[i] || q[i] > robot_->upper()[i];
   }
   q = q.cwiseMax(robot_->lower()).cwiseMin(robot_->upper());
   if (out) *out = std::move(v);

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/reaching/ik_step_derivative.hpp"
 
 namespace taskmap {
 
@@ -36,6 +37,11 @@ void TrajectoryProblem::validate() const {
     throw Error("trajectory problem: q0 is outside the joint limits");
   if (!(step_jacobian_epsilon > 0.0) || step_jacobian_epsilon > 1e-2)
     throw Error("trajectory problem: step_jacobian_epsilon must be in (0, 1e-2]");
+  if (step_derivative == StepDerivative::kAnalytic && reference >= 0 &&
+      !robot->bodyDofs()[reference].empty())
+    throw Error(
+        "trajectory problem: the analytic step derivative needs a reference body no "
+        "joint moves; use StepDerivative::kFiniteDifferences");
 }
 
 void TrajectoryOptimizerOptions::validate() const {
@@ -65,38 +71,51 @@ std::vector<Eigen::VectorXd> attractorWeights(const TrajectoryProblem& p, int po
                              p.reach.move_time / points, p.reach.steps);
 }
 
-/// Running cost dt (w_c H_coll + w_jl H_jl) at q (kin holds q) and its gradient.
-void addStateCost(const TrajectoryProblem& p, const Kinematics& kin, TrajectoryCost& c,
+/// Running cost dt (w_c H_coll + w_jl H_jl) at q given H_coll(q) and (with grad) dH_coll/dq.
+void addStateCost(const TrajectoryProblem& p, const Eigen::VectorXd& q, double h_coll,
+                  const Eigen::VectorXd& h_coll_gradient, TrajectoryCost& c,
                   Eigen::VectorXd* grad) {
   const double dt = p.reach.attractor.dt;
-  Eigen::VectorXd g;
   if (p.collisions && p.weights.collision > 0.0) {
-    c.collision += dt * p.weights.collision * p.collisions->cost(kin, grad ? &g : nullptr);
-    if (grad) *grad += dt * p.weights.collision * g;
+    c.collision += dt * p.weights.collision * h_coll;
+    if (grad && h_coll_gradient.size() > 0) *grad += dt * p.weights.collision * h_coll_gradient;
   }
   if (p.weights.joint_limit > 0.0) {
-    c.joint_limit +=
-        dt * p.weights.joint_limit * jointLimitCost(*p.robot, kin.q(), grad ? &g : nullptr);
+    Eigen::VectorXd g;
+    c.joint_limit += dt * p.weights.joint_limit * jointLimitCost(*p.robot, q, grad ? &g : nullptr);
     if (grad) *grad += dt * p.weights.joint_limit * g;
   }
 }
 
-/// Forward pass: attractor states, joint trajectory, cost terms, direct dC/dq_t per step.
-void forwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
-                 const std::vector<Eigen::VectorXd>& x, TrajectoryCost& c,
-                 std::vector<Eigen::VectorXd>* dq) {
+/// A rollout and what its backward pass needs.
+struct Tape {
+  std::vector<Eigen::VectorXd> x;   ///< attractor states x_0 .. x_T
+  std::vector<Eigen::VectorXd> dq;  ///< direct dC/dq_t (empty without derivatives)
+  std::vector<IkStepTrace> traces;  ///< the IK steps' intermediate values
+};
+
+/// Forward pass: joint trajectory, cost terms and (with derivatives) the direct dC/dq_t. The
+/// collision cost of q_t (t >= 1) is the one the IK step from q_t evaluated (same state).
+void forwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik, Tape& tape,
+                 TrajectoryCost& c, bool derivatives) {
   const int steps = p.reach.steps, n = p.robot->dofs();
   const double dt = p.reach.attractor.dt;
   Kinematics kin(*p.robot);
   kin.update(p.q0);
   c.q.assign(1, p.q0);
+  std::vector<Eigen::VectorXd>* dq = derivatives ? &tape.dq : nullptr;
   if (dq) dq->assign(steps + 1, Eigen::VectorXd::Zero(n));
+  tape.traces.resize(steps);
   Eigen::Vector3d previous_position = kin.relativePosition(p.body, p.reference);
   Eigen::Matrix3Xd previous_jacobian;
   for (int t = 0; t < steps; ++t) {
     if (t == steps - 1) previous_jacobian = kin.relativePositionJacobian(p.body, p.reference);
     if (t == steps - 1) previous_position = kin.relativePosition(p.body, p.reference);
-    const Eigen::VectorXd q = reachStep(ik, kin, p.frame, dt, x[t], x[t + 1]);
+    IkStepTrace& trace = tape.traces[t];
+    const Eigen::VectorXd q = reachStep(ik, kin, p.frame, dt, tape.x[t], tape.x[t + 1], &trace);
+    if (t > 0)
+      addStateCost(p, c.q[t], trace.collision_cost, trace.collision_gradient, c,
+                   dq ? &(*dq)[t] : nullptr);
     kin.update(q);
     const Eigen::VectorXd delta = q - c.q.back();
     c.path_length += p.weights.path_length * delta.squaredNorm() / dt;
@@ -104,9 +123,13 @@ void forwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
       (*dq)[t + 1] += 2.0 * p.weights.path_length * delta / dt;
       (*dq)[t] -= 2.0 * p.weights.path_length * delta / dt;
     }
-    addStateCost(p, kin, c, dq ? &(*dq)[t + 1] : nullptr);
     c.q.push_back(q);
   }
+  Eigen::VectorXd last_gradient;
+  const double last = p.collisions && p.weights.collision > 0.0
+                          ? p.collisions->cost(kin, dq ? &last_gradient : nullptr)
+                          : 0.0;
+  addStateCost(p, c.q[steps], last, last_gradient, c, dq ? &(*dq)[steps] : nullptr);
   const Eigen::Vector3d v = (kin.relativePosition(p.body, p.reference) - previous_position) / dt;
   c.end_velocity = p.weights.end_velocity * v.squaredNorm();
   if (dq) {
@@ -131,7 +154,29 @@ double projectedStep(const ResolvedRateIK& ik, Kinematics& kin, const Trajectory
 }
 
 /// Backward pass: lambda_t = dC/dq_t + (dF/dq_t)^T lambda_{t+1}, dC/dx_t accumulated from
-/// (dF/dx_t)^T lambda_{t+1}; each IK step linearised by central differences (docs/REACHING.md T3).
+/// (dF/dx_t)^T lambda_{t+1}; each IK step's products analytic (docs/REACHING.md T3).
+std::vector<Eigen::VectorXd> analyticBackwardPass(const TrajectoryProblem& p,
+                                                  const ResolvedRateIK& ik, const Tape& tape,
+                                                  const TrajectoryCost& c) {
+  const std::vector<Eigen::VectorXd>& x = tape.x;
+  const std::vector<Eigen::VectorXd>& dq = tape.dq;
+  const std::vector<IkStepTrace>& traces = tape.traces;
+  const int steps = p.reach.steps;
+  ReachStepDerivative derivative(ik, p.frame, p.reach.attractor.dt, p.step_jacobian_epsilon);
+  Kinematics kin(*p.robot);
+  std::vector<Eigen::VectorXd> dx(steps + 1, Eigen::VectorXd::Zero(6));
+  Eigen::VectorXd lambda = dq[steps];
+  for (int t = steps - 1; t >= 0; --t) {
+    kin.update(c.q[t]);
+    const ReachStepAdjoint a = derivative.vectorJacobian(kin, x[t], x[t + 1], traces[t], lambda);
+    dx[t] += a.x;
+    dx[t + 1] += a.x_next;
+    lambda = dq[t] + a.q;
+  }
+  return dx;
+}
+
+/// The same products by finite differences of lambda^T F (the oracle, docs/REACHING.md T3).
 std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const ResolvedRateIK& ik,
                                           const std::vector<Eigen::VectorXd>& x,
                                           const TrajectoryCost& c,
@@ -173,30 +218,56 @@ std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const Reso
 
 }  // namespace
 
-TrajectoryCost evaluateTrajectory(const TrajectoryProblem& problem,
-                                  const std::vector<Eigen::VectorXd>& points, bool gradient) {
-  problem.validate();
-  if (points.empty()) throw Error("trajectory: give at least one attractor point");
-  for (const Eigen::VectorXd& point : points)
-    if (point.size() != 6 || !point.allFinite())
-      throw Error("trajectory: every attractor point needs 6 finite task variables");
-  const ResolvedRateIK ik(*problem.robot,
-                          {{TaskKind::kPosition, problem.body, problem.reference, -1},
-                           {TaskKind::kOrientation, problem.body, problem.reference, -1}},
-                          problem.collisions, problem.reach.ik);
+namespace {
+
+ResolvedRateIK trajectoryIk(const TrajectoryProblem& problem) {
+  return ResolvedRateIK(*problem.robot,
+                        {{TaskKind::kPosition, problem.body, problem.reference, -1},
+                         {TaskKind::kOrientation, problem.body, problem.reference, -1}},
+                        problem.collisions, problem.reach.ik);
+}
+
+/// Validated problem and points: the rollout with its tape (derivatives: the direct dC/dq_t).
+TrajectoryCost rollOut(const TrajectoryProblem& problem, const ResolvedRateIK& ik,
+                       const std::vector<Eigen::VectorXd>& points, bool derivatives, Tape& tape) {
   const int k = static_cast<int>(points.size());
-  const std::vector<Eigen::VectorXd> x =
+  tape.x =
       attractorTrajectory(problem.reach.attractor, Eigen::VectorXd(startTaskVariables(problem)),
                           points, problem.reach.move_time / k, problem.reach.steps);
   TrajectoryCost c;
-  std::vector<Eigen::VectorXd> dq;
-  forwardPass(problem, ik, x, c, gradient ? &dq : nullptr);
-  if (!gradient) return c;
-  const std::vector<Eigen::VectorXd> dx = backwardPass(problem, ik, x, c, dq);
+  forwardPass(problem, ik, tape, c, derivatives);
+  return c;
+}
+
+/// The backward pass on a rollout taken with derivatives: c.gradient = dC/dP (T2, T3).
+void addGradient(const TrajectoryProblem& problem, const ResolvedRateIK& ik, int k,
+                 const Tape& tape, TrajectoryCost& c) {
+  const std::vector<Eigen::VectorXd> dx = problem.step_derivative == StepDerivative::kAnalytic
+                                              ? analyticBackwardPass(problem, ik, tape, c)
+                                              : backwardPass(problem, ik, tape.x, c, tape.dq);
   const std::vector<Eigen::VectorXd> w = attractorWeights(problem, k);
   c.gradient = Eigen::VectorXd::Zero(6 * k);
   for (std::size_t t = 0; t < dx.size(); ++t)
     for (int j = 0; j < k; ++j) c.gradient.segment<6>(6 * j) += w[t][j + 1] * dx[t];
+}
+
+void checkPoints(const std::vector<Eigen::VectorXd>& points) {
+  if (points.empty()) throw Error("trajectory: give at least one attractor point");
+  for (const Eigen::VectorXd& point : points)
+    if (point.size() != 6 || !point.allFinite())
+      throw Error("trajectory: every attractor point needs 6 finite task variables");
+}
+
+}  // namespace
+
+TrajectoryCost evaluateTrajectory(const TrajectoryProblem& problem,
+                                  const std::vector<Eigen::VectorXd>& points, bool gradient) {
+  problem.validate();
+  checkPoints(points);
+  const ResolvedRateIK ik = trajectoryIk(problem);
+  Tape tape;
+  TrajectoryCost c = rollOut(problem, ik, points, gradient, tape);
+  if (gradient) addGradient(problem, ik, static_cast<int>(points.size()), tape, c);
   return c;
 }
 
@@ -204,8 +275,14 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
                                           std::vector<Eigen::VectorXd> points,
                                           const TrajectoryOptimizerOptions& options) {
   options.validate();
+  problem.validate();
+  checkPoints(points);
+  const ResolvedRateIK ik = trajectoryIk(problem);
+  const int k = static_cast<int>(points.size());
   TrajectoryOptimization r;
-  TrajectoryCost current = evaluateTrajectory(problem, points, true);
+  Tape tape;
+  TrajectoryCost current = rollOut(problem, ik, points, true, tape);
+  addGradient(problem, ik, k, tape, current);
   const auto record = [&r](TrajectoryCost c) {
     c.gradient.resize(0);
     c.q.clear();
@@ -227,7 +304,8 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
     for (int tries = 0; tries < 30 && !accepted; ++tries, step *= 0.5) {
       for (std::size_t j = 0; j < points.size(); ++j)
         trial[j] = points[j] - step * current.gradient.segment<6>(6 * j) / gnorm;
-      candidate = evaluateTrajectory(problem, trial, false);
+      // With derivatives: an accepted trial needs only its backward pass.
+      candidate = rollOut(problem, ik, trial, true, tape);
       accepted = candidate.total < current.total - 1e-4 * step * gnorm;
     }
     if (!accepted) {
@@ -237,7 +315,8 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
     step *= 4.0;  // undo the last halving and grow: the step adapts to the landscape
     const double previous = current.total;
     points = trial;
-    current = evaluateTrajectory(problem, points, true);
+    current = std::move(candidate);
+    addGradient(problem, ik, k, tape, current);
     ++r.iterations;
     record(current);
     if (options.on_iteration) options.on_iteration(r.iterations, current);

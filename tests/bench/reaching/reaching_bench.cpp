@@ -4,8 +4,8 @@
 // 300-step rollout. Baseline in the same run: KDL's FK + Jacobian of the same chain.
 #include <benchmark/benchmark.h>
 
+#include "reaching_bench_setup.hpp"
 #include "taskmap/reaching/attractor.hpp"
-#include "taskmap/reaching/reach_scene.hpp"
 
 #ifdef TASKMAP_HAVE_KDL
 #include <kdl/chain.hpp>
@@ -17,34 +17,26 @@ namespace taskmap {
 namespace {
 
 struct Setup {
-  RobotModel robot;
-  CollisionModel* collisions = nullptr;
-  int object = -1;
-  Eigen::Isometry3d target = Eigen::Isometry3d::Identity();
+  std::unique_ptr<bench::PandaScene> scene;
+  RobotModel& robot;
+  CollisionModel* collisions;
+  int object;
+  Eigen::Isometry3d target = bench::sideGrasp();
   Eigen::VectorXd q0;
   std::vector<Eigen::VectorXd> trajectory;  // configurations of a rollout, cycled through
+
+  explicit Setup(std::unique_ptr<bench::PandaScene> s)
+      : scene(std::move(s)),
+        robot(scene->robot),
+        collisions(scene->collisions.get()),
+        object(scene->object),
+        q0(scene->q0) {
+    trajectory = reach(robot, collisions, robot.palmBody(), object, target, q0, ReachOptions{}).q;
+  }
 };
 
 const Setup& setup() {
-  static Setup s = [] {
-    Setup out;
-    out.robot = RobotModel::pandaWithHumanoidHand(
-        std::string(TASKMAP_SOURCE_DIR) + "/reaching/robots", TASKMAP_HANDS_DIR);
-    const ReachScene scene = defaultReachScene();
-    addSceneTo(scene, out.robot);
-    CollisionOptions co;
-    co.hand_may_touch = {scene.object};
-    out.collisions = new CollisionModel(out.robot, co);  // lives for the process
-    out.object = out.robot.requireBody(scene.object);
-    out.target.translation() = Eigen::Vector3d(-0.07, 0.0, 0.02);
-    out.target.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()).matrix();
-    out.q0.resize(7);
-    out.q0 << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
-    out.trajectory = reach(out.robot, out.collisions, out.robot.palmBody(), out.object, out.target,
-                           out.q0, ReachOptions{})
-                         .q;
-    return out;
-  }();
+  static const Setup s(bench::pandaInScene(defaultReachScene()));
   return s;
 }
 

@@ -73,33 +73,14 @@ TEST(Attractor, UnderdampedOvershootsAndPointsAreInterpolated) {
   EXPECT_THROW(attractorTrajectory(o, x0, {Eigen::Vector3d(1, 0, 0)}, 1.0, 10), Error);
 }
 
-/// Panda ready pose.
-Eigen::VectorXd readyPose() {
-  Eigen::VectorXd q(7);
-  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
-  return q;
-}
-
-/// Side grasp of the default scene's upright cylinder: palm 6 cm from its axis facing it,
-/// fingers horizontal.
-Eigen::Isometry3d sideGrasp() {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(-0.07, 0.0, 0.02);
-  t.linear().col(0) = -Eigen::Vector3d::UnitZ();
-  t.linear().col(1) = Eigen::Vector3d::UnitY();
-  t.linear().col(2) = Eigen::Vector3d::UnitX();
-  return t;
-}
-
 TEST(Reach, PandaReachesASideGraspOfTheObjectWithoutCollision) {
-  RobotModel robot = test::pandaWithHand();
+  RobotModel robot = test::pandaInDefaultScene();
   const ReachScene scene = defaultReachScene();
-  addSceneTo(scene, robot);
   CollisionOptions co;
   co.hand_may_touch = {scene.object};
   const CollisionModel collisions(robot, co);
   const ReachResult r = reach(robot, &collisions, robot.palmBody(), robot.requireBody("object"),
-                              sideGrasp(), readyPose(), ReachOptions{});
+                              test::sideGrasp(), test::readyPose(), ReachOptions{});
   std::cout << r.message << ": position error " << r.position_error << " m, orientation error "
             << r.orientation_error << " rad, min clearance " << r.min_clearance << " m ("
             << r.min_clearance_pair << "), joint margin " << r.joint_limit_margin << "\n";
@@ -111,9 +92,8 @@ TEST(Reach, PandaReachesASideGraspOfTheObjectWithoutCollision) {
 }
 
 TEST(Reach, CollisionNullSpaceTermKeepsClearWhereTheSameRolloutWouldCollide) {
-  RobotModel robot = test::pandaWithHand();
+  RobotModel robot = test::pandaInDefaultScene();
   const ReachScene scene = defaultReachScene();
-  addSceneTo(scene, robot);
   // Plain rollout (collision gain 0): where is the elbow a third of the way?
   ReachOptions plain;
   plain.ik.collision_gain = 0.0;
@@ -121,7 +101,7 @@ TEST(Reach, CollisionNullSpaceTermKeepsClearWhereTheSameRolloutWouldCollide) {
   co.hand_may_touch = {scene.object};
   const int object = robot.requireBody("object");
   const ReachResult free_run =
-      reach(robot, nullptr, robot.palmBody(), object, sideGrasp(), readyPose(), plain);
+      reach(robot, nullptr, robot.palmBody(), object, test::sideGrasp(), test::readyPose(), plain);
   ASSERT_EQ(free_run.status, ReachStatus::kReached);
   // The elbow's self-motion direction at step 100 (along link 4's capsule axis): the null space of
   // the 6 x 7 palm Jacobian.
@@ -141,11 +121,11 @@ TEST(Reach, CollisionNullSpaceTermKeepsClearWhereTheSameRolloutWouldCollide) {
       "ball", Eigen::Isometry3d(Eigen::Translation3d(elbow + offset * swing)),
       {Primitive::capsule(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.04)});
   const CollisionModel collisions(robot, co);
-  const ReachResult without =
-      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), plain);
+  const ReachResult without = reach(robot, &collisions, robot.palmBody(), object, test::sideGrasp(),
+                                    test::readyPose(), plain);
   const ReachOptions avoid;
-  const ReachResult with =
-      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), avoid);
+  const ReachResult with = reach(robot, &collisions, robot.palmBody(), object, test::sideGrasp(),
+                                 test::readyPose(), avoid);
   std::cout << "without: " << without.message << " clearance " << without.min_clearance
             << "\nwith: " << with.message << " clearance " << with.min_clearance << " ("
             << with.min_clearance_pair << ") position error " << with.position_error << "\n";
@@ -156,14 +136,13 @@ TEST(Reach, CollisionNullSpaceTermKeepsClearWhereTheSameRolloutWouldCollide) {
 }
 
 TEST(Reach, ViaPointBendsThePathAndTheTargetIsStillReached) {
-  RobotModel robot = test::pandaWithHand();
+  RobotModel robot = test::pandaInDefaultScene();
   const ReachScene scene = defaultReachScene();
-  addSceneTo(scene, robot);
   CollisionOptions co;
   co.hand_may_touch = {scene.object};
   const CollisionModel collisions(robot, co);
   const int object = robot.requireBody(scene.object);
-  Eigen::Isometry3d via = sideGrasp();
+  Eigen::Isometry3d via = test::sideGrasp();
   via.translation() += Eigen::Vector3d(0.0, -0.25, 0.1);
   const auto closest = [&](const ReachResult& r) {
     double best = 1e9;
@@ -172,13 +151,13 @@ TEST(Reach, ViaPointBendsThePathAndTheTargetIsStillReached) {
     return best;
   };
   ReachOptions options;
-  const ReachResult direct =
-      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), options);
+  const ReachResult direct = reach(robot, &collisions, robot.palmBody(), object, test::sideGrasp(),
+                                   test::readyPose(), options);
   options.via_points = {via};
   options.move_time = 2.0;
   options.steps = 400;  // 2 s of motion, 2 s to settle
-  const ReachResult bent =
-      reach(robot, &collisions, robot.palmBody(), object, sideGrasp(), readyPose(), options);
+  const ReachResult bent = reach(robot, &collisions, robot.palmBody(), object, test::sideGrasp(),
+                                 test::readyPose(), options);
   std::cout << "closest approach to the via point: direct " << closest(direct) << " m, with via "
             << closest(bent) << " m\n";
   EXPECT_EQ(bent.status, ReachStatus::kReached) << bent.message;

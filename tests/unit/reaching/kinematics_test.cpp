@@ -99,6 +99,40 @@ TEST(Kinematics, PointJacobianMatchesFiniteDifferencesOfABodyFixedPoint) {
   EXPECT_EQ(j.rightCols(2).norm(), 0.0);
 }
 
+/// addJacobianAdjoint against central differences of sum_ij G_ij J_ij(q), random G, every body.
+void expectJacobianAdjointMatches(const RobotModel& robot, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> normal;
+  Kinematics kin(robot);
+  const Eigen::VectorXd q = test::randomConfiguration(robot, rng);
+  for (int body = 0; body < static_cast<int>(robot.bodies().size()); ++body) {
+    Eigen::Matrix<double, 6, Eigen::Dynamic> g(6, robot.dofs());
+    for (int i = 0; i < g.size(); ++i) g.data()[i] = normal(rng);
+    kin.update(q);
+    Eigen::VectorXd analytic = Eigen::VectorXd::Zero(robot.dofs());
+    kin.addJacobianAdjoint(body, g, analytic);
+    Eigen::VectorXd fd(robot.dofs());
+    for (int k = 0; k < robot.dofs(); ++k) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[k] += kStep;
+      qm[k] -= kStep;
+      kin.update(qp);
+      const double plus = g.cwiseProduct(kin.jacobian(body)).sum();
+      kin.update(qm);
+      fd[k] = (plus - g.cwiseProduct(kin.jacobian(body)).sum()) / (2 * kStep);
+    }
+    EXPECT_LT(relativeError(analytic, fd), 1e-7)
+        << robot.bodies()[body].name << "\nanalytic " << analytic.transpose() << "\nfd "
+        << fd.transpose();
+  }
+}
+
+TEST(Kinematics, JacobianAdjointMatchesFiniteDifferences) {
+  expectJacobianAdjointMatches(test::pandaWithHand(), 4);
+  expectJacobianAdjointMatches(
+      RobotModel::load(test::writeTempFile("mixed.urdf", test::mixedJointsUrdf())), 5);
+}
+
 TEST(Kinematics, CenterOfMassAndItsJacobian) {
   const RobotModel& robot = test::pandaWithHand();
   double total = 0.0;

@@ -15,12 +15,6 @@
 namespace taskmap {
 namespace {
 
-Eigen::VectorXd readyPose() {
-  Eigen::VectorXd q(7);
-  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
-  return q;
-}
-
 const TaskMap& map() {
   TaskMapOptions o;
   o.quality_mode = QualityMode::kExact;
@@ -30,13 +24,8 @@ const TaskMap& map() {
 }
 
 struct Scene {
-  RobotModel robot = test::pandaWithHand();
-  int object = -1;
-  Scene() {
-    ReachScene scene = defaultReachScene();
-    addSceneTo(scene, robot);
-    object = robot.requireBody("object");
-  }
+  RobotModel robot = test::pandaInDefaultScene();
+  int object = robot.requireBody("object");
 };
 
 TEST(MapCost, JointGradientMatchesCentralDifferences) {
@@ -46,7 +35,7 @@ TEST(MapCost, JointGradientMatchesCentralDifferences) {
   w.quality = 5.0;
   const TerminalCost cost = mapTerminalCost(map(), s.robot.palmBody(), s.object, w, {}, record);
   Kinematics kin(s.robot);
-  Eigen::VectorXd q = readyPose();
+  Eigen::VectorXd q = test::readyPose();
   q[0] += 0.2;
   kin.update(q);
   Eigen::VectorXd g;
@@ -82,7 +71,7 @@ TEST(MapCost, TrajectoryGradientWithTheMapMatchesCentralDifferences) {
   p.collisions = &collisions;
   p.body = s.robot.palmBody();
   p.reference = s.object;
-  p.q0 = readyPose();
+  p.q0 = test::readyPose();
   p.reach.steps = 50;
   p.reach.move_time = 0.4;
   auto record = std::make_shared<MapCostRecord>();

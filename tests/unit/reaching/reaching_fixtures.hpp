@@ -1,6 +1,7 @@
 #pragma once
-// Shared helpers of the reaching tests: the shipped Panda with the humanoid hand, random
-// configurations, a small URDF with every joint kind written to a temporary file.
+// Shared helpers of the reaching tests: the shipped Panda with the humanoid hand (alone or in the
+// default scene), its ready pose, a side grasp of the default object, random configurations, a
+// small URDF with every joint kind written to a temporary file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <random>
 #include <string>
 
+#include "taskmap/reaching/reach_scene.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap::test {
@@ -19,6 +21,31 @@ inline std::string robotsDir() {
 inline const RobotModel& pandaWithHand() {
   static const RobotModel robot = RobotModel::pandaWithHumanoidHand(robotsDir(), TASKMAP_HANDS_DIR);
   return robot;
+}
+
+/// The Panda with the humanoid hand and the bodies of the default scene (table, "object").
+inline RobotModel pandaInDefaultScene() {
+  RobotModel robot = pandaWithHand();
+  addSceneTo(defaultReachScene(), robot);
+  return robot;
+}
+
+/// Franka's ready pose.
+inline Eigen::VectorXd readyPose() {
+  Eigen::VectorXd q(7);
+  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
+  return q;
+}
+
+/// Side grasp of the default scene's upright cylinder (object frame): palm 7 cm from its axis
+/// facing it, fingers horizontal.
+inline Eigen::Isometry3d sideGrasp() {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translation() = Eigen::Vector3d(-0.07, 0.0, 0.02);
+  t.linear().col(0) = -Eigen::Vector3d::UnitZ();
+  t.linear().col(1) = Eigen::Vector3d::UnitY();
+  t.linear().col(2) = Eigen::Vector3d::UnitX();
+  return t;
 }
 
 /// Uniform configuration inside the limits shrunk by `margin` of each range.

@@ -16,24 +16,8 @@
 namespace taskmap {
 namespace {
 
-Eigen::VectorXd readyPose() {
-  Eigen::VectorXd q(7);
-  q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;
-  return q;
-}
-
-/// Side grasp of the default scene's cylinder (object frame), as in attractor_test.cpp.
-Eigen::Isometry3d sideGrasp() {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(-0.07, 0.0, 0.02);
-  t.linear().col(0) = -Eigen::Vector3d::UnitZ();
-  t.linear().col(1) = Eigen::Vector3d::UnitY();
-  t.linear().col(2) = Eigen::Vector3d::UnitX();
-  return t;
-}
-
 struct Fixture {
-  RobotModel robot = test::pandaWithHand();
+  RobotModel robot = test::pandaInDefaultScene();
   ReachScene scene = defaultReachScene();
   CollisionModel* collisions = nullptr;
   std::unique_ptr<CollisionModel> owned;
@@ -41,7 +25,6 @@ struct Fixture {
   std::vector<Eigen::VectorXd> points;
 
   explicit Fixture(int steps) {
-    addSceneTo(scene, robot);
     CollisionOptions co;
     co.hand_may_touch = {scene.object};
     co.boundary_distance = 0.3;  // pairs inside the cost's range along the path
@@ -50,12 +33,13 @@ struct Fixture {
     problem.collisions = owned.get();
     problem.body = robot.palmBody();
     problem.reference = robot.requireBody("object");
-    problem.q0 = readyPose();
-    problem.frame = sideGrasp().linear();
+    problem.q0 = test::readyPose();
+    problem.frame = test::sideGrasp().linear();
     problem.reach.steps = steps;
     problem.reach.move_time = 0.4;
     problem.weights.collision = 10.0;
-    const Eigen::Vector3d goal = sideGrasp().translation() + Eigen::Vector3d(-0.05, 0.0, 0.03);
+    const Eigen::Vector3d goal =
+        test::sideGrasp().translation() + Eigen::Vector3d(-0.05, 0.0, 0.03);
     const int palm = problem.body, object = problem.reference;
     problem.terminal = [goal, palm, object](const Kinematics& kin, Eigen::VectorXd* g) {
       const Eigen::Vector3d e = kin.relativePosition(palm, object) - goal;
@@ -64,7 +48,7 @@ struct Fixture {
     };
     const Eigen::Matrix<double, 6, 1> x0 = startTaskVariables(problem);
     Eigen::Matrix<double, 6, 1> target = Eigen::Matrix<double, 6, 1>::Zero();
-    target.head<3>() = sideGrasp().translation();
+    target.head<3>() = test::sideGrasp().translation();
     Eigen::Matrix<double, 6, 1> via = 0.5 * (x0 + target);
     via[2] += 0.05;
     points = {via, target};
@@ -94,6 +78,16 @@ TEST(TrajectoryOptimizer, GradientMatchesCentralDifferencesOfWholeRollouts) {
   std::cout << "gradient " << c.gradient.transpose() << "\nfinite d " << fd.transpose()
             << "\nrelative error " << rel << "\n";
   EXPECT_LT(rel, 1e-5);
+  // The oracle path (central differences of lambda^T F per IK step) agrees as well, and with the
+  // analytic products to far below the tolerance.
+  f.problem.step_derivative = StepDerivative::kFiniteDifferences;
+  const TrajectoryCost oracle = evaluateTrajectory(f.problem, f.points, true);
+  const double rel_oracle = (oracle.gradient - fd).norm() / fd.norm();
+  const double rel_paths = (oracle.gradient - c.gradient).norm() / oracle.gradient.norm();
+  std::cout << "finite-difference step products: relative error " << rel_oracle
+            << ", analytic vs finite-difference products " << rel_paths << "\n";
+  EXPECT_LT(rel_oracle, 1e-5);
+  EXPECT_LT(rel_paths, 1e-6);
   // Forward differences for the step Jacobians: half the cost, error O(eps) plus round-off,
   // 7e-6 here at eps = 1e-8: near the 1e-5 bound, so the default stays central.
   f.problem.central_step_jacobian = false;
@@ -138,6 +132,15 @@ TEST(TrajectoryOptimizer, RefusesInvalidInputWithAMessage) {
   f.problem.weights.path_length = 1.0;
   f.problem.q0[0] = 10.0;
   EXPECT_THROW(evaluateTrajectory(f.problem, f.points, false), Error);
+  f.problem.q0 = test::readyPose();
+  f.problem.reference = f.robot.requireBody("fer_link3");  // moves with the joints
+  try {
+    evaluateTrajectory(f.problem, f.points, true);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("kFiniteDifferences"), std::string::npos);
+  }
+  f.problem.reference = f.robot.requireBody("object");
   TrajectoryOptimizerOptions o;
   o.max_iterations = 0;
   EXPECT_THROW(optimizeTrajectory(f.problem, f.points, o), Error);

@@ -98,10 +98,11 @@ Eigen::Isometry3d goalPose(const Eigen::VectorXd& x, const Eigen::Matrix3d& fram
 
 /// One control step of the rollout: the IK (tasks: position, orientation of one body) tracks
 /// the attractor state moving from x to x_next (task variables relative to `frame`) with
-/// feedback on x; kin must hold the current configuration. Returns q_{t+1}.
+/// feedback on x; kin must hold the current configuration. Returns q_{t+1}. With `trace`, the
+/// IK step's intermediate values are recorded for its derivative (ik_step_derivative.hpp).
 Eigen::VectorXd reachStep(const ResolvedRateIK& ik, const Kinematics& kin,
                           const Eigen::Matrix3d& frame, double dt, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& x_next);
+                          const Eigen::VectorXd& x_next, IkStepTrace* trace = nullptr);
 
 /// Moves `body` (usually the palm) to `target` (its pose in the `reference` body frame, -1 =
 /// world) from q0 with attractor dynamics on (position, rotation vector relative to the target)

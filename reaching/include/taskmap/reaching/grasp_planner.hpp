@@ -26,6 +26,10 @@ struct GraspPlanOptions {
   /// Descent: BFGS (optimizeTrajectoryBfgs, default) or the normalised gradient descent of
   /// optimizeTrajectory (docs/REACHING.md "Descent").
   bool bfgs = true;
+  /// With all_clusters: optimise every reachable cluster for only this many iterations, then
+  /// re-run the cheapest (safe first) with the full optimizer.max_iterations (docs/REACHING.md
+  /// "Screening"). 0 = off (every cluster optimised fully); >= 0. Default 5.
+  int screen_iterations = 5;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };

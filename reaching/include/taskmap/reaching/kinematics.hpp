@@ -45,6 +45,13 @@ class Kinematics {
   /// Geometric Jacobian of the body frame origin: rows 0-2 linear, rows 3-5 angular (world).
   Eigen::Matrix<double, 6, Eigen::Dynamic> jacobian(int body) const;
 
+  /// g_k += sum_ij adjoint_ij dJ_ij/dq_k for the geometric Jacobian J = jacobian(body) (rows
+  /// 0-2 linear, 3-5 angular, world frame): the reverse-mode product through the Jacobian's
+  /// dependence on q along the kinematic chain (docs/REACHING.md T3, eq. T3.4). adjoint is
+  /// 6 x dofs(), g has dofs() entries.
+  void addJacobianAdjoint(int body, const Eigen::Matrix<double, 6, Eigen::Dynamic>& adjoint,
+                          Eigen::Ref<Eigen::VectorXd> g) const;
+
   /// Position of `body` relative to `reference` expressed in the reference frame, eq. 1.3;
   /// reference -1 means the world.
   Eigen::Vector3d relativePosition(int body, int reference) const;

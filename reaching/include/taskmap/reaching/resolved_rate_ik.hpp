@@ -62,6 +62,23 @@ struct IkVelocity {
   double collision_cost = 0.0;    ///< H_coll (eq. 1.10), 0 without a collision model
 };
 
+/// Intermediate values of one ResolvedRateIK::step() that its derivative needs
+/// (ik_step_derivative.hpp, docs/REACHING.md T3). Values of the final pass (after locking).
+struct IkStepTrace {
+  std::vector<bool> locked;     ///< joints held still (would have left their range)
+  Eigen::MatrixXd jacobian;     ///< task Jacobian J with the locked columns zeroed
+  Eigen::VectorXd w_inv;        ///< diagonal of W^-1 with the locked entries zeroed
+  Eigen::VectorXd task_error;   ///< x_d - x (rotation vectors for kOrientation)
+  Eigen::VectorXd gradient;     ///< g = alpha_jl dH_jl/dq + alpha_c dH_coll/dq
+  Eigen::VectorXd multiplier;   ///< y = (J W^-1 J^T + lambda^2 E)^-1 (xdot_d + K e + J W^-1 g)
+  Eigen::VectorXd qdot;         ///< velocity of eq. 1.1 before the velocity-limit scaling
+  double scale = 1.0;           ///< s = max(1, max_i |qdot_i| / qdot_max,i); the step uses qdot / s
+  int scale_joint = -1;         ///< the joint i attaining s when s > 1, else -1
+  std::vector<bool> clamped;    ///< joints clamped onto a limit after the last pass
+  double collision_cost = 0.0;  ///< H_coll(q) (eq. 1.10), 0 without a collision model
+  Eigen::VectorXd collision_gradient;  ///< dH_coll/dq (eq. 1.16), empty without a model
+};
+
 /// Joint limit cost H_jl = 1/2 sum ((q_i - q_mid,i) / (q_max,i - q_min,i))^2 (eq. 1.8) and its
 /// gradient (when given).
 double jointLimitCost(const RobotModel& robot, const Eigen::VectorXd& q, Eigen::VectorXd* gradient);
@@ -77,10 +94,12 @@ class ResolvedRateIK {
   ResolvedRateIK(const RobotModel& robot, std::vector<TaskSpec> tasks,
                  const CollisionModel* collisions, const IkOptions& options);
 
-  int taskRows() const { return rows_; }                         ///< stacked task dimension
-  const std::vector<TaskSpec>& tasks() const { return tasks_; }  ///< the task stack
-  const IkOptions& options() const { return options_; }          ///< the options
-  const Eigen::VectorXd& weights() const { return weights_; }    ///< diagonal of W
+  int taskRows() const { return rows_; }                            ///< stacked task dimension
+  const std::vector<TaskSpec>& tasks() const { return tasks_; }     ///< the task stack
+  const IkOptions& options() const { return options_; }             ///< the options
+  const Eigen::VectorXd& weights() const { return weights_; }       ///< diagonal of W
+  const RobotModel& robot() const { return *robot_; }               ///< the robot
+  const CollisionModel* collisions() const { return collisions_; }  ///< pairs or null
 
   /// Stacked task error x_d - x and task Jacobian at the state of kin.
   void taskError(const Kinematics& kin, const std::vector<TaskGoal>& goals, Eigen::VectorXd& error,
@@ -97,8 +116,14 @@ class ResolvedRateIK {
   /// without it (the other joints take over its share of the task).
   Eigen::VectorXd step(const Kinematics& kin, const std::vector<TaskGoal>& goals, double dt,
                        IkVelocity* out = nullptr) const;
+  /// As step(), also recording the intermediate values its derivative needs into *trace.
+  Eigen::VectorXd step(const Kinematics& kin, const std::vector<TaskGoal>& goals, double dt,
+                       IkVelocity* out, IkStepTrace* trace) const;
 
  private:
+  IkVelocity velocity(const Kinematics& kin, const std::vector<TaskGoal>& goals,
+                      const std::vector<bool>& locked, IkStepTrace* trace) const;
+
   const RobotModel* robot_;
   std::vector<TaskSpec> tasks_;
   const CollisionModel* collisions_;

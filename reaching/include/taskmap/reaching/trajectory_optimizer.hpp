@@ -32,6 +32,12 @@ struct TrajectoryCostWeights {
 /// null, writes dc/dq_T (dofs() entries). kin holds q_T.
 using TerminalCost = std::function<double(const Kinematics& kin, Eigen::VectorXd* gradient)>;
 
+/// Linearisation of the IK step in the backward pass.
+enum class StepDerivative {
+  kAnalytic,          ///< reverse-mode products through the step (ik_step_derivative.hpp)
+  kFiniteDifferences  ///< differences of lambda^T F, 2 (dofs + 12) steps each (the oracle)
+};
+
 /// One trajectory optimisation problem. The pointers must outlive every call using it.
 struct TrajectoryProblem {
   const RobotModel* robot = nullptr;           ///< the robot (required)
@@ -44,10 +50,13 @@ struct TrajectoryProblem {
   ReachOptions reach;             ///< dynamics, IK gains, steps, move_time (via_points unused)
   TrajectoryCostWeights weights;  ///< cost weights
   TerminalCost terminal;          ///< optional terminal cost (the task map, eq. 1.22)
-  /// Step of the central differences that linearise one IK step in the backward pass.
+  /// How the backward pass linearises one IK step (docs/REACHING.md T3).
+  StepDerivative step_derivative = StepDerivative::kAnalytic;
+  /// Finite differences: step of the differences of lambda^T F (kFiniteDifferences); analytic:
+  /// step of the directional central difference of the collision gradient. Radians.
   double step_jacobian_epsilon = 1e-6;
-  /// Central differences (2 step evaluations per input, error O(eps^2)); false: forward
-  /// differences (1 per input, error O(eps), about half the backward pass's time).
+  /// kFiniteDifferences only: central differences (2 step evaluations per input, error
+  /// O(eps^2)); false: forward differences (1 per input, error O(eps)).
   bool central_step_jacobian = true;
   /// Throws Error naming the problem (missing robot, sizes, limits, options).
   void validate() const;

@@ -1,0 +1,87 @@
+// Grasp planner screening (docs/REACHING.md "Screening"): with every reachable cluster screened by
+// a short optimisation, the winner is re-run in full and its plan equals the one the unscreened
+// run makes from that cluster; the others keep their short runs. Invalid options are refused.
+#include "taskmap/reaching/grasp_planner.hpp"
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "reaching_fixtures.hpp"
+#include "synthetic_map.hpp"
+#include "taskmap/core/error.hpp"
+
+namespace taskmap {
+namespace {
+
+TEST(GraspPlanner, ScreeningRerunsTheCheapestClusterInFull) {
+  RobotModel robot = test::pandaWithHand();
+  const ReachScene scene =
+      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json");
+  addSceneTo(scene, robot);
+  CollisionOptions co;
+  co.hand_may_touch = {scene.object};
+  const CollisionModel collisions(robot, co);
+  TaskMapOptions mo;
+  mo.quality_mode = QualityMode::kExact;
+  // The synthetic basket map (one cluster per bar; the Panda reaches bar 2 only here) with bar 2
+  // split into two clusters by grasp parity: two reachable clusters to screen.
+  TaskMapData data = testing::syntheticMap(300);
+  ClusteringResult& c = *data.clustering;
+  c.clusters.push_back(ClusterSummary{});
+  c.clusters[2] = ClusterSummary{};
+  for (std::size_t i = 0; i < c.labels.size(); ++i) {
+    if (c.labels[i] != 2) continue;
+    if (i % 2 == 1) c.labels[i] = 3;
+    ClusterSummary& summary = c.clusters[static_cast<std::size_t>(c.labels[i])];
+    ++summary.size;
+    if (summary.representative < 0 || data.grasps.epsilon[i] > summary.best_epsilon) {
+      summary.representative = static_cast<int>(i);
+      summary.best_epsilon = data.grasps.epsilon[i];
+    }
+  }
+  const TaskMap map = TaskMap::fromData(data, mo);
+  TrajectoryProblem p;
+  p.robot = &robot;
+  p.collisions = &collisions;
+  p.body = robot.palmBody();
+  p.reference = robot.requireBody(scene.object);
+  p.q0 = test::readyPose();
+  p.reach.steps = 300;
+  GraspPlanOptions o;
+  o.all_clusters = true;
+  o.optimizer.max_iterations = 6;
+  o.screen_iterations = 0;
+  const GraspPlan full = planGrasp(p, map, o);
+  ASSERT_GE(full.plans.size(), 2u) << full.message;  // screening has something to choose
+  o.screen_iterations = 2;
+  const GraspPlan screened = planGrasp(p, map, o);
+  ASSERT_EQ(screened.plans.size(), full.plans.size());
+  ASSERT_GE(screened.best, 0);
+  int full_runs = 0;
+  for (std::size_t i = 0; i < screened.plans.size(); ++i) {
+    const int iterations = screened.plans[i].optimization.iterations;
+    std::cout << "cluster " << screened.plans[i].cluster << ": " << iterations
+              << " iterations, cost " << screened.plans[i].optimization.cost.total
+              << " (unscreened " << full.plans[i].optimization.cost.total << ")\n";
+    if (static_cast<int>(i) == screened.best) {
+      EXPECT_EQ(iterations, full.plans[i].optimization.iterations);
+      EXPECT_EQ(screened.plans[i].optimization.cost.total, full.plans[i].optimization.cost.total);
+      EXPECT_EQ(screened.plans[i].grasp_index, full.plans[i].grasp_index);
+      ++full_runs;
+    } else {
+      EXPECT_LE(iterations, 2);
+    }
+  }
+  EXPECT_EQ(full_runs, 1);
+  o.screen_iterations = -1;
+  try {
+    planGrasp(p, map, o);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("screen_iterations"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace taskmap
