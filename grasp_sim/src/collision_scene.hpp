@@ -57,6 +57,11 @@ class CollisionScene {
   /// minimum signed distance.
   double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                   std::vector<TriangleHit>* hits) const;
+  /// True when linkHits(link, t, threshold) would hold a hit deeper than `depth` (metres, > 0)
+  /// whose normal has a dot product >= `min_agreement` with its face normal; EPA runs only on
+  /// triangles whose depth bound exceeds `depth` (deep_query.cpp).
+  bool linkPressesDeeper(int link, const Eigen::Isometry3d& t, double threshold, double depth,
+                         double min_agreement) const;
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;

@@ -14,6 +14,9 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Contacts of one link closer than this are merged (the deepest is kept), metres.
 constexpr double kMergeRadius = 1e-3;
+/// Lean contact queries: hits within this distance, metres (all penetrating ones; the planes
+/// cull a triangle only beyond it plus 1e-9, where GJK cannot report a penetration).
+constexpr double kPenetrating = 1e-9;
 /// Fingertip grasps: most back-off steps toward the standoff (each closes most of the gap).
 constexpr int kMaxStandoffSteps = 20;
 
@@ -210,8 +213,11 @@ void Trial::placeFingertips() {
 void Trial::linkContacts(int l, std::vector<char>* finger_touch) {
   const auto u = static_cast<std::size_t>(l);
   const CollisionScene& scene = *m_.scene;
-  std::vector<TriangleHit> hits;
-  scene.linkHits(l, palm_ * lp_[u], tol_, &hits);
+  // Only penetrating hits make contacts: lean queries ask for hits within kPenetrating (every
+  // triangle GJK/EPA finds penetrating, none that planes prove apart), not within tol_.
+  thread_local std::vector<TriangleHit> hits;
+  hits.clear();
+  scene.linkHits(l, palm_ * lp_[u], m_.lean_queries ? kPenetrating : tol_, &hits);
   ++st_.queries;
   std::stable_sort(hits.begin(), hits.end(), [](const TriangleHit& x, const TriangleHit& y) {
     return x.distance < y.distance || (x.distance == y.distance && x.triangle < y.triangle);

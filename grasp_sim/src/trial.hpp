@@ -78,6 +78,7 @@ class Trial {
   // Squeeze parts.
   std::vector<SqueezeContact> pressingContacts();
   double deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq);
+  bool squeezedTooDeep(const std::vector<int>& squeezed, const Eigen::VectorXd& qq, double limit);
   void limitSqueeze(const Eigen::VectorXd& q_contact);
   // Contacts parts.
   void linkContacts(int link, std::vector<char>* finger_touch);
