@@ -1,5 +1,5 @@
 #pragma once
-// Private to grasp_sim (culled_query.cpp, deep_query.cpp): the separating planes of a link shape
+// Private to grasp_sim (culled_query.cpp, lean_query.cpp): the separating planes of a link shape
 // in the object frame and the walk of Bullet's quantized tree in Bullet's own order.
 
 #include <algorithm>
