@@ -184,6 +184,38 @@ double CollisionScene::linkHits(int link, const Eigen::Isometry3d& t, double thr
                   : queryLinkBullet(d, entries, t, threshold, true, hits);
 }
 
+bool CollisionScene::linkPressesDeeper(int link, const Eigen::Isometry3d& t, double threshold,
+                                       double depth, double min_agreement) const {
+  const Data& d = *d_;
+  if (d.corners.empty()) {  // Mode::kBullet: scan the exact hits
+    std::vector<TriangleHit> hits;
+    linkHits(link, t, threshold, &hits);
+    for (const TriangleHit& h : hits)
+      if (-h.distance > depth && h.normal.dot(faceNormal(h.triangle)) >= min_agreement) return true;
+    return false;
+  }
+  return queryLinkDeeper(d, d.links[static_cast<std::size_t>(link)], t, threshold, depth,
+                         min_agreement);
+}
+
+double CollisionScene::linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
+                                   const FacingFilter* filter) const {
+  const Data& d = *d_;
+  if (d.corners.empty()) {  // Mode::kBullet: scan the exact hits
+    std::vector<TriangleHit> hits;
+    double best = linkHits(link, t, threshold, &hits);
+    if (!filter) return best;
+    best = std::numeric_limits<double>::infinity();
+    for (const TriangleHit& h : hits) {
+      const Eigen::Vector3d& n = faceNormal(h.triangle);
+      if (n.dot(filter->away) < -filter->opposing && h.normal.dot(n) >= filter->min_agreement)
+        best = std::min(best, h.distance);
+    }
+    return best;
+  }
+  return queryLinkNearest(d, d.links[static_cast<std::size_t>(link)], t, threshold, filter);
+}
+
 bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {
   const Data& d = *d_;
   static const Eigen::Vector3d kDirs[3] = {Eigen::Vector3d(0.5772, 0.5811, 0.5737).normalized(),

@@ -24,6 +24,15 @@ struct TriangleHit {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< separation direction, object -> link
 };
 
+/// Which exact hits CollisionScene::linkNearest considers: a triangle whose outward normal n
+/// satisfies n . away < -opposing, hit with a separation direction whose dot product with n is
+/// >= min_agreement.
+struct FacingFilter {
+  Eigen::Vector3d away = Eigen::Vector3d::UnitZ();  ///< unit direction (object frame)
+  double opposing = 0.5;                            ///< cosine bound on n . away
+  double min_agreement = 0.5;                       ///< cosine bound on the hit normal
+};
+
 /// Returned by CollisionScene::linkDistance for an overlapping link (depth not computed).
 constexpr double kOverlapping = -1e-300;
 
@@ -57,6 +66,16 @@ class CollisionScene {
   /// minimum signed distance.
   double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                   std::vector<TriangleHit>* hits) const;
+  /// True when linkHits(link, t, threshold) would hold a hit deeper than `depth` (metres, > 0)
+  /// whose normal has a dot product >= `min_agreement` with its face normal; EPA runs only on
+  /// triangles whose depth bound exceeds `depth` (lean_query.cpp).
+  bool linkPressesDeeper(int link, const Eigen::Isometry3d& t, double threshold, double depth,
+                         double min_agreement) const;
+  /// The smallest signed distance over the hits linkHits(link, t, threshold) would return that
+  /// pass `filter` (every hit when null), +infinity when none; computed by branch and bound
+  /// without the other hits (lean_query.cpp).
+  double linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
+                     const FacingFilter* filter) const;
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;

@@ -9,16 +9,12 @@
 #include <LinearMath/btConvexHullComputer.h>
 
 #include "collision_data.hpp"
+#include "culled_planes.hpp"
 
 namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// A triangle is culled when a plane puts it farther than threshold + kCullSlack, metres (GJK
-/// in double precision is accurate to ~1e-12 relative; this leaves three orders of margin).
-constexpr double kCullSlack = 1e-9;
-/// A triangle corner deeper than this inside a hull's face planes proves an overlap, metres.
-constexpr double kInsideSlack = 1e-6;
 
 /// The 26 directions of a k-DOP: faces, edges and corners of the unit cube.
 const std::vector<Eigen::Vector3d>& dopAxes() {
@@ -113,100 +109,9 @@ void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
 
 namespace {
 
-/// Walks Bullet's quantized tree as its stackless walk does (node array order, skipping a
-/// rejected subtree by its escape index), with our node test: leaves come in Bullet's order.
-/// `leaf(triangle)` returns false to stop. (Bullet's accessors are non-const; nothing is changed.)
-template <class Accept, class Leaf>
-void walkInBulletOrder(btQuantizedBvh& bvh, const Accept& accept, const Leaf& leaf) {
-  const auto& nodes = bvh.getQuantizedNodeArray();
-  if (nodes.size() == 0) return;
-  const int end = nodes[0].isLeafNode() ? 1 : nodes[0].getEscapeIndex();
-  int cur = 0;
-  while (cur < end) {
-    const btQuantizedBvhNode& n = nodes[cur];
-    const bool pass = accept(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                             eig(bvh.unQuantize(n.m_quantizedAabbMax)));
-    if (n.isLeafNode()) {
-      if (pass && !leaf(n.getTriangleIndex())) return;
-      ++cur;
-    } else {
-      cur += pass ? 1 : n.getEscapeIndex();
-    }
-  }
-}
-
-/// A triangle that no plane could cull, with the best plane bound on its distance, metres.
-struct Candidate {
-  int tri;
-  double lb;
-};
-
-/// The separating planes of one shape in the object frame: max over the shape of wn[i] . x is
-/// wh[i]; a point set beyond one plane by more than `cut` is farther than the threshold.
-struct Planes {
-  std::vector<Eigen::Vector3d> wn;
-  std::vector<double> wh;
-  std::size_t node_planes = 0;  // the first ones, tested on tree nodes
-  std::size_t facet_begin = 0;  // hulls: the face planes from here on
-  double cut = 0.0;
-  Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
-
-  void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
-           const btVector3& amax, double threshold) {
-    const Eigen::Vector3d c = ts.translation();
-    wn.resize(e.axes.size());
-    wh.resize(e.axes.size());
-    for (std::size_t i = 0; i < e.axes.size(); ++i) {
-      wn[i] = ts.linear() * e.axes[i];
-      wh[i] = e.reach[i] + wn[i].dot(c);
-    }
-    node_planes = static_cast<std::size_t>(e.node_planes);
-    facet_begin = static_cast<std::size_t>(e.facet_begin);
-    cut = threshold + kCullSlack;
-    qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
-    qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
-  }
-  /// Lower bound of the distance of a tree node's box from the shape (planes only); +inf
-  /// outside the query box; stops early once above `limit`.
-  double nodeBound(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double limit) const {
-    if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any()) return kInf;
-    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-    double lb = -kInf;
-    for (std::size_t i = 0; i < node_planes && lb <= limit; ++i)
-      lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
-    return lb;
-  }
-  bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
-    return nodeBound(lo, hi, cut) <= cut;
-  }
-  /// Lower bound of the triangle's distance from the planes; > limit when culled (stops early).
-  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit) const {
-    const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
-    const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
-    if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any()) return kInf;
-    double lb = -kInf;
-    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
-      lb = std::max(lb, std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i]);
-    return lb;
-  }
-  double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
-  /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
-  bool inside(const Eigen::Vector3d& p, std::size_t first) const {
-    for (std::size_t i = first; i < wn.size(); ++i)
-      if (wn[i].dot(p) - wh[i] >= -kInsideSlack) return false;
-    return true;
-  }
-};
-
-void runTriangle(const CollisionScene::Data& d, int tri, TriangleQuery* q) {
-  const auto& v = d.corners[static_cast<std::size_t>(tri)];
-  btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-  q->processTriangle(corners, 0, tri);
-}
-
 /// The baseline's loop with culling: every triangle the planes keep, in Bullet's order (stops
 /// at the first overlap unless q is exact).
-void walkAll(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   walkInBulletOrder(
       *d.mesh_shape->getOptimizedBvh(),
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
@@ -229,7 +134,7 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
 /// searched depth first, nearer child first by the planes' bound, skipping every node whose
 /// bound exceeds the best distance found (GJK distances are upper bounds of the true ones:
 /// nothing there could be smaller).
-void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQuery* q) {
+void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
   const auto& nodes = bvh.getQuantizedNodeArray();
   if (nodes.size() == 0) return;
@@ -268,7 +173,7 @@ void branchAndBound(const CollisionScene::Data& d, const Planes& pl, TriangleQue
 /// inside every face plane of a hull. With a proof, the baseline loop runs (it stops at its
 /// first overlap, at the latest at the proven one unless GJK misses it on a sliver
 /// triangle); without, branchAndBound finds the nearest triangle.
-void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Planes& pl,
+void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const ShapePlanes& pl,
                   TriangleQuery* q) {
   bool proven = false;
   walkInBulletOrder(
@@ -299,7 +204,7 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Plan
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits) {
-  thread_local Planes pl;
+  thread_local ShapePlanes pl;
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;

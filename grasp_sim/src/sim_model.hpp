@@ -19,11 +19,14 @@ struct SimModel {
   HandModel hand;                         ///< the hand simulated
   GraspSimOptions opt;                    ///< validated options
   std::unique_ptr<CollisionScene> scene;  ///< object BVH and link shapes
-  double squeeze = 0.0;                   ///< squeeze distance in force, metres
-  double retract_step = 0.0;              ///< coarse retraction step, metres
-  std::vector<int> shaped;                ///< links with collision shapes
-  std::vector<double> thickness;          ///< per link, metres; +inf without shapes
-  std::vector<int> closing_of;            ///< actuated joint -> index in hand.closing(), or -1
+  /// opt.culled_queries: queries ask only what the trial uses (penetrating hits for contacts,
+  /// a yes/no for the squeeze limit); false runs the baseline's full exact queries.
+  bool lean_queries = true;
+  double squeeze = 0.0;           ///< squeeze distance in force, metres
+  double retract_step = 0.0;      ///< coarse retraction step, metres
+  std::vector<int> shaped;        ///< links with collision shapes
+  std::vector<double> thickness;  ///< per link, metres; +inf without shapes
+  std::vector<int> closing_of;    ///< actuated joint -> index in hand.closing(), or -1
   std::vector<std::pair<int, int>> self_pairs;  ///< link pairs checked for self-collision
   std::vector<std::vector<int>> partners;       ///< per link: its self-collision partners
   GraspMode grasp_mode = GraspMode::kPalm;      ///< palm or fingertip grasps in force

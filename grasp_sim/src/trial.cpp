@@ -14,6 +14,12 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Contacts of one link closer than this are merged (the deepest is kept), metres.
 constexpr double kMergeRadius = 1e-3;
+/// Lean contact queries: hits within this distance, metres (all penetrating ones; the planes
+/// cull a triangle only beyond it plus 1e-9, where GJK cannot report a penetration).
+constexpr double kPenetrating = 1e-9;
+/// Lean queries cull a triangle by a bound only this far beyond the threshold, metres: a
+/// separating-axis or plane bound may exceed GJK's distance by rounding (~1e-18 m).
+constexpr double kBoundSlack = 1e-9;
 /// Fingertip grasps: most back-off steps toward the standoff (each closes most of the gap).
 constexpr int kMaxStandoffSteps = 20;
 
@@ -66,6 +72,33 @@ double Trial::evalAll(const Eigen::Isometry3d& pm, double threshold, bool inside
       break;
     }
   }
+  return mn;
+}
+
+// Conservative advancement reads only the minimum distance (and placePalm the distances of the
+// links within tol_): with lean queries each link is asked within the smallest distance found so
+// far plus kBoundSlack (at least tol_, at most `far`), the nearest link of the last call first. The
+// minimum and every distance <= tol_ are those of evalAll(pm, far, false); a link farther than its
+// threshold reads +inf.
+double Trial::evalNearest(const Eigen::Isometry3d& pm, double far) {
+  if (!m_.lean_queries) return evalAll(pm, far, false);
+  double mn = kInf;
+  const auto& shaped = m_.shaped;
+  std::size_t nearest = near_;
+  for (std::size_t k = 0; k < shaped.size(); ++k) {
+    const std::size_t idx = (near_ + k) % shaped.size();
+    const int l = shaped[idx];
+    const auto u = static_cast<std::size_t>(l);
+    const double d =
+        m_.scene->linkDistance(l, pm * lp_[u], std::min(far, std::max(mn + kBoundSlack, tol_)));
+    ++st_.queries;
+    dist_[u] = d;
+    if (d < mn) {
+      mn = d;
+      nearest = idx;
+    }
+  }
+  near_ = nearest;
   return mn;
 }
 
@@ -133,7 +166,7 @@ bool Trial::leaveObject(double m, double s_max, double* s) {
 bool Trial::approachObject(double s_max, double* s) {
   const double far = std::max(4.0 * m_.retract_step, 0.02);
   while (true) {
-    const double m = evalAll(at(*s), far, false);
+    const double m = evalNearest(at(*s), far);
     if (m <= tol_) return true;
     const double step = std::isfinite(m) ? m - 0.25 * tol_ : far;
     *s -= step;
@@ -210,8 +243,11 @@ void Trial::placeFingertips() {
 void Trial::linkContacts(int l, std::vector<char>* finger_touch) {
   const auto u = static_cast<std::size_t>(l);
   const CollisionScene& scene = *m_.scene;
-  std::vector<TriangleHit> hits;
-  scene.linkHits(l, palm_ * lp_[u], tol_, &hits);
+  // Only penetrating hits make contacts: lean queries ask for hits within kPenetrating (every
+  // triangle GJK/EPA finds penetrating, none that planes prove apart), not within tol_.
+  thread_local std::vector<TriangleHit> hits;
+  hits.clear();
+  scene.linkHits(l, palm_ * lp_[u], m_.lean_queries ? kPenetrating : tol_, &hits);
   ++st_.queries;
   std::stable_sort(hits.begin(), hits.end(), [](const TriangleHit& x, const TriangleHit& y) {
     return x.distance < y.distance || (x.distance == y.distance && x.triangle < y.triangle);

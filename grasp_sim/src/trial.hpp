@@ -50,6 +50,7 @@ class Trial {
 
   // Retraction parts.
   double evalAll(const Eigen::Isometry3d& pm, double threshold, bool inside_check);
+  double evalNearest(const Eigen::Isometry3d& pm, double far);
   Eigen::Isometry3d at(double s) const;
   bool leaveObject(double m, double s_max, double* s);
   bool approachObject(double s_max, double* s);
@@ -78,6 +79,7 @@ class Trial {
   // Squeeze parts.
   std::vector<SqueezeContact> pressingContacts();
   double deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq);
+  bool squeezedTooDeep(const std::vector<int>& squeezed, const Eigen::VectorXd& qq, double limit);
   void limitSqueeze(const Eigen::VectorXd& q_contact);
   // Contacts parts.
   void linkContacts(int link, std::vector<char>* finger_touch);
@@ -98,6 +100,7 @@ class Trial {
   std::vector<Eigen::Isometry3d> lp_;  // link poses in the palm frame at q_ (or last evaluated)
   std::vector<double> dist_;           // last signed distance per link
   std::size_t first_ = 0;              // evalAll: the shaped link tried first
+  std::size_t near_ = 0;               // evalNearest: the shaped link tried first
 
   // Closing bookkeeping, per closing joint and per link.
   std::vector<char> active_;

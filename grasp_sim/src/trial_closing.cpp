@@ -243,6 +243,20 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
   return pressing;
 }
 
+// True when a squeezed link at joint values qq presses a facing triangle deeper than `limit`.
+bool Trial::squeezedTooDeep(const std::vector<int>& squeezed, const Eigen::VectorXd& qq,
+                            double limit) {
+  if (!m_.lean_queries) return deepestSqueezed(squeezed, qq) > limit;
+  const auto poses = m_.hand.linkPoses(qq);
+  for (int l : squeezed) {
+    ++st_.queries;
+    if (m_.scene->linkPressesDeeper(l, palm_ * poses[static_cast<std::size_t>(l)], tol_, limit,
+                                    kMinNormalAgreement))
+      return true;
+  }
+  return false;
+}
+
 double Trial::deepestSqueezed(const std::vector<int>& squeezed, const Eigen::VectorXd& qq) {
   const auto poses = m_.hand.linkPoses(qq);
   double deep = 0.0;
@@ -269,12 +283,12 @@ void Trial::limitSqueeze(const Eigen::VectorXd& q_contact) {
         break;
       }
   const double limit = kMaxSqueezeFactor * m_.squeeze + tol_;
-  if (squeezed.empty() || deepestSqueezed(squeezed, q_) <= limit) return;
+  if (squeezed.empty() || !squeezedTooDeep(squeezed, q_, limit)) return;
   const Eigen::VectorXd full = q_ - q_contact;
   double lo = 0.0, hi = 1.0;
   for (int it = 0; it < kSqueezeBisections; ++it) {
     const double mid = 0.5 * (lo + hi);
-    (deepestSqueezed(squeezed, q_contact + mid * full) > limit ? hi : lo) = mid;
+    (squeezedTooDeep(squeezed, q_contact + mid * full, limit) ? hi : lo) = mid;
   }
   q_ = q_contact + lo * full;
 }

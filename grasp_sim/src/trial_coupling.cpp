@@ -36,8 +36,15 @@ bool Trial::heldLink(int l) const {
 // and whose outward normal opposes the shift count: a palm sliding along the face it rests on is
 // not blocked by it (nor by the side faces under it), a wall ahead is.
 double Trial::exactDistance(int l, const Eigen::Isometry3d& t, bool facing_shift) {
-  std::vector<TriangleHit> hits;
   ++st_.queries;
+  if (m_.lean_queries) {
+    FacingFilter f;
+    f.opposing = kOpposing;
+    f.min_agreement = kMinNormalAgreement;
+    if (facing_shift) f.away = shift_vel_.normalized();
+    return m_.scene->linkNearest(l, t, tol_, facing_shift ? &f : nullptr);
+  }
+  std::vector<TriangleHit> hits;
   const double d = m_.scene->linkHits(l, t, tol_, &hits);
   if (!facing_shift) return d;
   const Eigen::Vector3d u = shift_vel_.normalized();

@@ -1,7 +1,8 @@
-// Grasp trials per second per core, culled collision queries (the default) against the baseline
-// (GraspSimOptions::culled_queries = false: Bullet's BVH, GJK on every triangle in each link
-// shape's bounding box), side by side in one process on the same trials, for every hand x object
-// of the reference set (bundled hands and objects) and of the real set (--real DIR, default
+// Grasp trials per second per core, culled and lean collision queries (the default) against the
+// baseline (GraspSimOptions::culled_queries = false: Bullet's BVH, GJK on every triangle in each
+// link shape's bounding box, every exact hit computed), side by side in one process on the same
+// trials, for every hand x object of the reference set (bundled hands, the Robotiq 2F-85 style
+// test hand, bundled objects) and of the real set (--real DIR, default
 // $TASKMAP_REAL_DIR: hands/franka_hand, hands/allegro_right, objects/*.obj; see the README of
 // that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
 // Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
@@ -199,6 +200,9 @@ int mainImpl(int argc, char** argv) {
   std::vector<Item> hs, os;
   for (const char* n : {"panda", "barrett", "humanoid"})
     hs.push_back({n, hands + "/" + n + "/" + n + ".urdf"});
+  // A Robotiq 2F-85 style test hand (10 mesh links, four-bar jaws) stands in for the real one.
+  hs.push_back({"robotiq_style",
+                std::string(TEST_DATA_DIR) + "/hands/robotiq_2f85_style/robotiq_2f85_style.urdf"});
   for (const char* n : {"cylinder", "basket", "mug"}) os.push_back({n, objects + "/" + n + ".obj"});
   if (!real.empty() && fs::is_directory(real)) {
     hs.push_back({"franka", real + "/hands/franka_hand/franka_hand.urdf"});

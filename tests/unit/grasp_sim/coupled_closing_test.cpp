@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "error_matchers.hpp"
+#include "grasp_fixtures.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
@@ -16,31 +17,18 @@
 namespace taskmap {
 namespace {
 
-constexpr double kTol = 5e-4;  // GraspSimOptions::contact_tolerance default
+using testing::fromAbove;
+constexpr double kTol = testing::kContactTolerance;
 
-std::string testHand(const std::string& name) {
-  return std::string(TEST_DATA_DIR) + "/hands/" + name + "/" + name + ".urdf";
-}
 HandModel pandaMimic() {
-  return HandModel::load(testHand("panda_mimic"));
+  return HandModel::load(testing::testHandPath("panda_mimic"));
 }
 HandModel pandaIndependent() {
-  return HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
+  return testing::referenceHand("panda");
 }
 HandModel pandaSidecarCoupled() {
   return HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf",
                          std::string(TEST_DATA_DIR) + "/hands/panda_coupled.hand.json");
-}
-
-/// Palm pose approaching along -z of the object with the palm y axis (the jaws' closing
-/// direction) along the object's x axis.
-Pose fromAbove(const Eigen::Vector3d& p) {
-  Eigen::Matrix3d r;
-  r << 0, 1, 0, 1, 0, 0, 0, 0, -1;
-  Pose pose;
-  pose.position = p;
-  pose.orientation = Eigen::Quaterniond(r);
-  return pose;
 }
 
 int fingers(const GraspResult& r) {
@@ -160,7 +148,7 @@ TEST(CoupledClosing, ThreadsMatchSequentialRun) {
 // stops 2 cm above the top of a 3 cm box and the pads pinch it; the same pose as a palm grasp
 // presses the palm on the box.
 TEST(FingertipGrasp, StandoffPinchWithoutThePalm) {
-  const HandModel hand = HandModel::load(testHand("robotiq_2f85_style"));
+  const HandModel hand = HandModel::load(testing::testHandPath("robotiq_2f85_style"));
   ASSERT_EQ(hand.graspMode(), GraspMode::kFingertip);
   const double top = 0.05;
   GraspSimulator sim(testing::makeBox(0.03, 0.03, 0.10), hand);
@@ -193,7 +181,7 @@ TEST(FingertipGrasp, StandoffPinchWithoutThePalm) {
 // A finger that touches first stops the approach before the standoff: on a box wider than the
 // open jaws the fingertips land on the top face, 6.5 cm below the palm.
 TEST(FingertipGrasp, FirstFingerContactStopsTheApproach) {
-  const HandModel hand = HandModel::load(testHand("robotiq_2f85_style"));
+  const HandModel hand = HandModel::load(testing::testHandPath("robotiq_2f85_style"));
   GraspSimulator sim(testing::makeBox(0.12, 0.03, 0.10), hand);
   const GraspResult r = sim.simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, 0.0)));
   EXPECT_NEAR(r.pose.position.z(), 0.05 + 0.065, kTol);
@@ -257,7 +245,7 @@ TEST(FingertipGrasp, PinchesTheYcbBanana) {
   const std::string mesh = std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj";
   if (!std::filesystem::exists(mesh)) GTEST_SKIP() << mesh << " not present";
   const ObjectModel banana = ObjectModel::load(mesh);
-  GraspSimulator sim(banana, HandModel::load(testHand("robotiq_2f85_style")));
+  GraspSimulator sim(banana, HandModel::load(testing::testHandPath("robotiq_2f85_style")));
   int pinch = 0;
   for (int i = 0; i < 60; ++i) {
     Rng rng(5, static_cast<std::uint64_t>(i));

@@ -116,9 +116,12 @@ struct GraspSimOptions {
   /// Link-versus-object queries: true = for mesh (hull) links, and for every link on meshes of
   /// 1000 faces or more, Bullet's tree walked with each link shape's face planes (box faces, hull
   /// faces, a 26-DOP otherwise), overlap proofs and a branch-and-bound nearest-triangle search, so
-  /// that GJK/EPA runs only where the answer depends on it: results bit for bit those of the
+  /// that GJK/EPA runs only where the answer depends on it; and lean trial queries (only the
+  /// penetrating hits for contacts, a yes/no for the squeeze limit, the nearest facing hit for
+  /// coupled closing, shrinking thresholds for the approach): results bit for bit those of the
   /// baseline, much faster on fine meshes (docs/METHOD.md §2); false = the baseline, GJK on every
-  /// triangle in the link shape's padded bounding box found through Bullet's tree.
+  /// triangle in the link shape's padded bounding box found through Bullet's tree, every exact
+  /// hit computed.
   bool culled_queries = true;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;

@@ -1,0 +1,172 @@
+// Lean exact queries: questions the trial asks of the exact hits (linkHits) answered without
+// computing every hit, with the same answer bit for bit (docs/METHOD.md §2):
+//   CollisionScene::linkPressesDeeper  is some facing triangle penetrated deeper than a depth?
+//   CollisionScene::linkNearest        the smallest signed distance over the hits that pass a
+//                                      facing filter (or over all hits).
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "collision_data.hpp"
+#include "culled_planes.hpp"
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// True when a triangle hit penetrates deeper than `depth` on a face the link presses
+/// (separation direction within acos(min_agreement) of the face normal).
+bool deepFacing(const CollisionScene::Data& d, const std::vector<TriangleHit>& hits, double depth,
+                double min_agreement) {
+  for (const TriangleHit& h : hits)
+    if (-h.distance > depth &&
+        h.normal.dot(d.normals[static_cast<std::size_t>(h.triangle)]) >= min_agreement)
+      return true;
+  return false;
+}
+
+/// One shape of queryLinkDeeper. The penetration depth of a convex shape and a triangle is at
+/// most their overlap along any unit axis n, max_shape(n.x) - min_triangle(n.x) (moving the
+/// triangle that far along n separates them); the planes give minus that overlap as their
+/// term, so a term above kCullSlack - depth proves the pair no deeper than `depth`, and so is
+/// EPA's depth (EPA's polytope lies inside the Minkowski difference). Boxes add the exact
+/// 13-axis depth.
+bool shapeDeeper(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen::Isometry3d& ts,
+                 double threshold, double depth, double min_agreement) {
+  thread_local ShapePlanes pl;
+  thread_local std::vector<TriangleHit> hits;
+  const double c = kCullSlack - depth;
+  TriangleQuery q = makeTriangleQuery(e, ts, threshold, true, &hits);
+  btVector3 amin, amax;
+  e.shape->getAabb(q.xf, amin, amax);
+  pl.set(e, ts, amin, amax, 0.0);
+  bool found = false;
+  walkInBulletOrder(
+      *d.mesh_shape->getOptimizedBvh(),
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return pl.nodeBound(lo, hi, c) <= c;
+      },
+      [&](int tri) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (pl.bound(v, c) > c) return true;
+        if (e.is_box) {
+          const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+          if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) > c) return true;
+        }
+        hits.clear();
+        runTriangle(d, tri, &q);
+        found = deepFacing(d, hits, depth, min_agreement);
+        return !found;
+      });
+  return found;
+}
+
+bool passes(const CollisionScene::Data& d, const TriangleHit& h, const FacingFilter* f) {
+  if (!f) return true;
+  const Eigen::Vector3d& n = d.normals[static_cast<std::size_t>(h.triangle)];
+  return n.dot(f->away) < -f->opposing && h.normal.dot(n) >= f->min_agreement;
+}
+
+/// One shape of queryLinkNearest: depth-first branch and bound over Bullet's tree, nearer child
+/// first by the planes' bound; a node or triangle whose bound exceeds the best distance found is
+/// skipped. Every signed distance GJK/EPA reports is >= the bound (a separation is >= the true
+/// distance; an EPA depth is <= the true penetration depth, itself <= the overlap along any
+/// plane normal), so nothing skipped could be smaller.
+void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen::Isometry3d& ts,
+                    double threshold, const FacingFilter* f, double* best) {
+  thread_local ShapePlanes pl;
+  thread_local std::vector<TriangleHit> hits;
+  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
+  TriangleQuery q = makeTriangleQuery(e, ts, threshold, true, &hits);
+  btVector3 amin, amax;
+  e.shape->getAabb(q.xf, amin, amax);
+  pl.set(e, ts, amin, amax, threshold);
+  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  auto bound = [&](int i) {
+    const btQuantizedBvhNode& n = nodes[i];
+    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+  };
+  stack.clear();
+  stack.emplace_back(bound(0), 0);
+  while (!stack.empty()) {
+    const auto [lb, i] = stack.back();
+    stack.pop_back();
+    if (lb > pl.cut || lb > *best + kCullSlack) continue;
+    const btQuantizedBvhNode& n = nodes[i];
+    if (!n.isLeafNode()) {
+      const int left = i + 1;
+      const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
+      std::pair<double, int> a{bound(left), left}, b{bound(right), right};
+      if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
+      stack.push_back(a);
+      stack.push_back(b);
+      continue;
+    }
+    const int tri = n.getTriangleIndex();
+    if (f && !(d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing)) continue;
+    const auto& v = d.corners[static_cast<std::size_t>(tri)];
+    const double tb = pl.bound(v);
+    if (tb > pl.cut || tb > *best + kCullSlack) continue;
+    if (e.is_box) {
+      const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+      if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) > *best + kCullSlack)
+        continue;
+    }
+    hits.clear();
+    runTriangle(d, tri, &q);
+    for (const TriangleHit& h : hits)
+      if (passes(d, h, f)) *best = std::min(*best, h.distance);
+  }
+}
+
+}  // namespace
+
+double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
+                        const Eigen::Isometry3d& t, double threshold, const FacingFilter* f) {
+  double best = kInf;
+  for (const ShapeEntry& e : entries) {
+    const Eigen::Isometry3d ts = t * e.origin;
+    // The baseline's cull (queryLinkBullet): the shape's bounding sphere against the object box.
+    const Eigen::Vector3d c = ts.translation();
+    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
+    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (d.culled) {
+      nearestOfShape(d, e, ts, threshold, f, &best);
+    } else {
+      thread_local std::vector<TriangleHit> hits;
+      hits.clear();
+      queryShapeBullet(d, e, ts, threshold, true, &hits);
+      for (const TriangleHit& h : hits)
+        if (passes(d, h, f)) best = std::min(best, h.distance);
+    }
+  }
+  return best;
+}
+
+bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
+                     const Eigen::Isometry3d& t, double threshold, double depth,
+                     double min_agreement) {
+  for (const ShapeEntry& e : entries) {
+    const Eigen::Isometry3d ts = t * e.origin;
+    // The baseline's cull (queryLinkBullet): the shape's bounding sphere against the object box.
+    const Eigen::Vector3d c = ts.translation();
+    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
+    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (d.culled) {
+      if (shapeDeeper(d, e, ts, threshold, depth, min_agreement)) return true;
+    } else {
+      thread_local std::vector<TriangleHit> hits;
+      hits.clear();
+      queryShapeBullet(d, e, ts, threshold, true, &hits);
+      if (deepFacing(d, hits, depth, min_agreement)) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace taskmap

@@ -1,0 +1,143 @@
+// The lean exact queries (grasp_sim/src/lean_query.cpp) against their oracle, Bullet's BVH
+// query with every exact hit (CollisionScene::Mode::kBullet) scanned in full: the nearest hit
+// (all, or those facing a direction), the deep-press test, the penetrating-only hits and the
+// shrinking thresholds of conservative advancement give the same answers bit for bit.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "collision_scene.hpp"
+#include "taskmap/core/random.hpp"
+#include "taskmap/meshes/object_model.hpp"
+
+namespace taskmap {
+namespace {
+
+using V = Eigen::Vector3d;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kTol = 5e-4;
+
+double nearestByScan(const std::vector<TriangleHit>& hits, const CollisionScene& s,
+                     const FacingFilter* f) {
+  double best = kInf;
+  for (const TriangleHit& h : hits) {
+    const V& n = s.faceNormal(h.triangle);
+    if (!f || (n.dot(f->away) < -f->opposing && h.normal.dot(n) >= f->min_agreement))
+      best = std::min(best, h.distance);
+  }
+  return best;
+}
+
+bool deeperByScan(const std::vector<TriangleHit>& hits, const CollisionScene& s, double depth) {
+  for (const TriangleHit& h : hits)
+    if (-h.distance > depth && h.normal.dot(s.faceNormal(h.triangle)) >= 0.5) return true;
+  return false;
+}
+
+struct Counts {
+  int deep = 0, shallow = 0, filtered = 0, penetrating = 0;
+};
+
+/// Every lean query of link `link` at pose `t` against the scan of the baseline's hits.
+void compareLink(const CollisionScene& lean, const CollisionScene& base, int link,
+                 const Eigen::Isometry3d& t, Rng& rng, Counts* c) {
+  std::vector<TriangleHit> all;
+  const double base_min = base.linkHits(link, t, kTol, &all);
+  ASSERT_EQ(lean.linkNearest(link, t, kTol, nullptr), base_min);
+  ASSERT_EQ(base.linkNearest(link, t, kTol, nullptr), base_min);
+  for (int k = 0; k < 3; ++k) {
+    FacingFilter f;
+    f.away = V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+    const double expect = nearestByScan(all, base, &f);
+    ASSERT_EQ(lean.linkNearest(link, t, kTol, &f), expect) << "filter " << k;
+    c->filtered += expect < kInf;
+  }
+  for (double depth : {1e-4, 1e-3, 3e-3}) {
+    const bool expect = deeperByScan(all, base, depth);
+    ASSERT_EQ(lean.linkPressesDeeper(link, t, kTol, depth, 0.5), expect) << "depth " << depth;
+    ASSERT_EQ(base.linkPressesDeeper(link, t, kTol, depth, 0.5), expect);
+    (expect ? c->deep : c->shallow) += 1;
+  }
+  // Hits within 1e-9 m: every penetrating hit of the tolerance query, same order and values.
+  std::vector<TriangleHit> pen;
+  lean.linkHits(link, t, 1e-9, &pen);
+  std::vector<TriangleHit> expect_pen, got_pen;
+  for (const auto& h : all)
+    if (h.distance < 0.0) expect_pen.push_back(h);
+  for (const auto& h : pen)
+    if (h.distance < 0.0) got_pen.push_back(h);
+  ASSERT_EQ(got_pen.size(), expect_pen.size());
+  for (std::size_t k = 0; k < got_pen.size(); ++k) {
+    EXPECT_EQ(got_pen[k].triangle, expect_pen[k].triangle);
+    EXPECT_EQ(got_pen[k].distance, expect_pen[k].distance);
+    EXPECT_EQ(got_pen[k].point, expect_pen[k].point);
+    EXPECT_EQ(got_pen[k].normal, expect_pen[k].normal);
+  }
+  c->penetrating += !expect_pen.empty();
+}
+
+/// Conservative advancement (Trial::evalNearest): each link asked within the smallest distance
+/// found so far (+1e-9, at least kTol, at most `far`) gives the minimum over the links at `far`
+/// and every distance <= kTol unchanged.
+void compareAdvancement(const CollisionScene& lean, const CollisionScene& base,
+                        const std::vector<int>& links, const Eigen::Isometry3d& t) {
+  const double far = 0.02;
+  double expect = kInf, mn = kInf;
+  for (int l : links) {
+    const double b = base.linkDistance(l, t, far);
+    expect = std::min(expect, b);
+    const double a = lean.linkDistance(l, t, std::min(far, std::max(mn + 1e-9, kTol)));
+    if (b <= kTol) {
+      ASSERT_EQ(a, b) << "link " << l;
+    }
+    mn = std::min(mn, a);
+  }
+  ASSERT_EQ(mn, expect);
+}
+
+TEST(LeanQueries, MatchTheScanOfEveryExactHit) {
+  for (const char* object_name : {"mug", "basket"}) {
+    const ObjectModel object =
+        ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/" + object_name + ".obj");
+    for (const std::string& hand_path : {std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf",
+                                         std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf",
+                                         std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf"}) {
+      SCOPED_TRACE(std::string(object_name) + " " + hand_path);
+      const HandModel hand = HandModel::load(hand_path);
+      const CollisionScene lean(object.mesh(), hand, CollisionScene::Mode::kCulled);
+      const CollisionScene base(object.mesh(), hand, CollisionScene::Mode::kBullet);
+      std::vector<int> links;
+      for (std::size_t l = 0; l < hand.links().size(); ++l)
+        if (!hand.links()[l].shapes.empty()) links.push_back(static_cast<int>(l));
+      Counts c;
+      for (int i = 0; i < 50; ++i) {
+        Rng rng(23, static_cast<std::uint64_t>(i));
+        Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+        t.linear() = rng.rotation().toRotationMatrix();
+        // Poses near the surface: a point inside, pushed out by up to 3 cm.
+        t.translation() = object.sampleInside(rng) +
+                          0.03 * V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+        SCOPED_TRACE("pose " + std::to_string(i));
+        for (int l : links) {
+          SCOPED_TRACE("link " + std::to_string(l));
+          ASSERT_NO_FATAL_FAILURE(compareLink(lean, base, l, t, rng, &c));
+        }
+        Eigen::Isometry3d away = t;  // the same hand backed off: a free pose to advance from
+        away.translation() += 0.01 * t.linear().col(2);
+        ASSERT_NO_FATAL_FAILURE(compareAdvancement(lean, base, links, away));
+      }
+      // Both answers of every question occur.
+      EXPECT_GT(c.deep, 5);
+      EXPECT_GT(c.shallow, 5);
+      EXPECT_GT(c.filtered, 5);
+      EXPECT_GT(c.penetrating, 5);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace taskmap
