@@ -178,7 +178,9 @@ TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
     EXPECT_NEAR(m.at("hull_volume").get<double>(), u ? 40e-6 : 23e-6, 1e-12);
   }
   for (const auto& l : j.at("links"))
-    if (l.at("name") == "finger_u") EXPECT_EQ(l.at("shapes").get<int>(), 3);
+    if (l.at("name") == "finger_u") {
+      EXPECT_EQ(l.at("shapes").get<int>(), 3);
+    }
   run = runCli("hand-info " + hands("decomp_finger.urdf"));
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("u_block.obj part 0: 140 faces, 3 convex pieces, 22 / 40 / 22 "
