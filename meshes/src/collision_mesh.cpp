@@ -1,8 +1,8 @@
 // A URDF <mesh> collision element as convex shapes: assimp reads the file, its faces are split
 // into connected parts (faces sharing a vertex position), and each part becomes its qhull hull
 // or, when clearly non-convex (volume below (1 - convex_tolerance) of the hull's), the merged
-// pieces of an exact convex decomposition; a failed decomposition falls back to the hull and
-// says why.
+// pieces of an exact convex decomposition (of its alpha wrap when the part is not a clean
+// solid); a failed decomposition falls back to the hull and says why.
 #include "collision_mesh.hpp"
 
 #include <array>
@@ -14,6 +14,7 @@
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <Eigen/Geometry>
 #include <assimp/Importer.hpp>
 
 #include "convex_decomposition.hpp"
@@ -78,6 +79,33 @@ bool closedOriented(const MeshSoup& soup) {
   return !soup.faces.empty();
 }
 
+/// Decomposes `part`; when it is not a clean solid (open, non-manifold, self-intersecting) and
+/// options allow, decomposes its alpha wrap instead (alpha = diagonal / 30, offset = diagonal /
+/// 1000: a closed surface just outside the part). Throws Error when neither works.
+ConvexPieces decomposeOrWrap(const MeshSoup& part, const CollisionOptions& o,
+                             const std::string& what, CollisionMeshInfo* info) {
+  DecompositionLimits limits;
+  limits.max_pieces = o.max_pieces;
+  limits.max_faces = o.max_faces;
+  try {
+    return decomposeClosedMesh(part, limits, what);
+  } catch (const Error& e) {
+    if (!o.wrap) throw;
+    Eigen::AlignedBox3d box;
+    for (const auto& p : part.points) box.extend(p);
+    const double d = box.diagonal().norm();
+    const MeshSoup wrapped = alphaWrap(part, d / 30.0, d / 1000.0, what);
+    try {
+      ConvexPieces out = decomposeClosedMesh(wrapped, limits, "its alpha wrap");
+      info->wrapped = true;
+      info->note = std::string(e.what()) + "; decomposed its alpha wrap";
+      return out;
+    } catch (const Error& e2) {
+      throw Error(std::string(e.what()) + "; " + e2.what());
+    }
+  }
+}
+
 /// One connected part as convex pieces (see the file comment).
 PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::string& what) {
   PartShapes out;
@@ -92,10 +120,7 @@ PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::strin
     out.info.note = !o.decompose ? "decomposition off" : "nearly convex";
   } else {
     try {
-      DecompositionLimits limits;
-      limits.max_pieces = o.max_pieces;
-      limits.max_faces = o.max_faces;
-      ConvexPieces d = decomposeClosedMesh(part, limits, what);
+      ConvexPieces d = decomposeOrWrap(part, o, what, &out.info);
       out.info.raw_pieces = d.raw_pieces;
       out.pieces = std::move(d.pieces);
       out.info.decomposed = true;
@@ -119,12 +144,16 @@ CollisionOptions collisionOptionsOf(const nlohmann::json& sidecar, const std::st
   const std::string W = where + "collision";
   if (!c.is_object()) throw Error(W + " must be an object (see meshes/hands/README.md)");
   static const std::set<std::string> kKeys = {"decompose", "max_pieces", "max_faces",
-                                              "convex_tolerance"};
+                                              "convex_tolerance", "wrap"};
   for (auto it = c.begin(); it != c.end(); ++it)
     if (!kKeys.count(it.key())) throw Error(W + ": unknown key '" + it.key() + "'");
   if (c.contains("decompose")) {
     if (!c["decompose"].is_boolean()) throw Error(W + ".decompose must be true or false");
     o.decompose = c["decompose"].get<bool>();
+  }
+  if (c.contains("wrap")) {
+    if (!c["wrap"].is_boolean()) throw Error(W + ".wrap must be true or false");
+    o.wrap = c["wrap"].get<bool>();
   }
   auto integer = [&](const char* key, int lo, int hi, int* out) {
     if (!c.contains(key)) return;

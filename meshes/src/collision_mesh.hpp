@@ -18,6 +18,9 @@ struct CollisionOptions {
   bool decompose = true;  ///< decompose non-convex parts (false: every part is its hull)
   int max_pieces = 16;    ///< at most this many convex pieces per part, in [1, 64]
   int max_faces = 600;    ///< parts with more faces are simplified to this many, in [50, 5000]
+  /// Decompose the alpha wrap of a part that is not a clean solid (open, non-manifold,
+  /// self-intersecting) instead of keeping its hull.
+  bool wrap = true;
   /// A part whose volume is at least (1 - convex_tolerance) of its hull's counts as convex.
   double convex_tolerance = 0.03;
 };

@@ -190,13 +190,15 @@ TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
 }
 
 TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
-  // The U-shaped block with its last two faces removed: open, so its hull is kept.
+  // The U-shaped block with its last two faces removed: open, and not to be wrapped, so its
+  // hull is kept.
   const fs::path dir = temp("open_u");
   fs::create_directories(dir);
   fs::copy_file(hands("decomp_finger.urdf"), dir / "decomp_finger.urdf",
                 fs::copy_options::overwrite_existing);
-  fs::copy_file(hands("decomp_finger.hand.json"), dir / "decomp_finger.hand.json",
-                fs::copy_options::overwrite_existing);
+  nlohmann::json sidecar = nlohmann::json::parse(std::ifstream(hands("decomp_finger.hand.json")));
+  sidecar["collision"] = {{"wrap", false}};
+  std::ofstream(dir / "decomp_finger.hand.json") << sidecar.dump();
   fs::copy_file(hands("l_block.obj"), dir / "l_block.obj", fs::copy_options::overwrite_existing);
   std::ifstream in(hands("u_block.obj"));
   std::vector<std::string> lines;

@@ -112,6 +112,7 @@ nlohmann::json describe(const HandModel& h, const std::vector<std::string>& warn
                                      {"faces", m.faces},
                                      {"pieces", m.pieces},
                                      {"decomposed", m.decomposed},
+                                     {"wrapped", m.wrapped},
                                      {"raw_pieces", m.raw_pieces},
                                      {"mesh_volume", m.mesh_volume},
                                      {"hull_volume", m.hull_volume},
@@ -131,7 +132,10 @@ void printCollisionMeshes(const nlohmann::json& j) {
                 m["part"].get<int>(), m["faces"].get<int>(), m["pieces"].get<int>(),
                 m["pieces"].get<int>() == 1 ? "" : "s", 1e6 * m["mesh_volume"].get<double>(),
                 1e6 * m["hull_volume"].get<double>(), 1e6 * m["pieces_volume"].get<double>());
-    if (m["decomposed"].get<bool>() && m["raw_pieces"] == m["pieces"])
+    if (m["wrapped"].get<bool>())
+      std::printf(" (not a clean solid: decomposed its alpha wrap, %d exact pieces)",
+                  m["raw_pieces"].get<int>());
+    else if (m["decomposed"].get<bool>() && m["raw_pieces"] == m["pieces"])
       std::printf(" (decomposed)");
     else if (m["decomposed"].get<bool>())
       std::printf(" (decomposed: %d exact pieces merged)", m["raw_pieces"].get<int>());

@@ -1,11 +1,14 @@
 // Non-convex hand link meshes through the exact convex decomposition (CGAL Nef polyhedra):
 // U- and L-shaped voxel blocks (tests/data/hands/u_block.obj, l_block.obj, 1 cm voxels) checked
 // voxel by voxel against a brute-force point-in-hull oracle; the sidecar "collision" options;
-// the real Franka hand (nearly convex: kept as its hull).
+// the real Franka hand (nearly convex: kept as its hull); an open real scan decomposed through
+// its alpha wrap.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <utility>
@@ -18,6 +21,8 @@
 
 namespace taskmap {
 namespace {
+
+namespace fs = std::filesystem;
 
 std::string data(const std::string& name) {
   return std::string(TEST_DATA_DIR) + "/hands/" + name;
@@ -176,6 +181,56 @@ TEST(ConvexDecomposition, RealFrankaPalmIsNearlyConvex) {
   EXPECT_GT(m.mesh_volume, 0.99 * m.hull_volume);
 }
 
+/// A hand folder whose link "finger" is the real YCB banana scan with faces [from, from + n)
+/// of the file removed (an open scan), and `collision` sidecar options.
+std::string openBananaHand(const std::string& tag, int from, int n, const std::string& collision) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("decomp_" + tag);
+  fs::create_directories(dir);
+  std::ifstream in(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  std::ofstream obj(dir / "banana.obj");
+  int face = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("f ", 0) == 0 && face++ >= from && face <= from + n) continue;
+    obj << line << "\n";
+  }
+  std::ofstream(dir / "hand.urdf")
+      << "<robot name=\"banana_link\"><link name=\"base\"><collision><geometry><box size=\"0.2 "
+         "0.2 0.02\"/></geometry></collision></link><link name=\"finger\"><collision><geometry>"
+         "<mesh filename=\"banana.obj\"/></geometry></collision></link><joint name=\"j\" "
+         "type=\"prismatic\"><parent link=\"base\"/><child link=\"finger\"/><origin xyz=\"0 0 "
+         "0.1\"/><axis xyz=\"1 0 0\"/><limit lower=\"0\" upper=\"0.05\" effort=\"1\" "
+         "velocity=\"1\"/></joint></robot>";
+  std::ofstream(dir / "hand.hand.json")
+      << "{\"palm_link\": \"base\", \"approach_axis\": [0, 0, 1], \"closing\": [{\"joint\": "
+         "\"j\", \"toward\": \"upper\"}], \"squeeze\": 0.0005, \"fingers\": {\"a\": "
+         "[\"finger\"]}, \"collision\": "
+      << collision << "}";
+  return (dir / "hand.urdf").string();
+}
+
+TEST(ConvexDecomposition, OpenRealScanIsDecomposedThroughItsAlphaWrap) {
+  // The closed banana scan encloses 171.5 cm^3 (mesh-info), its hull 265.4 cm^3.
+  const HandModel h = HandModel::load(openBananaHand("wrap", 1000, 12, "{}"));
+  ASSERT_EQ(h.collisionMeshes().size(), 1u);
+  const CollisionMeshInfo& m = h.collisionMeshes()[0];
+  EXPECT_TRUE(m.decomposed);
+  EXPECT_TRUE(m.wrapped);
+  EXPECT_FALSE(m.warning);
+  EXPECT_NE(m.note.find("is not closed (it has border edges); decomposed its alpha wrap"),
+            std::string::npos)
+      << m.note;
+  EXPECT_EQ(m.pieces, 16);
+  EXPECT_NEAR(m.hull_volume, 265.4e-6, 0.1e-6);
+  EXPECT_GT(m.pieces_volume, 171.5e-6);             // the wrap lies outside the scan
+  EXPECT_LT(m.pieces_volume, 0.8 * m.hull_volume);  // far tighter than the hull
+  // Without wrapping, the open scan keeps its hull, with a warning.
+  const HandModel off = HandModel::load(openBananaHand("nowrap", 1000, 12, "{\"wrap\": false}"));
+  EXPECT_TRUE(off.collisionMeshes()[0].warning);
+  EXPECT_EQ(off.collisionMeshes()[0].pieces, 1);
+  fs::remove_all(fs::path(::testing::TempDir()) / "decomp_wrap");
+  fs::remove_all(fs::path(::testing::TempDir()) / "decomp_nowrap");
+}
+
 TEST(ConvexDecomposition, BadOptionsAreRefusedWithTheKey) {
   const std::string dir = ::testing::TempDir();
   const auto expectError = [&](const std::string& collision, const std::string& needle) {
@@ -201,6 +256,8 @@ TEST(ConvexDecomposition, BadOptionsAreRefusedWithTheKey) {
   expectError("{\"hull\": true}", "collision: unknown key 'hull'");
   expectError("{\"convex_tolerance\": 1}", "collision.convex_tolerance must be a number in [0, 1)");
   expectError("[]", "collision must be an object");
+  expectError("{\"wrap\": \"yes\"}", "collision.wrap must be true or false");
+  fs::remove(dir + "/decomp_bad.hand.json");
 }
 
 }  // namespace

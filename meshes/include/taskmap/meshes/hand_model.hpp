@@ -39,12 +39,14 @@ struct CollisionMeshInfo {
   int first_shape = 0;         ///< index of its first shape in HandLink::shapes
   int pieces = 1;              ///< convex shapes it became (1: its convex hull)
   bool decomposed = false;     ///< true when the pieces come from the convex decomposition
+  bool wrapped = false;        ///< true when the decomposition was of the part's alpha wrap
   double mesh_volume = 0.0;    ///< volume enclosed by the part's faces, m^3 (0 when open)
   double hull_volume = 0.0;    ///< volume of its convex hull, m^3
   double pieces_volume = 0.0;  ///< summed volume of its convex shapes, m^3
   int faces = 0;               ///< faces of the part in the file
   int raw_pieces = 0;          ///< pieces of the exact decomposition before merging (0: none)
-  /// Why the hull was kept ("decomposition off", "nearly convex", or a failure: then a warning).
+  /// Why the hull was kept ("decomposition off", "nearly convex", or a failure: then a warning),
+  /// or why the alpha wrap was decomposed.
   std::string note;
   bool warning = false;  ///< true when decomposition was wanted but failed
 };
