@@ -2,7 +2,9 @@
 // (meshes/hands/README.md), each against its hull-only baseline in the same run: the real Franka
 // hand (convex palm: the default keeps the hull; convex_tolerance 0 forces the decomposition),
 // and a link whose mesh is the 16k-face YCB banana (simplified to 600 faces, 125 exact pieces
-// merged to 16). Counters: convex shapes and volume of the pieces over the mesh volume.
+// merged to 16), and one whose mesh is the YCB mug scan (not closed, self-intersecting: its alpha
+// wrap is decomposed). Counters: convex shapes, volume of the pieces over the mesh volume (0 when
+// the mesh is open).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -37,13 +39,14 @@ std::string frankaHand(const std::string& tag, const std::string& collision) {
   return writeHand(tag, urdf, sidecar);
 }
 
-std::string bananaLink(const std::string& tag, const std::string& collision) {
+std::string objectLink(const std::string& tag, const std::string& object,
+                       const std::string& collision) {
   const std::string urdf =
       "<robot name=\"banana_link\"><link name=\"base\"><collision><geometry><box size=\"0.2 0.2 "
       "0.02\"/></geometry></collision></link><link name=\"finger\"><collision><geometry><mesh "
       "filename=\"" +
-      std::string(TEST_DATA_DIR) +
-      "/real/objects/ycb_011_banana.obj\"/></geometry></collision></link><joint name=\"j\" "
+      std::string(TEST_DATA_DIR) + "/real/objects/" + object +
+      ".obj\"/></geometry></collision></link><joint name=\"j\" "
       "type=\"prismatic\"><parent link=\"base\"/><child link=\"finger\"/><origin xyz=\"0 0 "
       "0.1\"/><axis xyz=\"1 0 0\"/><limit lower=\"0\" upper=\"0.05\" effort=\"1\" "
       "velocity=\"1\"/></joint></robot>";
@@ -79,16 +82,24 @@ void BM_FrankaForcedDecomposition(benchmark::State& s) {
   load(s, frankaHand("franka_forced", "{\"convex_tolerance\": 0}"));
 }
 void BM_BananaLinkHull(benchmark::State& s) {
-  load(s, bananaLink("banana_hull", "{\"decompose\": false}"));
+  load(s, objectLink("banana_hull", "ycb_011_banana", "{\"decompose\": false}"));
 }
 void BM_BananaLinkDecomposed(benchmark::State& s) {
-  load(s, bananaLink("banana_decomposed", "{}"));
+  load(s, objectLink("banana_decomposed", "ycb_011_banana", "{}"));
+}
+void BM_MugLinkHull(benchmark::State& s) {
+  load(s, objectLink("mug_hull", "ycb_025_mug", "{\"decompose\": false}"));
+}
+void BM_MugLinkWrappedDecomposed(benchmark::State& s) {
+  load(s, objectLink("mug_wrapped", "ycb_025_mug", "{}"));
 }
 BENCHMARK(BM_FrankaHull)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrankaDefault)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FrankaForcedDecomposition)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BananaLinkHull)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BananaLinkDecomposed)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MugLinkHull)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MugLinkWrappedDecomposed)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
