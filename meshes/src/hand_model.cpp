@@ -107,6 +107,9 @@ GraspMode HandModel::graspMode() const {
 double HandModel::standoff() const {
   return standoff_;
 }
+const std::vector<CollisionMeshInfo>& HandModel::collisionMeshes() const {
+  return collision_meshes_;
+}
 const std::vector<std::string>& HandModel::fingerNames() const {
   return fingers_;
 }

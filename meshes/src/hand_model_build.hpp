@@ -1,11 +1,14 @@
 #pragma once
 // HandModelBuilder: the steps of HandModel::load (private to meshes). The driver in
-// hand_model_load.cpp runs them in order: URDF tree (hand_model_urdf.cpp), sidecar
-// (hand_model_sidecar.cpp), derived quantities (hand_model_derived.cpp).
+// hand_model_load.cpp runs them in order: URDF file, sidecar file (hand_model_sidecar.cpp), URDF
+// tree with collision meshes (hand_model_urdf.cpp), sidecar keys, derived quantities
+// (hand_model_derived.cpp).
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "collision_mesh.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace urdf {
@@ -23,9 +26,13 @@ struct HandModelBuilder {
   static HandModel build(const std::string& urdf_path, const std::string& sidecar_arg);
 
   // ---- URDF tree (hand_model_urdf.cpp) ----
-  /// Reads and parses the URDF: name, SHA-256, links and joints depth-first, actuated joints,
-  /// mimic chains resolved to their driver.
-  static void readUrdf(HandModel& h, const std::string& urdf_path);
+  /// Reads and parses the URDF: path, SHA-256, robot name; checks it has a root link.
+  static std::shared_ptr<urdf::ModelInterface> parseUrdfFile(HandModel& h,
+                                                             const std::string& urdf_path);
+  /// Links (collision meshes converted with `options`) and joints depth-first, actuated
+  /// joints, mimic chains resolved to their driver.
+  static void readUrdfTree(HandModel& h, const urdf::ModelInterface& model,
+                           const detail::CollisionOptions& options);
 
   // ---- Sidecar (hand_model_sidecar.cpp) ----
   /// Reads <sidecar> (default <urdf dir>/<stem>.hand.json), checks its keys, returns the JSON.

@@ -177,8 +177,9 @@ json HandModelBuilder::readSidecar(HandModel& h, const std::string& sidecar_arg)
   }
   if (!js.is_object()) throw Error(S + "must be a JSON object");
   static const std::set<std::string> kKeys = {
-      "palm_link",      "palm_frame",  "approach_axis", "preshape", "closing", "squeeze", "fingers",
-      "rotation_scale", "description", "dimensions",    "name",     "coupled", "grasp"};
+      "palm_link", "palm_frame", "approach_axis",  "preshape",    "closing",
+      "squeeze",   "fingers",    "rotation_scale", "description", "dimensions",
+      "name",      "coupled",    "grasp",          "collision"};
   for (auto it = js.begin(); it != js.end(); ++it)
     if (!kKeys.count(it.key()))
       throw Error(S + "unknown key '" + it.key() + "' (see meshes/hands/README.md)");

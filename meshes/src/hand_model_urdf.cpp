@@ -1,25 +1,20 @@
 // HandModel loading, URDF tree step: urdfdom parse (console_bridge captured), links and joints
-// depth-first from the root, collision shapes (meshes through assimp: each connected part of a
-// mesh becomes the convex hull of its vertices, reduced to the hull's own vertices by qhull),
-// actuated joints and mimic chains.
+// depth-first from the root, collision shapes (meshes: collision_mesh.hpp, each connected part
+// becomes its convex hull or the pieces of a convex decomposition), actuated joints and mimic
+// chains.
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <mutex>
 #include <set>
 #include <sstream>
 
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
-#include <assimp/Importer.hpp>
 
-#include "convex_hull.hpp"
+#include "collision_mesh.hpp"
 #include "hand_model_build.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
@@ -81,80 +76,12 @@ Eigen::Isometry3d toIso(const urdf::Pose& p) {
   return t;
 }
 
-/// Vertex sets of the connected parts of a collision mesh (faces sharing a vertex position),
-/// scaled, in the mesh file's frame.
-std::vector<std::vector<Eigen::Vector3d>> loadMeshParts(const std::string& file,
-                                                        const Eigen::Vector3d& scale,
-                                                        const std::string& urdf_path,
-                                                        const std::string& link) {
-  std::string f = file;
-  if (f.rfind("file://", 0) == 0) f = f.substr(7);
-  if (f.rfind("package://", 0) == 0)
-    throw Error("URDF '" + urdf_path + "': link '" + link + "' mesh '" + file +
-                "' uses package://, which is not supported: use a path relative to the URDF");
-  fs::path p(f);
-  if (p.is_relative()) p = fs::path(urdf_path).parent_path() / p;
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(p.string(), aiProcess_JoinIdenticalVertices);
-  if (!scene || scene->mNumMeshes == 0)
-    throw Error("URDF '" + urdf_path + "': link '" + link + "': cannot read collision mesh '" +
-                p.string() + "': " + importer.GetErrorString());
-  std::vector<std::vector<Eigen::Vector3d>> parts;
-  std::function<void(const aiNode*, const aiMatrix4x4&)> walk = [&](const aiNode* node,
-                                                                    const aiMatrix4x4& parent) {
-    const aiMatrix4x4 t = parent * node->mTransformation;
-    for (unsigned m = 0; m < node->mNumMeshes; ++m) {
-      const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
-      // Union-find over the mesh's vertices through its faces.
-      std::vector<unsigned> root(mesh->mNumVertices);
-      for (unsigned v = 0; v < mesh->mNumVertices; ++v) root[v] = v;
-      auto find = [&](unsigned v) {
-        while (root[v] != v) v = root[v] = root[root[v]];
-        return v;
-      };
-      // Vertices at the same position are one (assimp keeps copies with different normals).
-      std::map<std::array<float, 3>, unsigned> at;
-      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-        const aiVector3D& a = mesh->mVertices[v];
-        const auto [it, fresh] = at.emplace(std::array<float, 3>{a.x, a.y, a.z}, v);
-        if (!fresh) root[find(v)] = find(it->second);
-      }
-      for (unsigned fi = 0; fi < mesh->mNumFaces; ++fi) {
-        const aiFace& face = mesh->mFaces[fi];
-        for (unsigned c = 1; c < face.mNumIndices; ++c)
-          root[find(face.mIndices[c])] = find(face.mIndices[0]);
-      }
-      std::map<unsigned, std::size_t> part_of_root;
-      for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-        const auto [it, fresh] = part_of_root.emplace(find(v), parts.size());
-        if (fresh) parts.emplace_back();
-        const aiVector3D a = t * mesh->mVertices[v];
-        parts[it->second].emplace_back(a.x * scale.x(), a.y * scale.y(), a.z * scale.z());
-      }
-    }
-    for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], t);
-  };
-  walk(scene->mRootNode, aiMatrix4x4());
-  for (auto& pts : parts) {
-    std::sort(pts.begin(), pts.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-    });
-    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
-  }
-  // Parts of fewer than 4 distinct vertices enclose nothing (stray edges, lone triangles).
-  parts.erase(std::remove_if(parts.begin(), parts.end(),
-                             [](const std::vector<Eigen::Vector3d>& q) { return q.size() < 4; }),
-              parts.end());
-  if (parts.empty())
-    throw Error("URDF '" + urdf_path + "': link '" + link + "': collision mesh '" + p.string() +
-                "' has fewer than 4 vertices");
-  return parts;
-}
-
-/// The convex shapes of one <collision> element (a mesh gives one hull per connected part);
-/// U prefixes errors ("URDF '<path>': ").
+/// The convex shapes of one <collision> element (a mesh gives convex pieces per connected part,
+/// recorded in `infos`); U prefixes errors ("URDF '<path>': ").
 std::vector<CollisionShape> shapesOf(const urdf::Collision& col, const std::string& urdf_path,
-                                     const std::string& link, const std::string& U) {
+                                     const std::string& link, const std::string& U,
+                                     const detail::CollisionOptions& options, int first_shape,
+                                     std::vector<CollisionMeshInfo>* infos) {
   CollisionShape s;
   s.origin = toIso(col.origin);
   const urdf::Geometry& g = *col.geometry;
@@ -187,14 +114,19 @@ std::vector<CollisionShape> shapesOf(const urdf::Collision& col, const std::stri
     case urdf::Geometry::MESH: {
       const auto& m = static_cast<const urdf::Mesh&>(g);
       std::vector<CollisionShape> out;
-      for (const auto& part : loadMeshParts(
-               m.filename, Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z), urdf_path, link)) {
-        CollisionShape h = s;
-        h.type = ShapeType::kConvex;
-        h.points = detail::convexHull(part, U + "link '" + link + "': collision mesh '" +
-                                                m.filename + "' (a connected part)")
-                       .vertices;
-        out.push_back(std::move(h));
+      for (auto& part :
+           detail::collisionMeshShapes(m.filename, Eigen::Vector3d(m.scale.x, m.scale.y, m.scale.z),
+                                       urdf_path, link, options)) {
+        part.info.link = link;
+        part.info.file = m.filename;
+        part.info.first_shape = first_shape + static_cast<int>(out.size());
+        infos->push_back(part.info);
+        for (auto& piece : part.pieces) {
+          CollisionShape h = s;
+          h.type = ShapeType::kConvex;
+          h.points = std::move(piece.vertices);
+          out.push_back(std::move(h));
+        }
       }
       return out;
     }
@@ -253,6 +185,8 @@ struct TreeWalk {
   const std::string& U;
   std::vector<HandLink>& links;
   std::vector<HandJoint>& joints;
+  const detail::CollisionOptions& options;
+  std::vector<CollisionMeshInfo>& infos;
 
   /// Appends `link` (reached through joint `parent_joint`, -1 for the root) and its subtree;
   /// returns its index.
@@ -262,7 +196,9 @@ struct TreeWalk {
     hl.parent_joint = parent_joint;
     for (const auto& col : link->collision_array)
       if (col && col->geometry)
-        for (auto& s : shapesOf(*col, urdf_path, link->name, U)) hl.shapes.push_back(std::move(s));
+        for (auto& s : shapesOf(*col, urdf_path, link->name, U, options,
+                                static_cast<int>(hl.shapes.size()), &infos))
+          hl.shapes.push_back(std::move(s));
     const int li = static_cast<int>(links.size());
     links.push_back(std::move(hl));
     for (const auto& child_joint : link->child_joints) {
@@ -306,15 +242,23 @@ void resolveMimics(const urdf::ModelInterface& model, std::vector<HandJoint>& jo
 
 }  // namespace
 
-void HandModelBuilder::readUrdf(HandModel& h, const std::string& urdf_path) {
+urdf::ModelInterfaceSharedPtr HandModelBuilder::parseUrdfFile(HandModel& h,
+                                                              const std::string& urdf_path) {
   const std::string xml = readFile(urdf_path, "URDF");
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
-  const urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
+  urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
   h.robot_name_ = model->getName();
+  if (!model->getRoot()) throw Error("URDF '" + urdf_path + "': has no root link");
+  return model;
+}
+
+void HandModelBuilder::readUrdfTree(HandModel& h, const urdf::ModelInterface& model,
+                                    const detail::CollisionOptions& options) {
+  const std::string& urdf_path = h.urdf_path_;
   const std::string U = "URDF '" + urdf_path + "': ";
-  if (!model->getRoot()) throw Error(U + "has no root link");
-  TreeWalk{*model, urdf_path, U, h.links_, h.joints_}.add(model->getRoot(), -1);
+  TreeWalk{model, urdf_path, U, h.links_, h.joints_, options, h.collision_meshes_}.add(
+      model.getRoot(), -1);
 
   // Actuated joints: movable, not mimic; mimic joints resolve to their (transitive) driver.
   for (HandJoint& j : h.joints_) {
@@ -324,7 +268,7 @@ void HandModelBuilder::readUrdf(HandModel& h, const std::string& urdf_path) {
     h.lower_.push_back(j.lower);
     h.upper_.push_back(j.upper);
   }
-  resolveMimics(*model, h.joints_, U);
+  resolveMimics(model, h.joints_, U);
   if (h.actuated_.empty()) throw Error(U + "has no actuated (non-fixed, non-mimic) joint");
 }
 

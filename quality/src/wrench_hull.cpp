@@ -1,5 +1,5 @@
-// Convex hull of a 6-D wrench set through reentrant qhull (libqhull_r C API).
-// Every call owns its qhT: no global qhull state, no lock, threads run in parallel.
+// Convex hull of a 6-D wrench set through reentrant qhull (runQhull of the meshes stage, which
+// owns the qhull set-up). Every call owns its qhull instance: threads run in parallel.
 #include "taskmap/quality/wrench_hull.hpp"
 
 #include <algorithm>
@@ -11,86 +11,25 @@
 
 #include <Eigen/Eigenvalues>
 
-extern "C" {
-#include <libqhull_r/qhull_ra.h>
-}
+#include "taskmap/meshes/qhull_run.hpp"
 
 namespace taskmap {
 namespace {
 
 constexpr int kDim = 6;
 
-/// A sink for qhull's error and warning text: qhull must never print to stdout or stderr.
-/// One process-wide FILE* opened once (thread-safe static initialisation); stdio locks it
-/// internally, and qhull writes to it only on warnings and errors.
-FILE* silentSink() {
-  static FILE* sink = std::fopen("/dev/null", "w");
-  return sink;
-}
-
-const char* qhullExitName(int code) {
-  switch (code) {
-    case qh_ERRinput:
-      return "input error";
-    case qh_ERRsingular:
-      return "singular input (initial simplex is flat)";
-    case qh_ERRprec:
-      return "precision error";
-    case qh_ERRmem:
-      return "out of memory";
-    case qh_ERRqhull:
-      return "internal error";
-    case qh_ERRtopology:
-      return "topology error";
-    case qh_ERRwide:
-      return "wide facet error";
-    case qh_ERRdebug:
-      return "debug exit";
-    default:
-      return "unknown error";
-  }
-}
-
-/// Owns one qhull instance; frees it on every path (including early returns).
-class QhullRun {
- public:
-  explicit QhullRun(FILE* err) { qh_zero(&qh_, err); }
-  ~QhullRun() {
-    qh_freeqhull(&qh_, !qh_ALL);
-    int curlong = 0, totlong = 0;
-    qh_memfreeshort(&qh_, &curlong, &totlong);
-  }
-  QhullRun(const QhullRun&) = delete;
-  QhullRun& operator=(const QhullRun&) = delete;
-  qhT* get() { return &qh_; }
-
- private:
-  qhT qh_;
-};
-
 /// Runs qhull with `options` on the columns of `wrenches`; on success (returns 0) fills the
-/// facets and volume of `hull`. Returns qhull's exit code.
-int buildHull(const WrenchMatrix& wrenches, const char* options, FILE* sink, WrenchHull& hull) {
+/// facets and volume of `hull`. Returns qhull's output (exit code, error).
+QhullOutput buildHull(const WrenchMatrix& wrenches, const char* options, WrenchHull& hull) {
   const Eigen::Index n = wrenches.cols();
-  // qhull takes a non-const pointer: copy (column-major 6 x n is qhull's point-major layout).
-  std::vector<coordT> points(wrenches.data(), wrenches.data() + kDim * n);
-  std::string flag_text(options);
-  QhullRun run(sink);
-  qhT* qh = run.get();
-  const int code = qh_new_qhull(qh, kDim, static_cast<int>(n), points.data(), False,
-                                flag_text.data(), nullptr, sink);
-  if (code != 0) return code;
-  int facets = 0;
-  for (facetT* f = qh->facet_list; f && f->next; f = f->next) ++facets;
-  hull.normals.resize(kDim, facets);
-  hull.offsets.resize(facets);
-  int i = 0;
-  for (facetT* f = qh->facet_list; f && f->next; f = f->next, ++i) {
-    for (int k = 0; k < kDim; ++k) hull.normals(k, i) = f->normal[k];
-    hull.offsets(i) = f->offset;
-  }
-  hull.volume = qh->hasAreaVolume ? qh->totvol : 0.0;
-  return 0;
+  // Column-major 6 x n is qhull's point-major layout.
+  const std::vector<double> points(wrenches.data(), wrenches.data() + kDim * n);
+  QhullOutput q = runQhull(kDim, points, options, true, false);
+  if (q.exit_code != 0) return q;
+  hull.normals = q.normals;
+  hull.offsets = q.offsets;
+  hull.volume = q.volume;
+  return q;
 }
 
 /// Every facet must be a supporting hyperplane: no wrench farther than kClosureTolerance *
@@ -158,26 +97,20 @@ WrenchHull wrenchHull(const WrenchMatrix& wrenches, const WrenchHullOptions& opt
   hull.status = screenWrenches(wrenches, options.check_rank, hull.scale, hull.message);
   if (hull.status != QualityStatus::kOk) return hull;
 
-  FILE* sink = silentSink();
-  if (sink == nullptr) {
-    hull.status = QualityStatus::kHullFailed;
-    hull.message = "cannot open /dev/null to keep qhull silent";
-    return hull;
-  }
-
   // Fast pass without merging (Q0), verified; exact pre-merging (Qx) when it fails.
-  int code = -1;
-  if (options.fast_pass) code = buildHull(wrenches, "qhull Q0 FA", sink, hull);
-  if (code != 0 || !facetsSupport(wrenches, hull)) {
-    code = buildHull(wrenches, "qhull Qx FA", sink, hull);
+  QhullOutput q;
+  q.exit_code = -1;
+  if (options.fast_pass) q = buildHull(wrenches, "Q0 FA", hull);
+  if (q.exit_code != 0 || !facetsSupport(wrenches, hull)) {
+    q = buildHull(wrenches, "Qx FA", hull);
     hull.merged_pass = true;
   }
-  if (code != 0) {
+  if (q.exit_code != 0) {
     hull.normals.resize(kDim, 0);
     hull.offsets.resize(0);
     hull.volume = 0.0;
-    hull.status = code == qh_ERRsingular ? QualityStatus::kDegenerate : QualityStatus::kHullFailed;
-    hull.message = std::string("qhull: ") + qhullExitName(code);
+    hull.status = q.singular ? QualityStatus::kDegenerate : QualityStatus::kHullFailed;
+    hull.message = "qhull: " + q.error;
     return hull;
   }
   hull.status = QualityStatus::kOk;

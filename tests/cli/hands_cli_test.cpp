@@ -1,5 +1,6 @@
 // Real hands and real objects through the tool (label cli): hand-info (text, JSON, picture,
-// warnings), mesh-info --repair wrap on an open scan, and a build that stores no grasp.
+// warnings, convex pieces of non-convex link meshes), mesh-info --repair wrap on an open scan,
+// and a build that stores no grasp.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -157,6 +159,64 @@ TEST(HandsCli, MeshInfoWrapsAnOpenScan) {
   run = runCli("mesh-info " + open + " --repair wrap --no-repair");
   EXPECT_NE(run.out.find("contradict"), std::string::npos) << run.out;
   fs::remove(open);
+}
+
+std::string hands(const std::string& name) {
+  return std::string(TEST_DATA_DIR) + "/hands/" + name;
+}
+
+TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
+  CliRun run = runCli("hand-info " + hands("decomp_finger.urdf") + " --json");
+  ASSERT_EQ(run.code, 0) << run.out;
+  const auto j = nlohmann::json::parse(run.out);
+  ASSERT_EQ(j.at("collision_meshes").size(), 2u);
+  for (const auto& m : j.at("collision_meshes")) {
+    EXPECT_TRUE(m.at("decomposed").get<bool>());
+    const bool u = m.at("link") == "finger_u";
+    EXPECT_EQ(m.at("pieces").get<int>(), u ? 3 : 2) << m.dump();
+    EXPECT_NEAR(m.at("pieces_volume").get<double>(), u ? 22e-6 : 14e-6, 1e-12);
+    EXPECT_NEAR(m.at("hull_volume").get<double>(), u ? 40e-6 : 23e-6, 1e-12);
+  }
+  for (const auto& l : j.at("links"))
+    if (l.at("name") == "finger_u") {
+      EXPECT_EQ(l.at("shapes").get<int>(), 3);
+    }
+  run = runCli("hand-info " + hands("decomp_finger.urdf"));
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("u_block.obj part 0: 140 faces, 3 convex pieces, 22 / 40 / 22 "
+                         "(decomposed)"),
+            std::string::npos)
+      << run.out;
+}
+
+TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
+  // The U-shaped block with its last two faces removed: open, and not to be wrapped, so its
+  // hull is kept.
+  const fs::path dir = temp("open_u");
+  fs::create_directories(dir);
+  fs::copy_file(hands("decomp_finger.urdf"), dir / "decomp_finger.urdf",
+                fs::copy_options::overwrite_existing);
+  nlohmann::json sidecar = nlohmann::json::parse(std::ifstream(hands("decomp_finger.hand.json")));
+  sidecar["collision"] = {{"wrap", false}};
+  std::ofstream(dir / "decomp_finger.hand.json") << sidecar.dump();
+  fs::copy_file(hands("l_block.obj"), dir / "l_block.obj", fs::copy_options::overwrite_existing);
+  std::ifstream in(hands("u_block.obj"));
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  lines.resize(lines.size() - 2);
+  std::ofstream out(dir / "u_block.obj");
+  for (const auto& line : lines) out << line << "\n";
+  out.close();
+  const CliRun run = runCli("hand-info " + (dir / "decomp_finger.urdf").string());
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("warning:        URDF '" + (dir / "decomp_finger.urdf").string() +
+                         "': link 'finger_u': collision mesh 'u_block.obj' (a connected part) "
+                         "is not closed (it has border edges); its convex hull is used"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("u_block.obj part 0: 138 faces, 1 convex piece"), std::string::npos)
+      << run.out;
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -105,8 +105,44 @@ nlohmann::json describe(const HandModel& h, const std::vector<std::string>& warn
          {"finger", l.finger >= 0
                         ? nlohmann::json(h.fingerNames()[static_cast<std::size_t>(l.finger)])
                         : nlohmann::json(nullptr)}});
+  for (const CollisionMeshInfo& m : h.collisionMeshes())
+    j["collision_meshes"].push_back({{"link", m.link},
+                                     {"file", m.file},
+                                     {"part", m.part},
+                                     {"faces", m.faces},
+                                     {"pieces", m.pieces},
+                                     {"decomposed", m.decomposed},
+                                     {"wrapped", m.wrapped},
+                                     {"raw_pieces", m.raw_pieces},
+                                     {"mesh_volume", m.mesh_volume},
+                                     {"hull_volume", m.hull_volume},
+                                     {"pieces_volume", m.pieces_volume},
+                                     {"note", m.note}});
   j["warnings"] = warnings;
   return j;
+}
+
+/// One line per collision mesh part: pieces and volumes (cm^3).
+void printCollisionMeshes(const nlohmann::json& j) {
+  if (!j.contains("collision_meshes")) return;
+  std::printf("collision meshes (volumes in cm^3: mesh / hull / pieces):\n");
+  for (const auto& m : j["collision_meshes"]) {
+    std::printf("  %-20s %s part %d: %d faces, %d convex piece%s, %.4g / %.4g / %.4g",
+                m["link"].get<std::string>().c_str(), m["file"].get<std::string>().c_str(),
+                m["part"].get<int>(), m["faces"].get<int>(), m["pieces"].get<int>(),
+                m["pieces"].get<int>() == 1 ? "" : "s", 1e6 * m["mesh_volume"].get<double>(),
+                1e6 * m["hull_volume"].get<double>(), 1e6 * m["pieces_volume"].get<double>());
+    if (m["wrapped"].get<bool>())
+      std::printf(" (not a clean solid: decomposed its alpha wrap, %d exact pieces)",
+                  m["raw_pieces"].get<int>());
+    else if (m["decomposed"].get<bool>() && m["raw_pieces"] == m["pieces"])
+      std::printf(" (decomposed)");
+    else if (m["decomposed"].get<bool>())
+      std::printf(" (decomposed: %d exact pieces merged)", m["raw_pieces"].get<int>());
+    else
+      std::printf(" (hull: %s)", m["note"].get<std::string>().c_str());
+    std::printf("\n");
+  }
 }
 
 std::string v3(const nlohmann::json& v) {
@@ -154,6 +190,7 @@ void printText(const nlohmann::json& j) {
   for (auto it = j["fingers"].begin(); it != j["fingers"].end(); ++it)
     std::printf(" %s (%zu links);", it.key().c_str(), it.value().size());
   std::printf("\n");
+  printCollisionMeshes(j);
   for (const auto& w : j["warnings"])
     std::printf("warning:        %s\n", w.get<std::string>().c_str());
 }
@@ -162,7 +199,9 @@ void run(const HandInfoArgs& args) {
   const std::string urdf =
       std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
   const HandModel hand = HandModel::load(urdf);
-  const std::vector<std::string> warnings = handWarnings(hand);
+  std::vector<std::string> warnings = handWarnings(hand);
+  for (const CollisionMeshInfo& m : hand.collisionMeshes())
+    if (m.warning) warnings.push_back(m.note);
   const nlohmann::json j = describe(hand, warnings);
   if (!args.png.empty()) writeHandPicture(hand, args.png);
   if (args.json)

@@ -54,7 +54,9 @@ int run(const RegressArgs& args) {
     }
     ++ran;
     const ObjectModel object = ObjectModel::load((root / c.object).lexically_normal().string());
-    const HandModel hand = HandModel::load((root / c.hand).lexically_normal().string());
+    const HandModel hand = HandModel::load(
+        (root / c.hand).lexically_normal().string(),
+        c.sidecar.empty() ? std::string() : (root / c.sidecar).lexically_normal().string());
     BuildOptions options;
     options.sampler.kind = samplerKindFromString(c.sampler);
     options.seed = c.seed;
@@ -76,6 +78,7 @@ int run(const RegressArgs& args) {
                    {"sampler", c.sampler},
                    {"seed", c.seed},
                    {"trials", c.trials}};
+      if (!c.sidecar.empty()) j["case"]["sidecar"] = c.sidecar;
       writeFileAtomically(golden_path.string(), j.dump(2) + "\n",
                           "cannot write golden file '" + golden_path.string() + "'");
       std::cout << "updated " << golden_path.string() << "\n";

@@ -195,6 +195,7 @@ std::vector<RegressionCase> readCases(const std::string& path) {
       c.name = e.at("name").get<std::string>();
       c.object = e.at("object").get<std::string>();
       c.hand = e.at("hand").get<std::string>();
+      c.sidecar = e.value("sidecar", std::string());
       c.sampler = e.value("sampler", std::string("mixed"));
       c.seed = e.value("seed", std::uint64_t{1});
       c.trials = e.at("trials").get<std::uint64_t>();

@@ -20,6 +20,7 @@ struct RegressionCase {
   std::string name;     ///< also the golden file's stem
   std::string object;   ///< mesh path, relative to the suite's root directory
   std::string hand;     ///< URDF path, relative to the suite's root directory
+  std::string sidecar;  ///< hand sidecar relative to the root; empty: the URDF's <stem>.hand.json
   std::string sampler;  ///< "volume", "surface" or "mixed"
   std::uint64_t seed = 1;
   std::uint64_t trials = 1000;  ///< fixed trial budget (every trial runs)

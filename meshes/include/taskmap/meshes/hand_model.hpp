@@ -30,6 +30,27 @@ struct CollisionShape {
   double boundingRadius() const;
 };
 
+/// How one connected part of a link's collision mesh became convex shapes
+/// (HandModel::collisionMeshes(); sidecar "collision", meshes/hands/README.md).
+struct CollisionMeshInfo {
+  std::string link;            ///< URDF link name
+  std::string file;            ///< mesh file as written in the URDF
+  int part = 0;                ///< index of the connected part in the file (file order)
+  int first_shape = 0;         ///< index of its first shape in HandLink::shapes
+  int pieces = 1;              ///< convex shapes it became (1: its convex hull)
+  bool decomposed = false;     ///< true when the pieces come from the convex decomposition
+  bool wrapped = false;        ///< true when the decomposition was of the part's alpha wrap
+  double mesh_volume = 0.0;    ///< volume enclosed by the part's faces, m^3 (0 when open)
+  double hull_volume = 0.0;    ///< volume of its convex hull, m^3
+  double pieces_volume = 0.0;  ///< summed volume of its convex shapes, m^3
+  int faces = 0;               ///< faces of the part in the file
+  int raw_pieces = 0;          ///< pieces of the exact decomposition before merging (0: none)
+  /// Why the hull was kept ("decomposition off", "nearly convex", or a failure: then a warning),
+  /// or why the alpha wrap was decomposed.
+  std::string note;
+  bool warning = false;  ///< true when decomposition was wanted but failed
+};
+
 /// Kind of a URDF joint as used here (continuous joints are revolute with +-pi limits).
 enum class JointType { kRevolute, kPrismatic, kFixed };
 
@@ -124,6 +145,8 @@ class HandModel {
   /// Fingertip grasps: the approach stops when the palm is this far from the object, metres
   /// (sidecar "grasp.standoff", default 0: only a touching link stops it).
   double standoff() const;
+  /// Every connected part of every collision mesh and how it became convex shapes (URDF order).
+  const std::vector<CollisionMeshInfo>& collisionMeshes() const;
   /// Finger names from the sidecar (HandLink::finger indexes this list).
   const std::vector<std::string>& fingerNames() const;
   /// Index into links() of a link by name, -1 if none.
@@ -145,6 +168,7 @@ class HandModel {
  private:
   std::string name_, robot_name_, sha_, urdf_path_, sidecar_path_;
   std::vector<HandLink> links_;
+  std::vector<CollisionMeshInfo> collision_meshes_;
   std::vector<HandJoint> joints_;
   std::vector<std::string> actuated_;
   std::vector<double> lower_, upper_;
