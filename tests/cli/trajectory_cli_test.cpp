@@ -68,7 +68,7 @@ const Planned& planned() {
     r.run =
         testing::runTaskmap("reach --map " + r.map + " --scene " + std::string(TASKMAP_SOURCE_DIR) +
                             "/reaching/scenes/basket_reference.json --object-pose \"0.5 0 0 "
-                            "1.5708\" --iterations 3 --json -o " +
+                            "1.5708\" --iterations 3 --no-resimulate --json -o " +
                             r.trajectory + " --glb " + r.glb + " --png " + tempPath("r.png"));
     r.json = parseJson(r.run.out);
     return r;
