@@ -292,7 +292,7 @@ void bindReaching(py::module_& m) {
         return mapReachDict(plan, ms, movement);
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
-      py::arg("iterations") = 40, py::arg("proximity_weight") = 1000.0,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
       py::arg("descent") = "bfgs",
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
@@ -327,7 +327,7 @@ void bindReaching(py::module_& m) {
         return planDict(planGrasp(p, map, o));
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
-      py::arg("iterations") = 40, py::arg("proximity_weight") = 1000.0,
+      py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 1.0,
       "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
       "planning): clusters ranked by comfort, trajectory over attractor points optimised with "

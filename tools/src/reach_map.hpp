@@ -16,7 +16,7 @@ struct MapReachArgs {
   std::string object_pose;    ///< "x y z yaw" of the object body in the world (metres, radians)
   bool all_clusters = false;  ///< optimise from every reachable cluster
   int iterations = 40;        ///< optimiser iterations
-  double proximity_weight = 1000.0;  ///< w_map,p (docs/REACHING.md "Chosen weights")
+  double proximity_weight = 1.0e4;   ///< w_map,p (docs/REACHING.md "Chosen weights")
   double quality_weight = 1.0;       ///< w_map,q
   bool resimulate = true;            ///< re-simulate the final grasp with grasp_sim
   std::string descent = "bfgs";      ///< "bfgs" or "gradient"

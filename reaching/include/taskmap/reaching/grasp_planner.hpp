@@ -17,9 +17,9 @@ namespace taskmap {
 /// Options of planGrasp.
 struct GraspPlanOptions {
   TrajectoryOptimizerOptions optimizer;  ///< descent (on_iteration is used internally)
-  /// w_map,p and w_map,q: proximity 1000 keeps the final pose within millimetres of a sample
+  /// w_map,p and w_map,q: proximity 1e4 keeps the final pose within a millimetre of a sample
   /// (docs/REACHING.md "Chosen weights").
-  MapCostWeights map_weights{1000.0, 1.0};
+  MapCostWeights map_weights{1.0e4, 1.0};
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
