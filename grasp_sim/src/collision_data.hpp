@@ -50,6 +50,9 @@ struct TriangleQuery : btTriangleCallback {
 
   // Boxes: the separating-axis test decides far and overlapping triangles without GJK.
   bool is_box = false;
+  // The test stops at the first axis beyond the threshold (false in the baseline, which keeps
+  // the code it had: all 13 axes).
+  bool sat_early_exit = true;
   Eigen::Vector3d box_centre, box_half;
   Eigen::Matrix3d box_axes;
 

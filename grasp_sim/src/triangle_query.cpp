@@ -73,7 +73,8 @@ bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConve
 void TriangleQuery::processTriangle(btVector3* tri, int, int index) {
   if (overlap_found && !exact) return;
   if (is_box) {
-    const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri, threshold);
+    const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri,
+                                             sat_early_exit ? threshold : kInf);
     if (sep > threshold) return;
     if (sep <= 0.0 && !exact) {
       // The 13 axes give the exact minimum translation distance of the pair: a lower bound
@@ -156,6 +157,7 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
                         const Eigen::Isometry3d& ts, double threshold, bool exact,
                         std::vector<TriangleHit>* hits) {
   TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
+  q.sat_early_exit = d.culled;
   btVector3 amin, amax;
   e.shape->getAabb(q.xf, amin, amax);
   const btVector3 pad(threshold, threshold, threshold);
