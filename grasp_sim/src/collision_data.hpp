@@ -50,6 +50,9 @@ struct TriangleQuery : btTriangleCallback {
 
   // Boxes: the separating-axis test decides far and overlapping triangles without GJK.
   bool is_box = false;
+  // The test stops at the first axis beyond the threshold (false in the baseline, which keeps
+  // the code it had: all 13 axes).
+  bool sat_early_exit = true;
   Eigen::Vector3d box_centre, box_half;
   Eigen::Matrix3d box_axes;
 
@@ -94,9 +97,12 @@ struct CollisionScene::Data {
 /// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r, half
 /// extents e) and a triangle: the largest separation over the 13 axes of the box-triangle SAT.
 /// A value > 0 is a lower bound on their distance; a value <= 0 means they intersect (the 13
-/// axes are complete for a box and a triangle).
+/// axes are complete for a box and a triangle). Stops at the first axis that puts the
+/// separation above `limit` (the value returned is then some value > limit; at or below it, it
+/// is the full maximum).
 double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
-                             const Eigen::Vector3d& e, const btVector3* tri);
+                             const Eigen::Vector3d& e, const btVector3* tri,
+                             double limit = std::numeric_limits<double>::infinity());
 /// A TriangleQuery of shape `e` at pose `ts` (object frame).
 TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts, double threshold,
                                 bool exact, std::vector<TriangleHit>* hits);

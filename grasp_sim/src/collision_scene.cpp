@@ -2,6 +2,7 @@
 // link-versus-object queries are in triangle_query.cpp (Bullet's BVH) and culled_query.cpp.
 #include "collision_scene.hpp"
 #include "collision_data.hpp"
+#include "hull_support_shape.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -133,6 +134,10 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
           e.shape = std::make_unique<btSphereShape>(s.radius);
           break;
         case ShapeType::kConvex: {
+          if (mode != Mode::kBullet) {  // support cells (hull_support.hpp): same points, faster
+            e.shape = std::make_unique<IndexedHullShape>(s.points, kConvexMargin);
+            break;
+          }
           auto hull = std::make_unique<btConvexHullShape>(
               s.points.front().data(), static_cast<int>(s.points.size()), sizeof(Eigen::Vector3d));
           hull->optimizeConvexHull();

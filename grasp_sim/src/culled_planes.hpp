@@ -52,6 +52,10 @@ struct ShapePlanes {
   std::size_t facet_begin = 0;  // hulls: the face planes from here on
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
+  // The plane that last culled a node / a triangle, tried first (neighbours in the tree are
+  // mostly culled by the same plane). Only the order of the planes changes: a bound above its
+  // limit is above it whichever plane shows it, and a bound at or below it is the full maximum.
+  mutable std::size_t node_hint = 0, tri_hint = 0;
 
   void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
            const btVector3& amax, double threshold) {
@@ -74,9 +78,15 @@ struct ShapePlanes {
     if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any())
       return std::numeric_limits<double>::infinity();
     const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+    auto gap = [&](std::size_t i) { return wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]; };
+    if (node_hint < node_planes) {
+      const double g = gap(node_hint);
+      if (g > limit) return g;
+    }
     double lb = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < node_planes && lb <= limit; ++i)
-      lb = std::max(lb, wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]);
+    std::size_t i = 0;
+    for (; i < node_planes && lb <= limit; ++i) lb = std::max(lb, gap(i));
+    if (lb > limit) node_hint = i - 1;
     return lb;
   }
   bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
@@ -88,9 +98,17 @@ struct ShapePlanes {
     const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
     if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any())
       return std::numeric_limits<double>::infinity();
+    auto gap = [&](std::size_t i) {
+      return std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i];
+    };
+    if (tri_hint < wn.size()) {
+      const double g = gap(tri_hint);
+      if (g > limit) return g;
+    }
     double lb = -std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < wn.size() && lb <= limit; ++i)
-      lb = std::max(lb, std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i]);
+    std::size_t i = 0;
+    for (; i < wn.size() && lb <= limit; ++i) lb = std::max(lb, gap(i));
+    if (lb > limit) tri_hint = i - 1;
     return lb;
   }
   double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }

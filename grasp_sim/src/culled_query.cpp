@@ -126,8 +126,8 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
   if (!q.is_box || q.min_distance == kInf) return false;
   const auto& v = d.corners[static_cast<std::size_t>(tri)];
   const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-  return boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) >
-         q.min_distance + kCullSlack;
+  const double limit = q.min_distance + kCullSlack;
+  return boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit;
 }
 
 /// No overlap: the minimum of GJK distances does not depend on the order, so the tree is
@@ -186,7 +186,8 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Shap
         if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          proven = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners) <= 0.0;
+          proven =
+              boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, 0.0) <= 0.0;
         } else {
           proven = pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
                    pl.inside(v[2], pl.facet_begin);

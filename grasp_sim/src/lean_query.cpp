@@ -53,7 +53,8 @@ bool shapeDeeper(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen
         if (pl.bound(v, c) > c) return true;
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) > c) return true;
+          if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, c) > c)
+            return true;
         }
         hits.clear();
         runTriangle(d, tri, &q);
@@ -114,7 +115,8 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
     if (tb > pl.cut || tb > *best + kCullSlack) continue;
     if (e.is_box) {
       const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-      if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners) > *best + kCullSlack)
+      const double limit = *best + kCullSlack;
+      if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit)
         continue;
     }
     hits.clear();

@@ -15,7 +15,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
-                             const Eigen::Vector3d& e, const btVector3* tri) {
+                             const Eigen::Vector3d& e, const btVector3* tri, double limit) {
   Eigen::Vector3d v[3];
   for (int i = 0; i < 3; ++i)
     v[i] = r.transpose() * (Eigen::Vector3d(tri[i].x(), tri[i].y(), tri[i].z()) - c);
@@ -28,15 +28,19 @@ double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
     const double lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});
     best = std::max(best, std::max(lo - rad, -rad - hi) / len);
   };
+  // The same axes in the same order as without a limit; only the return comes earlier.
   axis(Eigen::Vector3d::UnitX());
   axis(Eigen::Vector3d::UnitY());
   axis(Eigen::Vector3d::UnitZ());
+  if (best > limit) return best;
   const Eigen::Vector3d f[3] = {v[1] - v[0], v[2] - v[1], v[0] - v[2]};
   axis(f[0].cross(f[1]));
+  if (best > limit) return best;
   for (const auto& edge : f) {
     axis(Eigen::Vector3d(0, -edge.z(), edge.y()));
     axis(Eigen::Vector3d(edge.z(), 0, -edge.x()));
     axis(Eigen::Vector3d(-edge.y(), edge.x(), 0));
+    if (best > limit) return best;
   }
   return best;
 }
@@ -69,7 +73,8 @@ bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConve
 void TriangleQuery::processTriangle(btVector3* tri, int, int index) {
   if (overlap_found && !exact) return;
   if (is_box) {
-    const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri);
+    const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri,
+                                             sat_early_exit ? threshold : kInf);
     if (sep > threshold) return;
     if (sep <= 0.0 && !exact) {
       // The 13 axes give the exact minimum translation distance of the pair: a lower bound
@@ -152,6 +157,7 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
                         const Eigen::Isometry3d& ts, double threshold, bool exact,
                         std::vector<TriangleHit>* hits) {
   TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
+  q.sat_early_exit = d.culled;
   btVector3 amin, amax;
   e.shape->getAabb(q.xf, amin, amax);
   const btVector3 pad(threshold, threshold, threshold);
