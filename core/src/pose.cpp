@@ -9,15 +9,11 @@
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+Eigen::Matrix3d skewMatrix(const Eigen::Vector3d& v) {
   Eigen::Matrix3d s;
   s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
   return s;
 }
-
-}  // namespace
 
 Pose Pose::fromVector7(const Eigen::Matrix<double, 7, 1>& v) {
   if (!v.allFinite())
@@ -100,13 +96,13 @@ Eigen::Vector3d rotationLog(const Eigen::Matrix3d& r) {
 
 Eigen::Matrix3d rotationExp(const Eigen::Vector3d& w) {
   const double theta = w.norm();
-  if (theta < 1e-12) return Eigen::Matrix3d::Identity() + skew(w);
+  if (theta < 1e-12) return Eigen::Matrix3d::Identity() + skewMatrix(w);
   return Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
 }
 
 Eigen::Matrix3d rightJacobianInverse(const Eigen::Vector3d& w) {
   const double theta = w.norm();
-  const Eigen::Matrix3d s = skew(w);
+  const Eigen::Matrix3d s = skewMatrix(w);
   double c;
   if (theta < 1e-4) {
     c = 1.0 / 12.0 + theta * theta / 720.0;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +40,30 @@ Kinematics kinematicsAt(const PyRobot& r, const Eigen::VectorXd& q) {
   Kinematics kin(r.model);
   kin.update(q);
   return kin;
+}
+
+/// A grasp-planning problem of a robot with a scene object: its collision pairs (the hand may
+/// touch the object) and the trajectory problem of the palm relative to the object from q0
+/// (default: the middle of the joint ranges). Throws Error prefixed with `what`.
+struct GraspProblem {
+  std::unique_ptr<CollisionModel> collisions;  ///< pairs, owned (the problem points to them)
+  TrajectoryProblem problem;                   ///< palm relative to the scene object
+};
+
+GraspProblem graspProblem(const PyRobot& r, const std::optional<Eigen::VectorXd>& q0,
+                          const std::string& what) {
+  if (r.object.empty()) throw Error(what + ": a map needs a robot with a scene object (add_scene)");
+  if (r.model.palmBody() < 0) throw Error(what + ": a map needs a robot with a hand");
+  CollisionOptions co;
+  co.hand_may_touch = {r.object};
+  GraspProblem g;
+  g.collisions = std::make_unique<CollisionModel>(r.model, co);
+  g.problem.robot = &r.model;
+  g.problem.collisions = g.collisions.get();
+  g.problem.body = r.model.palmBody();
+  g.problem.reference = r.model.requireBody(r.object);
+  g.problem.q0 = q0 ? *q0 : r.model.midConfiguration();
+  return g;
 }
 
 py::dict planDict(const GraspPlan& plan) {
@@ -258,18 +283,8 @@ void bindReaching(py::module_& m) {
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight,
          int steps, double dt, const std::string& descent) {
-        if (r.object.empty())
-          throw Error("reach: a map needs a robot with a scene object (add_scene)");
-        if (r.model.palmBody() < 0) throw Error("reach: a map needs a robot with a hand");
-        CollisionOptions co;
-        co.hand_may_touch = {r.object};
-        const CollisionModel collisions(r.model, co);
-        TrajectoryProblem p;
-        p.robot = &r.model;
-        p.collisions = &collisions;
-        p.body = r.model.palmBody();
-        p.reference = r.model.requireBody(r.object);
-        p.q0 = q0 ? *q0 : r.model.midConfiguration();
+        GraspProblem g = graspProblem(r, q0, "reach");
+        TrajectoryProblem& p = g.problem;
         p.reach.steps = steps;
         p.reach.attractor.dt = dt;
         GraspPlanOptions o;
@@ -307,18 +322,8 @@ void bindReaching(py::module_& m) {
       "plan_grasp",
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight) {
-        if (r.object.empty())
-          throw Error("plan_grasp: the robot needs a scene with an object (add_scene)");
-        if (r.model.palmBody() < 0) throw Error("plan_grasp: the robot has no hand");
-        CollisionOptions co;
-        co.hand_may_touch = {r.object};
-        const CollisionModel collisions(r.model, co);
-        TrajectoryProblem p;
-        p.robot = &r.model;
-        p.collisions = &collisions;
-        p.body = r.model.palmBody();
-        p.reference = r.model.requireBody(r.object);
-        p.q0 = q0 ? *q0 : r.model.midConfiguration();
+        const GraspProblem g = graspProblem(r, q0, "plan_grasp");
+        const TrajectoryProblem& p = g.problem;
         GraspPlanOptions o;
         o.all_clusters = all_clusters;
         o.optimizer.max_iterations = iterations;

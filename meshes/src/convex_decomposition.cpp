@@ -41,13 +41,8 @@ using ExactPolyhedron = CGAL::Polyhedron_3<Exact>;
 /// The soup as an outward-oriented closed surface mesh; throws Error when it is not closed.
 Mesh closedMesh(const MeshSoup& soup, const std::string& what) {
   std::vector<Inexact::Point_3> points;
-  points.reserve(soup.points.size());
-  for (const auto& p : soup.points) points.emplace_back(p.x(), p.y(), p.z());
   std::vector<std::array<std::size_t, 3>> faces;
-  faces.reserve(soup.faces.size());
-  for (const auto& f : soup.faces)
-    faces.push_back({static_cast<std::size_t>(f[0]), static_cast<std::size_t>(f[1]),
-                     static_cast<std::size_t>(f[2])});
+  soupArrays(soup, &points, &faces);
   if (!PMP::orient_polygon_soup(points, faces))
     throw Error(what + " is not 2-manifold (edges shared by more than two faces)");
   Mesh mesh;

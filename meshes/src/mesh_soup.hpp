@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -32,6 +33,18 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
 
 /// Merges points with bit-identical coordinates, remapping faces. Returns the number merged.
 std::size_t mergeIdenticalPoints(MeshSoup* soup);
+
+/// The soup as polygon-soup arrays for CGAL (Point: any kernel's Point_3, built from x, y, z).
+template <class Point>
+void soupArrays(const MeshSoup& soup, std::vector<Point>* points,
+                std::vector<std::array<std::size_t, 3>>* faces) {
+  points->reserve(soup.points.size());
+  for (const auto& p : soup.points) points->emplace_back(p.x(), p.y(), p.z());
+  faces->reserve(soup.faces.size());
+  for (const auto& f : soup.faces)
+    faces->push_back({static_cast<std::size_t>(f[0]), static_cast<std::size_t>(f[1]),
+                      static_cast<std::size_t>(f[2])});
+}
 
 /// Key of the undirected edge (a, b): the smaller index in the high 32 bits.
 inline std::uint64_t edgeKey(int a, int b) {

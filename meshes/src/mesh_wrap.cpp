@@ -17,13 +17,8 @@ MeshSoup alphaWrap(const MeshSoup& soup, double alpha, double offset, const std:
   if (!(alpha > 0) || !(offset > 0))
     throw Error(what + ": alpha wrapping needs a positive alpha and offset");
   std::vector<Point> points;
-  points.reserve(soup.points.size());
-  for (const auto& p : soup.points) points.emplace_back(p.x(), p.y(), p.z());
   std::vector<std::array<std::size_t, 3>> faces;
-  faces.reserve(soup.faces.size());
-  for (const auto& f : soup.faces)
-    faces.push_back({static_cast<std::size_t>(f[0]), static_cast<std::size_t>(f[1]),
-                     static_cast<std::size_t>(f[2])});
+  soupArrays(soup, &points, &faces);
   CGAL::Surface_mesh<Point> wrap;
   try {
     CGAL::alpha_wrap_3(points, faces, alpha, offset, wrap);

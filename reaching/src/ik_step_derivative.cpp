@@ -12,12 +12,6 @@
 namespace taskmap {
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
 /// Right Jacobian of SO(3): exp(w + dw) = exp(w) exp(J_r(w) dw).
 Eigen::Matrix3d rightJacobian(const Eigen::Vector3d& w) {
   const double t = w.norm();
@@ -29,7 +23,7 @@ Eigen::Matrix3d rightJacobian(const Eigen::Vector3d& w) {
     a = (1.0 - std::cos(t)) / (t * t);
     b = (t - std::sin(t)) / (t * t * t);
   }
-  const Eigen::Matrix3d s = skew(w);
+  const Eigen::Matrix3d s = skewMatrix(w);
   return Eigen::Matrix3d::Identity() - a * s + b * s * s;
 }
 

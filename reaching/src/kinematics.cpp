@@ -5,17 +5,9 @@
 #include <string>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/pose.hpp"
 
 namespace taskmap {
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d s;
-  s << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return s;
-}
-
-}  // namespace
 
 Kinematics::Kinematics(const RobotModel& robot)
     : robot_(&robot),
@@ -141,7 +133,7 @@ Eigen::Matrix3Xd Kinematics::relativePositionJacobian(int body, int reference) c
   const Eigen::Vector3d r12 = p2 - r.translation();
   return r.linear().transpose() *
          (pointJacobian(body, p2) - pointJacobian(reference, r.translation()) +
-          skew(r12) * angularJacobian(reference));
+          skewMatrix(r12) * angularJacobian(reference));
 }
 
 Eigen::Matrix3d Kinematics::relativeRotation(int body, int reference) const {

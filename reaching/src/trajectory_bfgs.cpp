@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "descent_record.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
@@ -65,11 +66,7 @@ TrajectoryOptimization optimizeTrajectoryBfgs(const TrajectoryProblem& problem,
   options.validate();
   TrajectoryOptimization r;
   TrajectoryCost current = evaluateTrajectory(problem, points, true);
-  const auto record = [&r](TrajectoryCost c) {
-    c.gradient.resize(0);
-    c.q.clear();
-    r.history.push_back(std::move(c));
-  };
+  const auto record = [&r](TrajectoryCost c) { detail::recordIteration(r, std::move(c)); };
   record(current);
   if (options.on_iteration) options.on_iteration(0, current);
   Eigen::VectorXd x = stack(points);
@@ -111,11 +108,7 @@ TrajectoryOptimization optimizeTrajectoryBfgs(const TrajectoryProblem& problem,
       break;
     }
   }
-  r.message = r.status == TrajectoryStatus::kConverged
-                  ? "converged after " + std::to_string(r.iterations) + " iterations"
-                  : "stopped at the iteration limit (" + std::to_string(r.iterations) + ")";
-  r.points = unstack(x);
-  r.cost = std::move(current);
+  detail::finishDescent(r, unstack(x), std::move(current));
   return r;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "descent_record.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/ik_step_derivative.hpp"
 
@@ -283,11 +284,7 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
   Tape tape;
   TrajectoryCost current = rollOut(problem, ik, points, true, tape);
   addGradient(problem, ik, k, tape, current);
-  const auto record = [&r](TrajectoryCost c) {
-    c.gradient.resize(0);
-    c.q.clear();
-    r.history.push_back(std::move(c));
-  };
+  const auto record = [&r](TrajectoryCost c) { detail::recordIteration(r, std::move(c)); };
   record(current);
   if (options.on_iteration) options.on_iteration(0, current);
   double step = options.initial_step;
@@ -325,11 +322,7 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
       break;
     }
   }
-  r.message = r.status == TrajectoryStatus::kConverged
-                  ? "converged after " + std::to_string(r.iterations) + " iterations"
-                  : "stopped at the iteration limit (" + std::to_string(r.iterations) + ")";
-  r.points = std::move(points);
-  r.cost = std::move(current);
+  detail::finishDescent(r, std::move(points), std::move(current));
   return r;
 }
 

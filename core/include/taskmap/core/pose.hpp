@@ -58,6 +58,9 @@ Pose unembedPose(const PoseEmbedding& e, double rho);
 /// Rotation vector (axis * angle, radians, angle in [0, pi]) of a rotation matrix: log map.
 Eigen::Vector3d rotationLog(const Eigen::Matrix3d& r);
 
+/// Cross-product matrix [v]x of v: skewMatrix(v) * u == v.cross(u).
+Eigen::Matrix3d skewMatrix(const Eigen::Vector3d& v);
+
 /// Rotation matrix of a rotation vector (axis * angle, radians): exp map.
 Eigen::Matrix3d rotationExp(const Eigen::Vector3d& w);
 
