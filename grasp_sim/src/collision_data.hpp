@@ -94,6 +94,15 @@ struct CollisionScene::Data {
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
 };
 
+/// The baseline's cull of one shape: its bounding sphere (centre at `ts`, object frame) is
+/// farther than `threshold` (metres) from the object's bounding box.
+inline bool beyondObjectBox(const CollisionScene::Data& d, const ShapeEntry& e,
+                            const Eigen::Isometry3d& ts, double threshold) {
+  const Eigen::Vector3d c = ts.translation();
+  const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
+  return out.norm() > e.bounding_radius + threshold;
+}
+
 /// Separating-axis bound between an oriented box (centre c, unit axes as the columns of r, half
 /// extents e) and a triangle: the largest separation over the 13 axes of the box-triangle SAT.
 /// A value > 0 is a lower bound on their distance; a value <= 0 means they intersect (the 13

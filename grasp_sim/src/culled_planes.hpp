@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -119,6 +120,41 @@ struct ShapePlanes {
     return true;
   }
 };
+
+/// Depth-first branch and bound over Bullet's tree with the planes `pl` as bound, the nearer
+/// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped; leaf(tri)
+/// gets the triangles of the others (it applies its own triangle tests) until stop() holds.
+template <class Limit, class Stop, class Leaf>
+void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
+                      const Stop& stop, const Leaf& leaf) {
+  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
+  const auto& nodes = bvh.getQuantizedNodeArray();
+  if (nodes.size() == 0) return;
+  auto bound = [&](int i) {
+    const btQuantizedBvhNode& n = nodes[i];
+    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
+                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+  };
+  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
+  stack.clear();
+  stack.emplace_back(bound(0), 0);
+  while (!stack.empty() && !stop()) {
+    const auto [lb, i] = stack.back();
+    stack.pop_back();
+    if (lb > pl.cut || lb > limit() + kCullSlack) continue;
+    const btQuantizedBvhNode& n = nodes[i];
+    if (n.isLeafNode()) {
+      leaf(n.getTriangleIndex());
+      continue;
+    }
+    const int left = i + 1;
+    const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
+    std::pair<double, int> a{bound(left), left}, b{bound(right), right};
+    if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
+    stack.push_back(a);
+    stack.push_back(b);
+  }
+}
 
 /// Runs `q` on triangle `tri` (corners from d.corners).
 inline void runTriangle(const CollisionScene::Data& d, int tri, TriangleQuery* q) {

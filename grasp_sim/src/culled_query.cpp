@@ -135,36 +135,13 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
 /// bound exceeds the best distance found (GJK distances are upper bounds of the true ones:
 /// nothing there could be smaller).
 void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
-  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
-  const auto& nodes = bvh.getQuantizedNodeArray();
-  if (nodes.size() == 0) return;
-  auto bound = [&](int i) {
-    const btQuantizedBvhNode& n = nodes[i];
-    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
-  };
-  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
-  stack.clear();
-  stack.emplace_back(bound(0), 0);
-  while (!stack.empty() && !q->overlap_found) {
-    const auto [lb, i] = stack.back();
-    stack.pop_back();
-    if (lb > pl.cut || lb > q->min_distance + kCullSlack) continue;
-    const btQuantizedBvhNode& n = nodes[i];
-    if (n.isLeafNode()) {
-      const int tri = n.getTriangleIndex();
-      const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
-      if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
-        runTriangle(d, tri, q);
-      continue;
-    }
-    const int left = i + 1;
-    const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
-    std::pair<double, int> a{bound(left), left}, b{bound(right), right};
-    if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
-    stack.push_back(a);
-    stack.push_back(b);
-  }
+  walkNearestFirst(
+      d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
+      [&](int tri) {
+        const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
+        if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
+          runTriangle(d, tri, q);
+      });
 }
 
 /// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
@@ -209,9 +186,7 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
-    const Eigen::Vector3d c = ts.translation();
-    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
-    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (beyondObjectBox(d, e, ts, threshold)) continue;
     if (!e.is_hull && !d.culled_boxes) {
       best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
       if (!exact && best < 0.0) break;

@@ -79,51 +79,28 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
                     double threshold, const FacingFilter* f, double* best) {
   thread_local ShapePlanes pl;
   thread_local std::vector<TriangleHit> hits;
-  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
   TriangleQuery q = makeTriangleQuery(e, ts, threshold, true, &hits);
   btVector3 amin, amax;
   e.shape->getAabb(q.xf, amin, amax);
   pl.set(e, ts, amin, amax, threshold);
-  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
-  const auto& nodes = bvh.getQuantizedNodeArray();
-  if (nodes.size() == 0) return;
-  auto bound = [&](int i) {
-    const btQuantizedBvhNode& n = nodes[i];
-    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
-  };
-  stack.clear();
-  stack.emplace_back(bound(0), 0);
-  while (!stack.empty()) {
-    const auto [lb, i] = stack.back();
-    stack.pop_back();
-    if (lb > pl.cut || lb > *best + kCullSlack) continue;
-    const btQuantizedBvhNode& n = nodes[i];
-    if (!n.isLeafNode()) {
-      const int left = i + 1;
-      const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
-      std::pair<double, int> a{bound(left), left}, b{bound(right), right};
-      if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
-      stack.push_back(a);
-      stack.push_back(b);
-      continue;
-    }
-    const int tri = n.getTriangleIndex();
-    if (f && !(d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing)) continue;
-    const auto& v = d.corners[static_cast<std::size_t>(tri)];
-    const double tb = pl.bound(v);
-    if (tb > pl.cut || tb > *best + kCullSlack) continue;
-    if (e.is_box) {
-      const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-      const double limit = *best + kCullSlack;
-      if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit)
-        continue;
-    }
-    hits.clear();
-    runTriangle(d, tri, &q);
-    for (const TriangleHit& h : hits)
-      if (passes(d, h, f)) *best = std::min(*best, h.distance);
-  }
+  walkNearestFirst(
+      d, pl, [best] { return *best; }, [] { return false; },
+      [&](int tri) {
+        if (f && !(d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing)) return;
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        const double tb = pl.bound(v);
+        if (tb > pl.cut || tb > *best + kCullSlack) return;
+        if (e.is_box) {
+          const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+          const double limit = *best + kCullSlack;
+          if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit)
+            return;
+        }
+        hits.clear();
+        runTriangle(d, tri, &q);
+        for (const TriangleHit& h : hits)
+          if (passes(d, h, f)) *best = std::min(*best, h.distance);
+      });
 }
 
 }  // namespace
@@ -133,10 +110,7 @@ double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEn
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
-    // The baseline's cull (queryLinkBullet): the shape's bounding sphere against the object box.
-    const Eigen::Vector3d c = ts.translation();
-    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
-    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (beyondObjectBox(d, e, ts, threshold)) continue;  // the baseline's cull
     if (d.culled) {
       nearestOfShape(d, e, ts, threshold, f, &best);
     } else {
@@ -155,10 +129,7 @@ bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry
                      double min_agreement) {
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
-    // The baseline's cull (queryLinkBullet): the shape's bounding sphere against the object box.
-    const Eigen::Vector3d c = ts.translation();
-    const Eigen::Vector3d out = (d.lo - c).cwiseMax(c - d.hi).cwiseMax(0.0);
-    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (beyondObjectBox(d, e, ts, threshold)) continue;  // the baseline's cull
     if (d.culled) {
       if (shapeDeeper(d, e, ts, threshold, depth, min_agreement)) return true;
     } else {

@@ -138,15 +138,10 @@ TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts
 double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits) {
-  const Eigen::Vector3d& lo = d.lo;
-  const Eigen::Vector3d& hi = d.hi;
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
-    // Cull by the shape's bounding sphere against the object's bounding box.
-    const Eigen::Vector3d c = ts.translation();
-    const Eigen::Vector3d out = (lo - c).cwiseMax(c - hi).cwiseMax(0.0);
-    if (out.norm() > e.bounding_radius + threshold) continue;
+    if (beyondObjectBox(d, e, ts, threshold)) continue;
     best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
     if (!exact && best < 0.0) break;
   }
