@@ -29,23 +29,6 @@ std::string outcomeName(const TrialOutcome& t) {
   return t.force_closure ? kForceClosure : kNotForceClosure;
 }
 
-void fillObject(const ObjectModel& object, MapObject& o) {
-  const MassProperties& mp = object.massProperties();
-  o.name = object.name();
-  o.source_sha256 = object.sourceSha256();
-  o.scale = object.scale();
-  o.volume = mp.volume;
-  o.center_of_mass = mp.center_of_mass;
-  o.torque_scale = mp.torque_scale;
-  const TriangleMesh& mesh = object.mesh();
-  o.vertices.resize(static_cast<Eigen::Index>(mesh.vertices.size()), 3);
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    o.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices[i].transpose();
-  o.faces.resize(static_cast<Eigen::Index>(mesh.faces.size()), 3);
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
-    o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
-}
-
 // Appends a stored grasp as the next row.
 void appendGrasp(const TrialOutcome& t, std::size_t row, MapGrasps& g) {
   const TrialGrasp& r = *t.grasp;
@@ -69,7 +52,7 @@ void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOp
                  TaskMapData& map) {
   map.generator = std::string("taskmap ") + TASKMAP_VERSION;
   map.created_utc = mapCreationTime();  // SOURCE_DATE_EPOCH or "": reproducible bytes
-  fillObject(object, map.object);
+  map.object = mapObjectOf(object);
   map.hand.name = hand.name();
   map.hand.urdf_sha256 = hand.urdfSha256();
   map.hand.joint_names = hand.jointNames();
@@ -176,6 +159,25 @@ void checkConsecutive(const std::vector<TrialBlock>& blocks) {
 }
 
 }  // namespace
+
+MapObject mapObjectOf(const ObjectModel& object) {
+  MapObject o;
+  const MassProperties& mp = object.massProperties();
+  o.name = object.name();
+  o.source_sha256 = object.sourceSha256();
+  o.scale = object.scale();
+  o.volume = mp.volume;
+  o.center_of_mass = mp.center_of_mass;
+  o.torque_scale = mp.torque_scale;
+  const TriangleMesh& mesh = object.mesh();
+  o.vertices.resize(static_cast<Eigen::Index>(mesh.vertices.size()), 3);
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+    o.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices[i].transpose();
+  o.faces.resize(static_cast<Eigen::Index>(mesh.faces.size()), 3);
+  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
+    o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
+  return o;
+}
 
 namespace detail {
 

@@ -10,6 +10,7 @@
 #include "acronym_frame.hpp"
 #include "command.hpp"
 #include "isolated.hpp"
+#include "taskmap/builder/map_builder.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
@@ -35,27 +36,6 @@ struct ImportArgs {
   double min_size_fraction = 0.02;
   AcronymFrameArgs frame;
 };
-
-MapObject mapObjectOf(const ObjectModel& model) {
-  MapObject o;
-  o.name = model.name();
-  o.source_sha256 = model.sourceSha256();
-  o.scale = model.scale();
-  const MassProperties& mp = model.massProperties();
-  o.volume = mp.volume;
-  o.center_of_mass = mp.center_of_mass;
-  o.torque_scale = mp.torque_scale;
-  const TriangleMesh& mesh = model.mesh();
-  o.vertices.resize(static_cast<Eigen::Index>(mesh.vertices.size()), 3);
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    o.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices[i].transpose();
-  }
-  o.faces.resize(static_cast<Eigen::Index>(mesh.faces.size()), 3);
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i) {
-    o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
-  }
-  return o;
-}
 
 void runImport(const ImportArgs& args) {
   if (args.scale < 0) throw Error("--scale must be positive");

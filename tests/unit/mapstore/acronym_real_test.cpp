@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "taskmap/builder/map_builder.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
@@ -40,23 +41,6 @@ std::optional<RealMug> findMug() {
     if (e.path().filename().string().rfind("acronym_mug_", 0) == 0) m.mesh = e.path().string();
   if (m.grasps.empty() || m.mesh.empty()) return std::nullopt;
   return m;
-}
-
-MapObject mapObjectOf(const ObjectModel& model) {
-  MapObject o;
-  o.name = model.name();
-  o.scale = model.scale();
-  o.volume = model.massProperties().volume;
-  o.center_of_mass = model.massProperties().center_of_mass;
-  o.torque_scale = model.massProperties().torque_scale;
-  const TriangleMesh& mesh = model.mesh();
-  o.vertices.resize(static_cast<Eigen::Index>(mesh.vertices.size()), 3);
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    o.vertices.row(static_cast<Eigen::Index>(i)) = mesh.vertices[i].transpose();
-  o.faces.resize(static_cast<Eigen::Index>(mesh.faces.size()), 3);
-  for (std::size_t i = 0; i < mesh.faces.size(); ++i)
-    o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
-  return o;
 }
 
 double medianPalmDistance(const TaskMapData& map, const ObjectModel& object) {

@@ -103,6 +103,10 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
 /// process may run on (its CPU affinity mask, so taskset or `mpirun --bind-to` are respected).
 int buildThreadCount(int threads);
 
+/// The map's /object record of a loaded object: name, source SHA-256, scale, volume, centre of
+/// mass and torque scale, and its mesh (metres, object frame). Used by builds and imports.
+MapObject mapObjectOf(const ObjectModel& object);
+
 /// Current UTC time as ISO 8601 ("2026-11-21T12:00:00Z").
 std::string utcNow();
 
