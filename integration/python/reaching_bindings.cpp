@@ -19,6 +19,7 @@
 #include "taskmap/reaching/attractor.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/movement_terms.hpp"
+#include "taskmap/reaching/plan_report.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace py = pybind11;
@@ -66,11 +67,16 @@ GraspProblem graspProblem(const PyRobot& r, const std::optional<Eigen::VectorXd>
   return g;
 }
 
+/// Configurations (rad) as the rows of one matrix (steps+1 x dofs).
+Eigen::MatrixXd jointMatrix(const std::vector<Eigen::VectorXd>& q) {
+  Eigen::MatrixXd m(q.size(), q.front().size());
+  for (std::size_t t = 0; t < q.size(); ++t) m.row(static_cast<Eigen::Index>(t)) = q[t].transpose();
+  return m;
+}
+
 py::dict planDict(const GraspPlan& plan) {
   py::dict d;
-  d["status"] = plan.status == GraspPlanStatus::kPlanned  ? "planned"
-                : plan.status == GraspPlanStatus::kUnsafe ? "unsafe"
-                                                          : "unreachable";
+  d["status"] = toString(plan.status);
   d["message"] = plan.message;
   if (plan.best < 0) return d;
   const ClusterPlan& b = plan.plans[plan.best];
@@ -88,91 +94,26 @@ py::dict planDict(const GraspPlan& plan) {
   d["cost_history"] = total;
   d["proximity_history"] = b.proximity;
   d["quality_history"] = b.quality;
-  Eigen::MatrixXd q(b.optimization.cost.q.size(), b.optimization.cost.q.front().size());
-  for (std::size_t t = 0; t < b.optimization.cost.q.size(); ++t)
-    q.row(static_cast<Eigen::Index>(t)) = b.optimization.cost.q[t].transpose();
-  d["q"] = q;
+  d["q"] = jointMatrix(b.optimization.cost.q);
   return d;
 }
 
-/// One cluster's plan with the keys of `taskmap reach --map --json` (tools/src/reach_map.cpp).
-py::dict clusterPlanDict(const ClusterPlan& c) {
-  const int it = c.optimization.iterations;
-  py::dict d;
-  d["start_cluster"] = c.cluster;
-  d["comfort"] = c.comfort;
-  d["cluster"] = c.grasp_cluster;
-  d["grasp_index"] = c.grasp_index;
-  d["iterations"] = it;
-  d["iterations_to_manifold"] = c.iterations_to_manifold;
-  d["iterations_to_quality"] = c.iterations_to_quality;
-  d["min_clearance_m"] = c.min_clearance;
-  d["joint_limit_margin_rad"] = c.joint_limit_margin;
-  d["velocity_ratio"] = c.velocity_ratio;
-  d["collision_free"] = c.collision_free;
-  d["cost"] = c.optimization.cost.total;
-  d["ms"] = c.milliseconds;
-  d["ms_per_iteration"] = c.milliseconds / std::max(1, it);
-  return d;
-}
-
-/// The whole report of `taskmap reach --map --json` plus q (steps+1 x dofs) of the best plan.
+/// The report of `taskmap reach --map --json` (graspPlanReport) plus q (steps+1 x dofs, rad) of
+/// the best plan.
 py::dict mapReachDict(const GraspPlan& plan, double plan_ms, const MovementTerms& movement) {
-  py::dict d;
-  d["status"] = plan.status == GraspPlanStatus::kPlanned  ? "planned"
-                : plan.status == GraspPlanStatus::kUnsafe ? "unsafe"
-                                                          : "unreachable";
-  d["message"] = plan.message;
-  d["ms_per_plan"] = plan_ms;
-  py::list ranking, plans;
-  for (const ClusterRank& r : plan.ranking) {
-    py::dict c;
-    c["cluster"] = r.cluster;
-    c["reachable"] = r.reachable;
-    c["comfort"] = std::isfinite(r.comfort) ? py::object(py::float_(r.comfort)) : py::none();
-    ranking.append(c);
-  }
-  for (const ClusterPlan& c : plan.plans) plans.append(clusterPlanDict(c));
-  d["ranking"] = ranking;
-  d["plans"] = plans;
+  py::dict d = py::module_::import("json").attr("loads")(graspPlanReport(plan, plan_ms, movement));
   if (plan.best < 0) return d;
-  const ClusterPlan& b = plan.plans[plan.best];
-  for (auto item : clusterPlanDict(b)) d[item.first] = item.second;
-  py::list history;
-  for (std::size_t i = 0; i < b.optimization.history.size(); ++i) {
-    const TrajectoryCost& t = b.optimization.history[i];
-    py::dict h;
-    h["total"] = t.total;
-    h["path_length"] = t.path_length;
-    h["end_velocity"] = t.end_velocity;
-    h["collision"] = t.collision;
-    h["joint_limit"] = t.joint_limit;
-    h["proximity"] = b.proximity.at(i);
-    h["quality"] = b.quality.at(i);
-    h["nearest_distance_m"] = b.nearest_distance.at(i);
-    history.append(h);
-  }
-  d["cost_history"] = history;
-  d["proximity_over_movement"] = movement.proximity;
-  d["quality_over_movement"] = movement.quality;
-  const auto& q = b.optimization.cost.q;
-  d["q_final"] = std::vector<double>(q.back().data(), q.back().data() + q.back().size());
-  Eigen::MatrixXd qm(q.size(), q.front().size());
-  for (std::size_t t = 0; t < q.size(); ++t)
-    qm.row(static_cast<Eigen::Index>(t)) = q[t].transpose();
-  d["q"] = qm;
+  d["q"] = jointMatrix(plan.plans[static_cast<std::size_t>(plan.best)].optimization.cost.q);
   return d;
 }
 
 py::dict reachDict(const ReachResult& res) {
-  Eigen::MatrixXd q(res.q.size(), res.q.front().size());
-  for (size_t i = 0; i < res.q.size(); ++i) q.row(i) = res.q[i].transpose();
   py::dict d;
   d["status"] = res.status == ReachStatus::kReached    ? "reached"
                 : res.status == ReachStatus::kCollided ? "collided"
                                                        : "not_reached";
   d["message"] = res.message;
-  d["q"] = q;
+  d["q"] = jointMatrix(res.q);
   d["position_error"] = res.position_error;
   d["orientation_error"] = res.orientation_error;
   d["min_clearance"] = std::isfinite(res.min_clearance) ? py::object(py::float_(res.min_clearance))

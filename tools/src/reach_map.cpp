@@ -22,6 +22,7 @@
 #include "reach_trajectory.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
+#include "taskmap/reaching/plan_report.hpp"
 
 namespace taskmap::cli {
 
@@ -50,74 +51,8 @@ std::string resolveMapPath(const std::string& map) {
 
 namespace {
 
-const char* statusName(GraspPlanStatus s) {
-  return s == GraspPlanStatus::kPlanned  ? "planned"
-         : s == GraspPlanStatus::kUnsafe ? "unsafe"
-                                         : "unreachable";
-}
-
-nlohmann::json costHistory(const ClusterPlan& c) {
-  nlohmann::json h = nlohmann::json::array();
-  for (std::size_t i = 0; i < c.optimization.history.size(); ++i) {
-    const TrajectoryCost& t = c.optimization.history[i];
-    h.push_back({{"total", t.total},
-                 {"path_length", t.path_length},
-                 {"end_velocity", t.end_velocity},
-                 {"collision", t.collision},
-                 {"joint_limit", t.joint_limit},
-                 {"proximity", c.proximity.at(i)},
-                 {"quality", c.quality.at(i)},
-                 {"nearest_distance_m", c.nearest_distance.at(i)}});
-  }
-  return h;
-}
-
-nlohmann::json clusterJson(const ClusterPlan& c) {
-  const int it = c.optimization.iterations;
-  return {{"start_cluster", c.cluster},
-          {"comfort", c.comfort},
-          {"cluster", c.grasp_cluster},
-          {"grasp_index", c.grasp_index},
-          {"iterations", it},
-          {"iterations_to_manifold", c.iterations_to_manifold},
-          {"iterations_to_quality", c.iterations_to_quality},
-          {"min_clearance_m", c.min_clearance},
-          {"joint_limit_margin_rad", c.joint_limit_margin},
-          {"velocity_ratio", c.velocity_ratio},
-          {"collision_free", c.collision_free},
-          {"cost", c.optimization.cost.total},
-          {"ms", c.milliseconds},
-          {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
-}
-
-nlohmann::json toJson(const GraspPlan& plan, double plan_ms, const MovementTerms& movement) {
-  nlohmann::json j;
-  j["status"] = statusName(plan.status);
-  j["message"] = plan.message;
-  j["ms_per_plan"] = plan_ms;
-  nlohmann::json clusters = nlohmann::json::array();
-  for (const ClusterRank& r : plan.ranking)
-    clusters.push_back(
-        {{"cluster", r.cluster},
-         {"reachable", r.reachable},
-         {"comfort", std::isfinite(r.comfort) ? nlohmann::json(r.comfort) : nullptr}});
-  j["ranking"] = clusters;
-  nlohmann::json plans = nlohmann::json::array();
-  for (const ClusterPlan& c : plan.plans) plans.push_back(clusterJson(c));
-  j["plans"] = plans;
-  if (plan.best < 0) return j;
-  const ClusterPlan& b = plan.plans[plan.best];
-  j.update(clusterJson(b));
-  j["cost_history"] = costHistory(b);
-  j["proximity_over_movement"] = movement.proximity;
-  j["quality_over_movement"] = movement.quality;
-  const auto& q = b.optimization.cost.q;
-  j["q_final"] = std::vector<double>(q.back().data(), q.back().data() + q.back().size());
-  return j;
-}
-
 void printText(const GraspPlan& plan, double plan_ms) {
-  std::printf("status            %s (%s)\n", statusName(plan.status), plan.message.c_str());
+  std::printf("status            %s (%s)\n", toString(plan.status), plan.message.c_str());
   for (const ClusterPlan& c : plan.plans)
     std::printf(
         "from cluster %-4d -> cluster %d grasp %lld: %d iterations (manifold %d, quality "
@@ -234,7 +169,7 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
     resim =
         resimulateGrasp(map.data(), finalPalmInObject(robot, plan.plans[plan.best], palm, object));
   if (json) {
-    nlohmann::json j = toJson(plan, ms, movement);
+    nlohmann::json j = nlohmann::json::parse(graspPlanReport(plan, ms, movement));
     if (resim) j["resimulated"] = resimulationJson(*resim);
     std::cout << j.dump(2) << "\n";
   } else {
