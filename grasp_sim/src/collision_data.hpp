@@ -59,6 +59,9 @@ struct TriangleQuery : btTriangleCallback {
   void processTriangle(btVector3* tri, int part, int index) override;
 };
 
+/// Culling planes are tested in blocks of this many (vector arithmetic, early exit per block).
+constexpr int kPlaneBlock = 8;
+
 struct ShapeEntry {
   std::unique_ptr<btConvexShape> shape;
   Eigen::Isometry3d origin;  // shape frame in the link frame
@@ -66,13 +69,14 @@ struct ShapeEntry {
   bool is_box = false;
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
   // Culled queries: separating planes of the shape in its frame, max over the shape of
-  // axes[i] . x is reach[i] (a point set beyond any one plane by g is at least g away).
-  // Boxes: their 6 faces; hulls: a 26-DOP, then their own face planes (an inside test for points,
-  // from facet_begin on); cylinders and spheres: a 26-DOP.
-  std::vector<Eigen::Vector3d> axes;
-  std::vector<double> reach;
-  int facet_begin = 0;  ///< hulls: axes[facet_begin..] are the hull's face planes
-  int node_planes = 0;  ///< axes[0..node_planes) are tested on tree nodes
+  // (px[i], py[i], pz[i]) . x is pr[i] (a point set beyond any one plane by g is at least g
+  // away), as columns for vector arithmetic. Boxes: their 6 faces; hulls: a 26-DOP, then their
+  // own face planes (an inside test for points, from facet_begin on); cylinders and spheres: a
+  // 26-DOP. Each group is padded to a multiple of kPlaneBlock with planes that never separate
+  // (normal 0, reach +inf).
+  Eigen::ArrayXd px, py, pz, pr;
+  int facet_begin = 0;  ///< hulls: planes [facet_begin..] are the hull's face planes
+  int node_planes = 0;  ///< planes [0..node_planes) are tested on tree nodes
   bool is_hull = false;
 };
 
@@ -92,6 +96,8 @@ struct CollisionScene::Data {
   bool culled = false;
   bool culled_boxes = false;  // boxes, cylinders and spheres too (else hulls only; kAuto)
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  // The boxes of the nodes of Bullet's quantized tree, unquantized once (lo, hi), node order.
+  std::vector<std::array<Eigen::Vector3d, 2>> node_boxes;
 };
 
 /// The baseline's cull of one shape: its bounding sphere (centre at `ts`, object frame) is

@@ -23,52 +23,63 @@ constexpr double kCullSlack = 1e-9;
 constexpr double kInsideSlack = 1e-6;
 
 /// Walks Bullet's quantized tree as its stackless walk does (node array order, skipping a
-/// rejected subtree by its escape index), with our node test: leaves come in Bullet's order.
-/// `leaf(triangle)` returns false to stop. (Bullet's accessors are non-const; nothing is changed.)
+/// rejected subtree by its escape index), with our node test on inner nodes: leaves come in
+/// Bullet's order. A leaf's box is not tested: `leaf(triangle)` must begin with a test on the
+/// triangle that rejects whatever its box would (ShapePlanes::bound: the triangle lies in its
+/// box, so every plane puts it at least as far). `leaf` returns false to stop. (Bullet's
+/// accessors are non-const; nothing is changed.)
 template <class Accept, class Leaf>
-void walkInBulletOrder(btQuantizedBvh& bvh, const Accept& accept, const Leaf& leaf) {
-  const auto& nodes = bvh.getQuantizedNodeArray();
+void walkInBulletOrder(const CollisionScene::Data& d, const Accept& accept, const Leaf& leaf) {
+  const auto& nodes = d.mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
   if (nodes.size() == 0) return;
   const int end = nodes[0].isLeafNode() ? 1 : nodes[0].getEscapeIndex();
   int cur = 0;
   while (cur < end) {
     const btQuantizedBvhNode& n = nodes[cur];
-    const bool pass = accept(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                             eig(bvh.unQuantize(n.m_quantizedAabbMax)));
     if (n.isLeafNode()) {
-      if (pass && !leaf(n.getTriangleIndex())) return;
+      if (!leaf(n.getTriangleIndex())) return;
       ++cur;
     } else {
-      cur += pass ? 1 : n.getEscapeIndex();
+      const auto& box = d.node_boxes[static_cast<std::size_t>(cur)];
+      cur += accept(box[0], box[1]) ? 1 : n.getEscapeIndex();
     }
   }
 }
 
-/// The separating planes of one shape in the object frame: max over the shape of wn[i] . x is
-/// wh[i]; a point set beyond one plane by more than `cut` is farther than the threshold.
+/// The separating planes of one shape in the object frame: max over the shape of n[i] . x is
+/// h[i]; a point set beyond one plane by more than `cut` is farther than the threshold. Planes
+/// are tested kPlaneBlock at a time (columns, vector arithmetic), stopping after the first block
+/// that puts a bound above its limit; padding planes give -inf.
 struct ShapePlanes {
-  std::vector<Eigen::Vector3d> wn;
-  std::vector<double> wh;
-  std::size_t node_planes = 0;  // the first ones, tested on tree nodes
-  std::size_t facet_begin = 0;  // hulls: the face planes from here on
+  using Block = Eigen::Array<double, kPlaneBlock, 1>;
+  Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
+  Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
+  int node_planes = 0;           // the first ones, tested on tree nodes
+  int facet_begin = 0;           // hulls: the face planes from here on
+  int count = 0;
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
   // The plane that last culled a node / a triangle, tried first (neighbours in the tree are
   // mostly culled by the same plane). Only the order of the planes changes: a bound above its
   // limit is above it whichever plane shows it, and a bound at or below it is the full maximum.
-  mutable std::size_t node_hint = 0, tri_hint = 0;
+  mutable int node_hint = 0, tri_hint = 0;
 
   void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
            const btVector3& amax, double threshold) {
+    const Eigen::Matrix3d& r = ts.linear();
     const Eigen::Vector3d c = ts.translation();
-    wn.resize(e.axes.size());
-    wh.resize(e.axes.size());
-    for (std::size_t i = 0; i < e.axes.size(); ++i) {
-      wn[i] = ts.linear() * e.axes[i];
-      wh[i] = e.reach[i] + wn[i].dot(c);
-    }
-    node_planes = static_cast<std::size_t>(e.node_planes);
-    facet_begin = static_cast<std::size_t>(e.facet_begin);
+    nx = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
+    ny = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
+    nz = r(2, 0) * e.px + r(2, 1) * e.py + r(2, 2) * e.pz;
+    h = e.pr + (nx * c.x() + ny * c.y() + nz * c.z());
+    node_planes = e.node_planes;
+    facet_begin = e.facet_begin;
+    count = static_cast<int>(e.pr.size());
+    ax = nx.head(node_planes).abs();
+    ay = ny.head(node_planes).abs();
+    az = nz.head(node_planes).abs();
+    node_hint = std::min(node_hint, node_planes - 1);
+    tri_hint = std::min(tri_hint, count - 1);
     cut = threshold + kCullSlack;
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
@@ -78,16 +89,25 @@ struct ShapePlanes {
   double nodeBound(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double limit) const {
     if ((lo.array() > qhi.array()).any() || (hi.array() < qlo.array()).any())
       return std::numeric_limits<double>::infinity();
-    const Eigen::Vector3d mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-    auto gap = [&](std::size_t i) { return wn[i].dot(mid) - wn[i].cwiseAbs().dot(half) - wh[i]; };
-    if (node_hint < node_planes) {
-      const double g = gap(node_hint);
-      if (g > limit) return g;
-    }
+    const Eigen::Vector3d m = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
+    const int k = node_hint;
+    const double g = nx[k] * m.x() + ny[k] * m.y() + nz[k] * m.z() -
+                     (ax[k] * e.x() + ay[k] * e.y() + az[k] * e.z()) - h[k];
+    if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
-    std::size_t i = 0;
-    for (; i < node_planes && lb <= limit; ++i) lb = std::max(lb, gap(i));
-    if (lb > limit) node_hint = i - 1;
+    for (int b = 0; b < node_planes; b += kPlaneBlock) {
+      const Block gb =
+          nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
+          nz.segment<kPlaneBlock>(b) * m.z() -
+          (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
+           az.segment<kPlaneBlock>(b) * e.z()) -
+          h.segment<kPlaneBlock>(b);
+      lb = std::max(lb, gb.maxCoeff());
+      if (lb > limit) {
+        node_hint = b + firstAbove(gb, limit);
+        return lb;
+      }
+    }
     return lb;
   }
   bool node(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
@@ -99,41 +119,60 @@ struct ShapePlanes {
     const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
     if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any())
       return std::numeric_limits<double>::infinity();
-    auto gap = [&](std::size_t i) {
-      return std::min({wn[i].dot(v[0]), wn[i].dot(v[1]), wn[i].dot(v[2])}) - wh[i];
+    const int k = tri_hint;
+    auto along = [&](int i, const Eigen::Vector3d& p) {
+      return nx[i] * p.x() + ny[i] * p.y() + nz[i] * p.z();
     };
-    if (tri_hint < wn.size()) {
-      const double g = gap(tri_hint);
-      if (g > limit) return g;
-    }
+    const double g = std::min({along(k, v[0]), along(k, v[1]), along(k, v[2])}) - h[k];
+    if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
-    std::size_t i = 0;
-    for (; i < wn.size() && lb <= limit; ++i) lb = std::max(lb, gap(i));
-    if (lb > limit) tri_hint = i - 1;
+    for (int b = 0; b < count; b += kPlaneBlock) {
+      const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
+                       h.segment<kPlaneBlock>(b);
+      lb = std::max(lb, gb.maxCoeff());
+      if (lb > limit) {
+        tri_hint = b + firstAbove(gb, limit);
+        return lb;
+      }
+    }
     return lb;
   }
   double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
-  bool inside(const Eigen::Vector3d& p, std::size_t first) const {
-    for (std::size_t i = first; i < wn.size(); ++i)
-      if (wn[i].dot(p) - wh[i] >= -kInsideSlack) return false;
+  bool inside(const Eigen::Vector3d& p, int first) const {
+    for (int b = first; b < count; b += kPlaneBlock)
+      if ((alongBlock(b, p) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack) return false;
     return true;
+  }
+
+ private:
+  /// n . p for the planes [b, b + kPlaneBlock).
+  Block alongBlock(int b, const Eigen::Vector3d& p) const {
+    return nx.segment<kPlaneBlock>(b) * p.x() + ny.segment<kPlaneBlock>(b) * p.y() +
+           nz.segment<kPlaneBlock>(b) * p.z();
+  }
+  /// Index in `gb` of the first gap above `limit` (one exists).
+  static int firstAbove(const Block& gb, double limit) {
+    int i = 0;
+    while (i + 1 < kPlaneBlock && !(gb(i) > limit)) ++i;
+    return i;
   }
 };
 
 /// Depth-first branch and bound over Bullet's tree with the planes `pl` as bound, the nearer
-/// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped; leaf(tri)
-/// gets the triangles of the others (it applies its own triangle tests) until stop() holds.
+/// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped (a leaf's
+/// bound is its triangle's, ShapePlanes::bound); leaf(tri, bound) gets the triangles of the
+/// others until stop() holds.
 template <class Limit, class Stop, class Leaf>
 void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
                       const Stop& stop, const Leaf& leaf) {
-  btOptimizedBvh& bvh = *d.mesh_shape->getOptimizedBvh();
-  const auto& nodes = bvh.getQuantizedNodeArray();
+  const auto& nodes = d.mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
   if (nodes.size() == 0) return;
   auto bound = [&](int i) {
     const btQuantizedBvhNode& n = nodes[i];
-    return pl.nodeBound(eig(bvh.unQuantize(n.m_quantizedAabbMin)),
-                        eig(bvh.unQuantize(n.m_quantizedAabbMax)), pl.cut);
+    if (n.isLeafNode()) return pl.bound(d.corners[static_cast<std::size_t>(n.getTriangleIndex())]);
+    const auto& box = d.node_boxes[static_cast<std::size_t>(i)];
+    return pl.nodeBound(box[0], box[1], pl.cut);
   };
   thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
   stack.clear();
@@ -144,15 +183,15 @@ void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, cons
     if (lb > pl.cut || lb > limit() + kCullSlack) continue;
     const btQuantizedBvhNode& n = nodes[i];
     if (n.isLeafNode()) {
-      leaf(n.getTriangleIndex());
+      leaf(n.getTriangleIndex(), lb);
       continue;
     }
     const int left = i + 1;
     const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
     std::pair<double, int> a{bound(left), left}, b{bound(right), right};
     if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
-    stack.push_back(a);
-    stack.push_back(b);
+    if (a.first <= pl.cut) stack.push_back(a);
+    if (b.first <= pl.cut) stack.push_back(b);
   }
 }
 

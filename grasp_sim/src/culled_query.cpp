@@ -76,22 +76,35 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
   // spheres: the 26-DOP.
   const auto& dop = dopAxes();
   e->is_hull = !hull_points.empty();
-  if (e->is_box) {
-    e->axes.assign(dop.begin(), dop.begin() + 6);
-  } else {
-    e->axes = dop;
-  }
-  e->facet_begin = static_cast<int>(e->axes.size());
-  e->node_planes = e->facet_begin;
+  std::vector<Eigen::Vector3d> axes(dop.begin(), dop.begin() + (e->is_box ? 6 : 26));
+  std::vector<Eigen::Vector3d> faces;
   if (e->is_hull) {
-    const auto faces = hullFaceNormals(hull_points);
-    if (faces.size() >= 4)
-      e->axes.insert(e->axes.end(), faces.begin(), faces.end());
-    else
+    faces = hullFaceNormals(hull_points);
+    if (faces.size() < 4) {
+      faces.clear();
       e->is_hull = false;  // no face planes: no inside proof
+    }
   }
-  e->reach.clear();
-  for (const auto& n : e->axes) e->reach.push_back(supportOf(*e->shape, n));
+  auto padded = [](std::size_t n) {
+    return static_cast<int>((n + kPlaneBlock - 1) / kPlaneBlock * kPlaneBlock);
+  };
+  e->node_planes = padded(axes.size());
+  e->facet_begin = e->node_planes;
+  const int total = e->facet_begin + padded(faces.size());
+  // Padding: normal 0 and reach +inf, a plane no point set is beyond.
+  e->px.setZero(total);
+  e->py.setZero(total);
+  e->pz.setZero(total);
+  e->pr.setConstant(total, std::numeric_limits<double>::infinity());
+  auto put = [e](int i, const Eigen::Vector3d& n) {
+    e->px[i] = n.x();
+    e->py[i] = n.y();
+    e->pz[i] = n.z();
+    e->pr[i] = supportOf(*e->shape, n);
+  };
+  for (std::size_t i = 0; i < axes.size(); ++i) put(static_cast<int>(i), axes[i]);
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    put(e->facet_begin + static_cast<int>(i), faces[i]);
 }
 
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
@@ -105,6 +118,12 @@ void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
   btOptimizedBvh* bvh = d->mesh_shape->getOptimizedBvh();
   // Without a quantized tree (not built by this constructor) the queries stay on Bullet's path.
   d->culled = bvh != nullptr && bvh->isQuantized();
+  if (!d->culled) return;
+  const auto& nodes = bvh->getQuantizedNodeArray();
+  d->node_boxes.resize(static_cast<std::size_t>(nodes.size()));
+  for (int i = 0; i < nodes.size(); ++i)
+    d->node_boxes[static_cast<std::size_t>(i)] = {eig(bvh->unQuantize(nodes[i].m_quantizedAabbMin)),
+                                                  eig(bvh->unQuantize(nodes[i].m_quantizedAabbMax))};
 }
 
 namespace {
@@ -113,7 +132,7 @@ namespace {
 /// at the first overlap unless q is exact).
 void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   walkInBulletOrder(
-      *d.mesh_shape->getOptimizedBvh(),
+      d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
         if (pl.bound(d.corners[static_cast<std::size_t>(tri)]) <= pl.cut) runTriangle(d, tri, q);
@@ -137,10 +156,8 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
 void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   walkNearestFirst(
       d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
-      [&](int tri) {
-        const double tb = pl.bound(d.corners[static_cast<std::size_t>(tri)]);
-        if (tb <= pl.cut && tb <= q->min_distance + kCullSlack && !boxBeyond(d, tri, *q))
-          runTriangle(d, tri, q);
+      [&](int tri, double) {
+        if (!boxBeyond(d, tri, *q)) runTriangle(d, tri, q);
       });
 }
 
@@ -154,7 +171,7 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Shap
                   TriangleQuery* q) {
   bool proven = false;
   walkInBulletOrder(
-      *d.mesh_shape->getOptimizedBvh(),
+      d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
         return pl.nodeBound(lo, hi, kCullSlack) <= kCullSlack;
       },

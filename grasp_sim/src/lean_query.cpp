@@ -44,7 +44,7 @@ bool shapeDeeper(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen
   pl.set(e, ts, amin, amax, 0.0);
   bool found = false;
   walkInBulletOrder(
-      *d.mesh_shape->getOptimizedBvh(),
+      d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
         return pl.nodeBound(lo, hi, c) <= c;
       },
@@ -85,11 +85,9 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
   pl.set(e, ts, amin, amax, threshold);
   walkNearestFirst(
       d, pl, [best] { return *best; }, [] { return false; },
-      [&](int tri) {
+      [&](int tri, double) {
         if (f && !(d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing)) return;
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        const double tb = pl.bound(v);
-        if (tb > pl.cut || tb > *best + kCullSlack) return;
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
           const double limit = *best + kCullSlack;

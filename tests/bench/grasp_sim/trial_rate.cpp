@@ -8,7 +8,9 @@
 // Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
 // second of simulation, and whether both modes gave the same results on the trials both ran.
 //   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
-// (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path).
+//                  [--profile 1]
+// (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path; --profile 1
+// adds per pair the new path's share of time per phase, queries per trial and the outcomes).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -143,6 +145,25 @@ Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, dou
   return r;
 }
 
+/// The new path's phases (GraspSimOptions::profile), queries per trial and outcome counts.
+void printProfile(const std::vector<GraspResult>& results) {
+  double retract = 0.0, close = 0.0, contacts = 0.0, queries = 0.0;
+  std::map<std::string, int> outcomes;
+  for (const auto& g : results) {
+    retract += g.stats.retract_seconds;
+    close += g.stats.close_seconds;
+    contacts += g.stats.contacts_seconds;
+    queries += g.stats.queries;
+    ++outcomes[toString(g.status)];
+  }
+  const double all = std::max(retract + close + contacts, 1e-12);
+  const auto n = static_cast<double>(std::max<std::size_t>(results.size(), 1));
+  std::printf("    phases: retract %.0f%%, close+squeeze %.0f%%, contacts %.0f%%; %.1f queries/trial;",
+              100.0 * retract / all, 100.0 * close / all, 100.0 * contacts / all, queries / n);
+  for (const auto& [name, count] : outcomes) std::printf(" %s %d", name.c_str(), count);
+  std::printf("\n");
+}
+
 bool same(const GraspResult& a, const GraspResult& b) {
   if (a.status != b.status || a.contacts.size() != b.contacts.size()) return false;
   if (!(a.pose.position == b.pose.position) || !(a.joints == b.joints)) return false;
@@ -152,7 +173,8 @@ bool same(const GraspResult& a, const GraspResult& b) {
   return true;
 }
 
-void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds) {
+void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds,
+               bool profile) {
   const ObjectModel object = loadObject(o);
   const HandModel hand = HandModel::load(h.path);
   SamplerOptions so;
@@ -161,6 +183,7 @@ void benchPair(const Item& h, const Item& o, double seconds, double baseline_sec
   Poses poses{sampler, {}};
   GraspSimOptions fast, base;
   base.culled_queries = false;
+  fast.profile = profile;
   const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
   const Rate rn = run(sim_new, object, poses, seconds, 32);
   const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1);
@@ -174,6 +197,7 @@ void benchPair(const Item& h, const Item& o, double seconds, double baseline_sec
               rn.trials_per_s / ro.trials_per_s, rn.valid_per_s,
               100.0 * static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(n, 1)),
               agree, n);
+  if (profile) printProfile(rn.results);
   std::fflush(stdout);
 }
 
@@ -181,6 +205,7 @@ int mainImpl(int argc, char** argv) {
   std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
   double seconds = 2.0, baseline_seconds = -1.0;
   std::string only;
+  bool profile = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--real")
@@ -191,10 +216,12 @@ int mainImpl(int argc, char** argv) {
       only = argv[i + 1];
     else if (a == "--baseline-seconds")
       baseline_seconds = std::stod(argv[i + 1]);
+    else if (a == "--profile")
+      profile = std::string(argv[i + 1]) == "1";
     else
       throw Error(
           "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
-          "[--baseline-seconds S]");
+          "[--baseline-seconds S] [--profile 1]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;
@@ -222,7 +249,7 @@ int mainImpl(int argc, char** argv) {
     for (const auto& o : os) {
       if (!only.empty() && (h.name + "/" + o.name).find(only) == std::string::npos) continue;
       try {
-        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds);
+        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds, profile);
       } catch (const std::exception& e) {
         std::printf("%-10s %-16s skipped: %s\n", h.name.c_str(), o.name.c_str(), e.what());
       }
