@@ -72,11 +72,13 @@ struct ShapeEntry {
   // (px[i], py[i], pz[i]) . x is pr[i] (a point set beyond any one plane by g is at least g
   // away), as columns for vector arithmetic. Boxes: their 6 faces; hulls: a 26-DOP, then their
   // own face planes (an inside test for points, from facet_begin on); cylinders and spheres: a
-  // 26-DOP. Each group is padded to a multiple of kPlaneBlock with planes that never separate
+  // 26-DOP. Triangles are tested on the DOP and, for hulls, on planes along a spread subset of
+  // the face normals (at their support, so as valid). Each group is padded to a multiple of kPlaneBlock with planes that never separate
   // (normal 0, reach +inf).
   Eigen::ArrayXd px, py, pz, pr;
-  int facet_begin = 0;  ///< hulls: planes [facet_begin..] are the hull's face planes
   int node_planes = 0;  ///< planes [0..node_planes) are tested on tree nodes
+  int bound_end = 0;    ///< planes [0..bound_end) are tested on triangles
+  int facet_begin = 0;  ///< hulls: planes [facet_begin..] are the hull's face planes
   bool is_hull = false;
 };
 

@@ -55,6 +55,7 @@ struct ShapePlanes {
   Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
   Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
   int node_planes = 0;           // the first ones, tested on tree nodes
+  int bound_end = 0;             // the first ones, tested on triangles
   int facet_begin = 0;           // hulls: the face planes from here on
   int count = 0;
   double cut = 0.0;
@@ -73,13 +74,14 @@ struct ShapePlanes {
     nz = r(2, 0) * e.px + r(2, 1) * e.py + r(2, 2) * e.pz;
     h = e.pr + (nx * c.x() + ny * c.y() + nz * c.z());
     node_planes = e.node_planes;
+    bound_end = e.bound_end;
     facet_begin = e.facet_begin;
     count = static_cast<int>(e.pr.size());
     ax = nx.head(node_planes).abs();
     ay = ny.head(node_planes).abs();
     az = nz.head(node_planes).abs();
     node_hint = std::min(node_hint, node_planes - 1);
-    tri_hint = std::min(tri_hint, count - 1);
+    tri_hint = std::min(tri_hint, bound_end - 1);
     cut = threshold + kCullSlack;
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
@@ -126,7 +128,7 @@ struct ShapePlanes {
     const double g = std::min({along(k, v[0]), along(k, v[1]), along(k, v[2])}) - h[k];
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
-    for (int b = 0; b < count; b += kPlaneBlock) {
+    for (int b = 0; b < bound_end; b += kPlaneBlock) {
       const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
                        h.segment<kPlaneBlock>(b);
       lb = std::max(lb, gb.maxCoeff());

@@ -15,6 +15,8 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Hull planes tested on triangles: face normals at least this far apart, radians.
+constexpr double kBoundPlaneAngle = 0.15;
 
 /// The 26 directions of a k-DOP: faces, edges and corners of the unit cube.
 const std::vector<Eigen::Vector3d>& dopAxes() {
@@ -85,11 +87,18 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
       e->is_hull = false;  // no face planes: no inside proof
     }
   }
+  std::vector<Eigen::Vector3d> spread;  // face normals kBoundPlaneAngle apart at least
+  for (const auto& n : faces)
+    if (std::none_of(spread.begin(), spread.end(), [&](const Eigen::Vector3d& m) {
+          return n.dot(m) > std::cos(kBoundPlaneAngle);
+        }))
+      spread.push_back(n);
   auto padded = [](std::size_t n) {
     return static_cast<int>((n + kPlaneBlock - 1) / kPlaneBlock * kPlaneBlock);
   };
   e->node_planes = padded(axes.size());
-  e->facet_begin = e->node_planes;
+  e->bound_end = e->node_planes + padded(spread.size());
+  e->facet_begin = e->bound_end;
   const int total = e->facet_begin + padded(faces.size());
   // Padding: normal 0 and reach +inf, a plane no point set is beyond.
   e->px.setZero(total);
@@ -103,6 +112,8 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
     e->pr[i] = supportOf(*e->shape, n);
   };
   for (std::size_t i = 0; i < axes.size(); ++i) put(static_cast<int>(i), axes[i]);
+  for (std::size_t i = 0; i < spread.size(); ++i)
+    put(e->node_planes + static_cast<int>(i), spread[i]);
   for (std::size_t i = 0; i < faces.size(); ++i)
     put(e->facet_begin + static_cast<int>(i), faces[i]);
 }

@@ -1,0 +1,160 @@
+// Culling planes in blocks (grasp_sim/src/culled_planes.hpp) against a plane-by-plane scan: the
+// same bound below the limit, the same cull decision above it, the same inside test; every plane
+// is a valid separating plane (no shape point beyond it), the padding never culls.
+#include "culled_planes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <gtest/gtest.h>
+
+#include "hull_support_shape.hpp"
+
+namespace taskmap {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+Eigen::Vector3d plane(const ShapePlanes& pl, int i) {
+  return Eigen::Vector3d(pl.nx[i], pl.ny[i], pl.nz[i]);
+}
+
+/// Plane-by-plane scan of the triangle bound over [0, end).
+double scanBound(const ShapePlanes& pl, const std::array<Eigen::Vector3d, 3>& v, int end) {
+  double lb = -kInf;
+  for (int i = 0; i < end; ++i) {
+    const Eigen::Vector3d n = plane(pl, i);
+    lb = std::max(lb, std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])}) - pl.h[i]);
+  }
+  return lb;
+}
+
+/// Plane-by-plane scan of the node bound over [0, node_planes).
+double scanNode(const ShapePlanes& pl, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d m = 0.5 * (lo + hi), e = 0.5 * (hi - lo);
+  double lb = -kInf;
+  for (int i = 0; i < pl.node_planes; ++i) {
+    const Eigen::Vector3d n = plane(pl, i);
+    lb = std::max(lb, n.dot(m) - n.cwiseAbs().dot(e) - pl.h[i]);
+  }
+  return lb;
+}
+
+/// Points on an ellipsoid (a smooth hull with many faces, like a scanned link).
+std::vector<Eigen::Vector3d> ellipsoidPoints(int n, std::mt19937* rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < n; ++i) {
+    Eigen::Vector3d v(g(*rng), g(*rng), g(*rng));
+    v.normalize();
+    pts.push_back(Eigen::Vector3d(0.04 * v.x(), 0.015 * v.y(), 0.025 * v.z()));
+  }
+  return pts;
+}
+
+Eigen::Isometry3d randomPose(std::mt19937* rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond(g(*rng), g(*rng), g(*rng), g(*rng)).normalized().matrix();
+  t.translation() = 0.02 * Eigen::Vector3d(g(*rng), g(*rng), g(*rng));
+  return t;
+}
+
+void checkShape(const ShapeEntry& e, const std::vector<Eigen::Vector3d>& shape_points,
+                unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> g(0.0, 1.0);
+  ShapePlanes pl;
+  for (int pose = 0; pose < 20; ++pose) {
+    const Eigen::Isometry3d ts = randomPose(&rng);
+    btVector3 amin, amax;
+    e.shape->getAabb(bt(ts), amin, amax);
+    pl.set(e, ts, amin, amax, 0.01);
+    ASSERT_EQ(pl.count % kPlaneBlock, 0);
+    // Valid planes: no point of the shape beyond any (padding: +inf offsets).
+    for (const auto& p : shape_points)
+      for (int i = 0; i < pl.count; ++i)
+        EXPECT_LE(plane(pl, i).dot(ts * p) - pl.h[i], 1e-12) << "plane " << i;
+    for (int k = 0; k < 200; ++k) {
+      const Eigen::Vector3d c = ts.translation() + 0.05 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      std::array<Eigen::Vector3d, 3> v;
+      for (auto& x : v) x = c + 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      const double full = scanBound(pl, v, pl.bound_end);
+      const double limit = 0.01 * g(rng);
+      const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
+      const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+      const bool in_box =
+          !((tlo.array() > pl.qhi.array()).any() || (thi.array() < pl.qlo.array()).any());
+      const double b = pl.bound(v, limit);
+      if (!in_box) {
+        EXPECT_EQ(b, kInf);
+      } else if (full <= limit) {
+        EXPECT_NEAR(b, full, 1e-15);  // the full maximum
+      } else {
+        EXPECT_GT(b, limit);  // culled, by a plane that shows it
+        EXPECT_LE(b, full + 1e-15);
+      }
+      const Eigen::Vector3d lo = c - 0.01 * Eigen::Vector3d(1, 2, 1).cwiseAbs();
+      const Eigen::Vector3d hi = c + 0.02 * Eigen::Vector3d(1, 1, 2);
+      const double nfull = scanNode(pl, lo, hi);
+      const double nb = pl.nodeBound(lo, hi, limit);
+      const bool node_in =
+          !((lo.array() > pl.qhi.array()).any() || (hi.array() < pl.qlo.array()).any());
+      if (!node_in)
+        EXPECT_EQ(nb, kInf);
+      else if (nfull <= limit)
+        EXPECT_NEAR(nb, nfull, 1e-15);
+      else
+        EXPECT_GT(nb, limit);
+      // Inside every face plane (hulls) <=> the scan says so.
+      bool scan_inside = e.is_hull;
+      for (int i = pl.facet_begin; i < pl.count && scan_inside; ++i)
+        scan_inside = plane(pl, i).dot(c) - pl.h[i] < -kInsideSlack;
+      if (e.is_hull) {
+        EXPECT_EQ(pl.inside(c, pl.facet_begin), scan_inside);
+      }
+    }
+  }
+}
+
+TEST(CulledPlanes, BoxBlocksMatchThePlaneScan) {
+  ShapeEntry e;
+  e.is_box = true;
+  e.half_extents = Eigen::Vector3d(0.03, 0.01, 0.02);
+  e.shape = std::make_unique<btBoxShape>(bt(e.half_extents));
+  e.shape->setMargin(0.0);
+  addCullingData({}, &e);
+  EXPECT_EQ(e.node_planes, kPlaneBlock);  // 6 faces, padded
+  EXPECT_EQ(e.bound_end, e.node_planes);
+  std::vector<Eigen::Vector3d> corners;
+  for (int k = 0; k < 8; ++k)
+    corners.push_back(e.half_extents.cwiseProduct(
+        Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1)));
+  checkShape(e, corners, 3);
+}
+
+TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
+  std::mt19937 rng(5);
+  const std::vector<Eigen::Vector3d> pts = ellipsoidPoints(300, &rng);
+  ShapeEntry e;
+  e.shape = std::make_unique<IndexedHullShape>(pts, 0.0);
+  addCullingData(pts, &e);
+  ASSERT_TRUE(e.is_hull);
+  const int facets = static_cast<int>(e.pr.size()) - e.facet_begin;  // padded
+  EXPECT_GT(facets, 100);
+  // The triangle planes are a spread subset of the face normals: fewer than the faces.
+  EXPECT_LT(e.bound_end - e.node_planes, facets / 2);
+  // Valid against the shape GJK sees (its points after Bullet's hull optimisation).
+  const auto& hull = static_cast<const btConvexHullShape&>(*e.shape);
+  std::vector<Eigen::Vector3d> shape_points;
+  for (int i = 0; i < hull.getNumPoints(); ++i)
+    shape_points.push_back(eig(hull.getUnscaledPoints()[i]));
+  checkShape(e, shape_points, 7);
+}
+
+}  // namespace
+}  // namespace taskmap
