@@ -73,8 +73,8 @@ struct ShapeEntry {
   // away), as columns for vector arithmetic. Boxes: their 6 faces; hulls: a 26-DOP, then their
   // own face planes (an inside test for points, from facet_begin on); cylinders and spheres: a
   // 26-DOP. Triangles are tested on the DOP and, for hulls, on planes along a spread subset of
-  // the face normals (at their support, so as valid). Each group is padded to a multiple of kPlaneBlock with planes that never separate
-  // (normal 0, reach +inf).
+  // the face normals (at their support, so as valid). Each group is padded to a multiple of
+  // kPlaneBlock with planes that never separate (normal 0, reach +inf).
   Eigen::ArrayXd px, py, pz, pr;
   int node_planes = 0;  ///< planes [0..node_planes) are tested on tree nodes
   int bound_end = 0;    ///< planes [0..bound_end) are tested on triangles

@@ -98,12 +98,11 @@ struct ShapePlanes {
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
     for (int b = 0; b < node_planes; b += kPlaneBlock) {
-      const Block gb =
-          nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
-          nz.segment<kPlaneBlock>(b) * m.z() -
-          (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
-           az.segment<kPlaneBlock>(b) * e.z()) -
-          h.segment<kPlaneBlock>(b);
+      const Block gb = nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
+                       nz.segment<kPlaneBlock>(b) * m.z() -
+                       (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
+                        az.segment<kPlaneBlock>(b) * e.z()) -
+                       h.segment<kPlaneBlock>(b);
       lb = std::max(lb, gb.maxCoeff());
       if (lb > limit) {
         node_hint = b + firstAbove(gb, limit);

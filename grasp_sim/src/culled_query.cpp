@@ -133,8 +133,9 @@ void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
   const auto& nodes = bvh->getQuantizedNodeArray();
   d->node_boxes.resize(static_cast<std::size_t>(nodes.size()));
   for (int i = 0; i < nodes.size(); ++i)
-    d->node_boxes[static_cast<std::size_t>(i)] = {eig(bvh->unQuantize(nodes[i].m_quantizedAabbMin)),
-                                                  eig(bvh->unQuantize(nodes[i].m_quantizedAabbMax))};
+    d->node_boxes[static_cast<std::size_t>(i)] = {
+        eig(bvh->unQuantize(nodes[i].m_quantizedAabbMin)),
+        eig(bvh->unQuantize(nodes[i].m_quantizedAabbMax))};
 }
 
 namespace {
@@ -143,8 +144,7 @@ namespace {
 /// at the first overlap unless q is exact).
 void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   walkInBulletOrder(
-      d,
-      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
+      d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
         if (pl.bound(d.corners[static_cast<std::size_t>(tri)]) <= pl.cut) runTriangle(d, tri, q);
         return q->exact || !q->overlap_found;

@@ -158,8 +158,9 @@ void printProfile(const std::vector<GraspResult>& results) {
   }
   const double all = std::max(retract + close + contacts, 1e-12);
   const auto n = static_cast<double>(std::max<std::size_t>(results.size(), 1));
-  std::printf("    phases: retract %.0f%%, close+squeeze %.0f%%, contacts %.0f%%; %.1f queries/trial;",
-              100.0 * retract / all, 100.0 * close / all, 100.0 * contacts / all, queries / n);
+  std::printf(
+      "    phases: retract %.0f%%, close+squeeze %.0f%%, contacts %.0f%%; %.1f queries/trial;",
+      100.0 * retract / all, 100.0 * close / all, 100.0 * contacts / all, queries / n);
   for (const auto& [name, count] : outcomes) std::printf(" %s %d", name.c_str(), count);
   std::printf("\n");
 }
