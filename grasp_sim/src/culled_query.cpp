@@ -15,6 +15,8 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Box overlap queries within this threshold take one walk (boxOverlapQuery), metres.
+constexpr double kOneWalkThreshold = 1e-3;
 /// Hull planes tested on triangles: face normals at least this far apart, radians.
 constexpr double kBoundPlaneAngle = 0.15;
 
@@ -172,15 +174,60 @@ void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, Triang
       });
 }
 
+/// Overlap query of a box within a small threshold (<= kOneWalkThreshold), in one walk in
+/// Bullet's order with the baseline's own tests (planes at the threshold, then the 13-axis gap
+/// g): a triangle with g <= 0 is the baseline's first overlap unless GJK, which the baseline runs
+/// on the triangles before it with 0 < g <= threshold, reports one there; so those (kept in
+/// order) and then it go through the TriangleQuery, as in the baseline's loop. Without such a
+/// triangle the kept ones are all the baseline runs GJK on: their minimum distance is found
+/// nearest gap first, stopping where the gap exceeds the best distance (GJK distances are >= the
+/// gap).
+void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
+  thread_local std::vector<std::pair<double, int>> kept;  // (gap, triangle), Bullet's order
+  kept.clear();
+  int proof = -1;
+  walkInBulletOrder(
+      d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
+      [&](int tri) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (pl.bound(v) > pl.cut) return true;
+        const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+        const double gap =
+            boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, q->threshold);
+        if (gap > q->threshold) return true;
+        if (gap <= 0.0) {
+          proof = tri;
+          return false;
+        }
+        kept.emplace_back(gap, tri);
+        return true;
+      });
+  if (proof >= 0) {
+    for (const auto& [gap, tri] : kept) runTriangle(d, tri, q);  // no-op after an overlap
+    runTriangle(d, proof, q);
+    return;
+  }
+  std::sort(kept.begin(), kept.end());
+  for (const auto& [gap, tri] : kept) {
+    if (q->overlap_found || gap > q->min_distance + kCullSlack) break;
+    runTriangle(d, tri, q);
+  }
+}
+
 /// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
 /// walked in Bullet's order for a proof of overlap, visiting only what the planes do not put
 /// beyond contact: a box triangle whose separating-axis gap is <= 0, or a triangle corner
-/// inside every face plane of a hull. With a proof, the baseline loop runs (it stops at its
-/// first overlap, at the latest at the proven one unless GJK misses it on a sliver
-/// triangle); without, branchAndBound finds the nearest triangle.
+/// inside every face plane of a hull. A proof gives the baseline's answer without its loop:
+/// the baseline stops at its first overlap in the same order, which for a box is the first
+/// triangle with gap <= 0 (it reports min(gap, kOverlapping), the same test), and for a hull
+/// reports kOverlapping whichever triangle it is. (They differ only where Bullet's GJK
+/// contradicts the proof: an overlap on a triangle a separating axis puts apart, or none on a
+/// triangle with a corner 1e-6 m inside the hull; the proof is then the right answer.)
+/// Without a proof, branchAndBound finds the nearest triangle.
 void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const ShapePlanes& pl,
                   TriangleQuery* q) {
   bool proven = false;
+  double proof_sep = 0.0;
   walkInBulletOrder(
       d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -191,18 +238,22 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Shap
         if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          proven =
-              boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, 0.0) <= 0.0;
+          proof_sep = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, 0.0);
+          proven = proof_sep <= 0.0;
         } else {
           proven = pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
                    pl.inside(v[2], pl.facet_begin);
         }
         return !proven;
       });
-  if (proven)
+  if (proven && !e.is_box) {
+    q->overlap_found = true;
+    q->min_distance = kOverlapping;
+  } else if (proven) {
     walkAll(d, pl, q);
-  else
+  } else {
     branchAndBound(d, pl, q);
+  }
 }
 
 }  // namespace
@@ -224,7 +275,9 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     btVector3 amin, amax;
     e.shape->getAabb(q.xf, amin, amax);
     pl.set(e, ts, amin, amax, threshold);
-    if (!exact && (e.is_box || e.is_hull)) {
+    if (!exact && e.is_box && threshold <= kOneWalkThreshold) {
+      boxOverlapQuery(d, pl, &q);
+    } else if (!exact && (e.is_box || e.is_hull)) {
       overlapQuery(d, e, pl, &q);
     } else {
       // Exact hits (in Bullet's order), and spheres and cylinders as the baseline runs them.
