@@ -81,7 +81,7 @@ struct ShapePlanes {
     ay = ny.head(node_planes).abs();
     az = nz.head(node_planes).abs();
     node_hint = std::min(node_hint, node_planes - 1);
-    tri_hint = std::min(tri_hint, bound_end - 1);
+    tri_hint = std::min(tri_hint, count - 1);
     cut = threshold + kCullSlack;
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
@@ -115,7 +115,7 @@ struct ShapePlanes {
     return nodeBound(lo, hi, cut) <= cut;
   }
   /// Lower bound of the triangle's distance from the planes; > limit when culled (stops early).
-  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit) const {
+  double bound(const std::array<Eigen::Vector3d, 3>& v, double limit, bool tight = false) const {
     const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
     const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
     if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any())
@@ -127,7 +127,10 @@ struct ShapePlanes {
     const double g = std::min({along(k, v[0]), along(k, v[1]), along(k, v[2])}) - h[k];
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
-    for (int b = 0; b < bound_end; b += kPlaneBlock) {
+    const int end = tight ? count : bound_end;
+    for (int b = 0; b < end; b += kPlaneBlock) {
+      if (b == bound_end) b = facet_begin;
+      if (b >= end) break;
       const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
                        h.segment<kPlaneBlock>(b);
       lb = std::max(lb, gb.maxCoeff());

@@ -148,7 +148,8 @@ void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery
   walkInBulletOrder(
       d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
-        if (pl.bound(d.corners[static_cast<std::size_t>(tri)]) <= pl.cut) runTriangle(d, tri, q);
+        if (pl.bound(d.corners[static_cast<std::size_t>(tri)], pl.cut, q->exact) <= pl.cut)
+          runTriangle(d, tri, q);
         return q->exact || !q->overlap_found;
       });
 }
