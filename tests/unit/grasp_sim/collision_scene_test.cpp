@@ -192,6 +192,44 @@ TEST(CollisionScene, InsideTestAndFaceNormals) {
   }
 }
 
+/// Compares the culled queries with Bullet's BVH query, bit for bit, for every shaped link of
+/// `hand` at `poses` poses around and inside `object` (distances and exact hits at the
+/// thresholds `thresholds`); expects both the overlap and the distance paths exercised.
+void expectCulledEqualsBullet(const ObjectModel& object, const HandModel& hand, int poses,
+                              const std::vector<double>& thresholds) {
+  const CollisionScene culled(object.mesh(), hand, CollisionScene::Mode::kCulled);
+  const CollisionScene bullet(object.mesh(), hand, CollisionScene::Mode::kBullet);
+  int overlaps = 0, near = 0;
+  for (int i = 0; i < poses; ++i) {
+    Rng rng(11, static_cast<std::uint64_t>(i));
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = rng.rotation().toRotationMatrix();
+    t.translation() = object.sampleInside(rng) +
+                      0.03 * V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    for (std::size_t l = 0; l < hand.links().size(); ++l) {
+      if (hand.links()[l].shapes.empty()) continue;
+      const int link = static_cast<int>(l);
+      for (double thr : thresholds) {
+        const double a = culled.linkDistance(link, t, thr), b = bullet.linkDistance(link, t, thr);
+        ASSERT_EQ(a, b) << "pose " << i << " link " << l << " threshold " << thr;
+        overlaps += a < 0.0;
+        near += a >= 0.0 && a < kInf;
+        std::vector<TriangleHit> ha, hb;
+        ASSERT_EQ(culled.linkHits(link, t, thr, &ha), bullet.linkHits(link, t, thr, &hb));
+        ASSERT_EQ(ha.size(), hb.size()) << "pose " << i << " link " << l;
+        for (std::size_t k = 0; k < ha.size(); ++k) {
+          EXPECT_EQ(ha[k].triangle, hb[k].triangle);
+          EXPECT_EQ(ha[k].distance, hb[k].distance);
+          EXPECT_EQ(ha[k].point, hb[k].point);
+          EXPECT_EQ(ha[k].normal, hb[k].normal);
+        }
+      }
+    }
+  }
+  EXPECT_GT(overlaps, 20);  // both the overlap and the distance paths are exercised
+  EXPECT_GT(near, 20) << "overlaps " << overlaps;
+}
+
 // The culled queries return what Bullet's BVH query returns, bit for bit: distances with
 // and without overlap, and the exact hits (triangles, order, distances, witness points). Box,
 // cylinder and sphere links (reference hands) and hull links (a mesh palm and finger), link
@@ -204,40 +242,24 @@ TEST(CollisionScene, CulledQueriesMatchBulletQueries) {
                                          std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf",
                                          std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf"}) {
       SCOPED_TRACE(std::string(object_name) + " " + hand_path);
-      const HandModel hand = HandModel::load(hand_path);
-      const CollisionScene culled(object.mesh(), hand, CollisionScene::Mode::kCulled);
-      const CollisionScene bullet(object.mesh(), hand, CollisionScene::Mode::kBullet);
-      int overlaps = 0, near = 0;
-      for (int i = 0; i < 120; ++i) {
-        Rng rng(11, static_cast<std::uint64_t>(i));
-        Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-        t.linear() = rng.rotation().toRotationMatrix();
-        t.translation() = object.sampleInside(rng) +
-                          0.03 * V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
-        for (std::size_t l = 0; l < hand.links().size(); ++l) {
-          if (hand.links()[l].shapes.empty()) continue;
-          const int link = static_cast<int>(l);
-          for (double thr : {5e-4, 0.02}) {
-            const double a = culled.linkDistance(link, t, thr),
-                         b = bullet.linkDistance(link, t, thr);
-            ASSERT_EQ(a, b) << "pose " << i << " link " << l << " threshold " << thr;
-            overlaps += a < 0.0;
-            near += a >= 0.0 && a < kInf;
-            std::vector<TriangleHit> ha, hb;
-            ASSERT_EQ(culled.linkHits(link, t, thr, &ha), bullet.linkHits(link, t, thr, &hb));
-            ASSERT_EQ(ha.size(), hb.size()) << "pose " << i << " link " << l;
-            for (std::size_t k = 0; k < ha.size(); ++k) {
-              EXPECT_EQ(ha[k].triangle, hb[k].triangle);
-              EXPECT_EQ(ha[k].distance, hb[k].distance);
-              EXPECT_EQ(ha[k].point, hb[k].point);
-              EXPECT_EQ(ha[k].normal, hb[k].normal);
-            }
-          }
-        }
-      }
-      EXPECT_GT(overlaps, 20);  // both the overlap and the distance paths are exercised
-      EXPECT_GT(near, 20);
+      expectCulledEqualsBullet(object, HandModel::load(hand_path), 120, {5e-4, 0.02});
     }
+  }
+}
+
+// The same on a real scan (YCB banana, 16k faces) with real hands: the Franka hand (mesh hulls,
+// the face planes and the overlap proof of hulls), Allegro (boxes and spheres) and the humanoid
+// hand (boxes: the one-walk overlap query within 1 mm), at 1 mm and the approach threshold.
+TEST(CollisionScene, CulledQueriesMatchBulletOnARealScan) {
+  const ObjectModel object =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  for (const std::string& hand_path :
+       {std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf",
+        std::string(TEST_DATA_DIR) +
+            "/real/hands/allegro_right/allegro_hand_description_right.urdf",
+        std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf"}) {
+    SCOPED_TRACE(hand_path);
+    expectCulledEqualsBullet(object, HandModel::load(hand_path), 30, {1e-3, 0.02});
   }
 }
 
