@@ -119,7 +119,8 @@ struct GraspSimOptions {
   /// that GJK/EPA runs only where the answer depends on it; and lean trial queries (only the
   /// penetrating hits for contacts, a yes/no for the squeeze limit, the nearest facing hit for
   /// coupled closing, shrinking thresholds for the approach): results bit for bit those of the
-  /// baseline, much faster on fine meshes (docs/METHOD.md §2); false = the baseline, GJK on every
+  /// baseline (except where Bullet's GJK would miss an overlap that a hull corner inside proves),
+  /// much faster on fine meshes (docs/METHOD.md §2); false = the baseline, GJK on every
   /// triangle in the link shape's padded bounding box found through Bullet's tree, every exact
   /// hit computed.
   bool culled_queries = true;
