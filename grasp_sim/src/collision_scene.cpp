@@ -33,26 +33,27 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kConvexMargin = 0.0;
 
 /// Separating-axis bound between two oriented boxes (15 axes): > 0 is a lower bound on their
-/// distance, <= 0 means they intersect.
+/// distance, <= 0 means they intersect. Stops at the first axis that puts it above `limit`
+/// (some value > limit is returned; at or below it, the full maximum).
 double boxBoxSeparation(const Eigen::Vector3d& ca, const Eigen::Matrix3d& ra,
                         const Eigen::Vector3d& ea, const Eigen::Vector3d& cb,
-                        const Eigen::Matrix3d& rb, const Eigen::Vector3d& eb) {
+                        const Eigen::Matrix3d& rb, const Eigen::Vector3d& eb, double limit) {
   const Eigen::Vector3d d = cb - ca;
   double best = -std::numeric_limits<double>::infinity();
   auto axis = [&](const Eigen::Vector3d& l) {
     const double len = l.norm();
-    if (len < 1e-12) return;
+    if (len < 1e-12) return false;
     double rad = 0.0;
     for (int k = 0; k < 3; ++k)
       rad += ea[k] * std::abs(l.dot(ra.col(k))) + eb[k] * std::abs(l.dot(rb.col(k)));
     best = std::max(best, (std::abs(l.dot(d)) - rad) / len);
+    return best > limit;
   };
-  for (int k = 0; k < 3; ++k) {
-    axis(ra.col(k));
-    axis(rb.col(k));
-  }
+  for (int k = 0; k < 3; ++k)
+    if (axis(ra.col(k)) || axis(rb.col(k))) return best;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) axis(ra.col(i).cross(rb.col(j)));
+    for (int j = 0; j < 3; ++j)
+      if (axis(ra.col(i).cross(rb.col(j)))) return best;
   return best;
 }
 
@@ -257,7 +258,7 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
         continue;
       if (ea.is_box && eb.is_box &&
           boxBoxSeparation(sa.translation(), sa.linear(), ea.half_extents, sb.translation(),
-                           sb.linear(), eb.half_extents) > threshold)
+                           sb.linear(), eb.half_extents, threshold) > threshold)
         continue;
       btGjkEpaSolver2::sResults r;
       double dist = 0.0;

@@ -174,8 +174,7 @@ std::vector<Eigen::Isometry3d> HandModel::linkPoses(const Eigen::VectorXd& q_in)
     }
     poses[static_cast<std::size_t>(jt.child_link)] = t;
   }
-  const Eigen::Isometry3d inv = root_to_palm_.inverse();
-  for (auto& p : poses) p = inv * p;
+  for (auto& p : poses) p = palm_from_root_ * p;
   return poses;
 }
 

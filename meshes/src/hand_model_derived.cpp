@@ -123,6 +123,7 @@ void HandModelBuilder::derive(HandModel& h, const nlohmann::json& js) {
   markPalmRigid(h.links_, h.joints_, h.palm_link_, S);
   // Palm frame in the root frame (constant: the palm hangs from the root by fixed joints).
   h.root_to_palm_ = rootToLink(h.links_, h.joints_, h.palm_link_) * h.palm_frame_;
+  h.palm_from_root_ = h.root_to_palm_.inverse();
   h.link_drivers_ = linkDriversOf(h.links_, h.joints_);
   h.levers_.assign(h.actuated_.size(), 0.0);
   for (const HandJoint& j : h.joints_) {

@@ -178,7 +178,8 @@ class HandModel {
   double reach_ = 0.0;
   int palm_link_ = -1;
   Eigen::Isometry3d palm_frame_ = Eigen::Isometry3d::Identity();
-  Eigen::Isometry3d root_to_palm_ = Eigen::Isometry3d::Identity();  // palm frame in root frame
+  Eigen::Isometry3d root_to_palm_ = Eigen::Isometry3d::Identity();    // palm frame in root frame
+  Eigen::Isometry3d palm_from_root_ = Eigen::Isometry3d::Identity();  // its inverse
   std::vector<ClosingJoint> closing_;
   double squeeze_ = 0.0;
   std::vector<std::string> fingers_;
