@@ -147,9 +147,11 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
                        std::vector<TriangleHit>* hits);
 
 /// Smallest signed distance over the exact hits of the link (queryLinkBullet with `exact`)
-/// that pass `filter` (all when null); +inf when none (lean_query.cpp).
+/// that pass `filter` (all when null); +inf when none; with `hit`, the first such hit in
+/// queryLinkBullet's order (lean_query.cpp).
 double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
-                        const Eigen::Isometry3d& t, double threshold, const FacingFilter* filter);
+                        const Eigen::Isometry3d& t, double threshold, const FacingFilter* filter,
+                        TriangleHit* hit);
 /// True when some triangle within `threshold` of a shape of the link at pose `t` is penetrated
 /// deeper than `depth` with a separation direction within acos(min_agreement) of its face
 /// normal: the same answer as scanning queryLinkBullet's exact hits (lean_query.cpp).

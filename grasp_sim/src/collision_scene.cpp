@@ -205,21 +205,21 @@ bool CollisionScene::linkPressesDeeper(int link, const Eigen::Isometry3d& t, dou
 }
 
 double CollisionScene::linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
-                                   const FacingFilter* filter) const {
+                                   const FacingFilter* filter, TriangleHit* hit) const {
   const Data& d = *d_;
   if (d.corners.empty()) {  // Mode::kBullet: scan the exact hits
     std::vector<TriangleHit> hits;
-    double best = linkHits(link, t, threshold, &hits);
-    if (!filter) return best;
-    best = std::numeric_limits<double>::infinity();
-    for (const TriangleHit& h : hits) {
-      const Eigen::Vector3d& n = faceNormal(h.triangle);
-      if (n.dot(filter->away) < -filter->opposing && h.normal.dot(n) >= filter->min_agreement)
-        best = std::min(best, h.distance);
-    }
-    return best;
+    linkHits(link, t, threshold, &hits);
+    const TriangleHit* best = nullptr;
+    for (const TriangleHit& h : hits)
+      if ((!filter || filter->passes(faceNormal(h.triangle), h)) &&
+          (!best || h.distance < best->distance))
+        best = &h;
+    if (!best) return std::numeric_limits<double>::infinity();
+    if (hit) *hit = *best;
+    return best->distance;
   }
-  return queryLinkNearest(d, d.links[static_cast<std::size_t>(link)], t, threshold, filter);
+  return queryLinkNearest(d, d.links[static_cast<std::size_t>(link)], t, threshold, filter, hit);
 }
 
 bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {

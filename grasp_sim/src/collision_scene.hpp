@@ -25,12 +25,17 @@ struct TriangleHit {
 };
 
 /// Which exact hits CollisionScene::linkNearest considers: a triangle whose outward normal n
-/// satisfies n . away < -opposing, hit with a separation direction whose dot product with n is
-/// >= min_agreement.
+/// satisfies n . away < -opposing (unless any_direction), hit with a separation direction whose
+/// dot product with n is >= min_agreement.
 struct FacingFilter {
   Eigen::Vector3d away = Eigen::Vector3d::UnitZ();  ///< unit direction (object frame)
   double opposing = 0.5;                            ///< cosine bound on n . away
   double min_agreement = 0.5;                       ///< cosine bound on the hit normal
+  bool any_direction = false;                       ///< true: no condition on n . away
+  /// True when the hit `h` on a triangle with outward normal `n` passes.
+  bool passes(const Eigen::Vector3d& n, const TriangleHit& h) const {
+    return (any_direction || n.dot(away) < -opposing) && h.normal.dot(n) >= min_agreement;
+  }
 };
 
 /// Returned by CollisionScene::linkDistance for an overlapping link (depth not computed).
@@ -73,9 +78,10 @@ class CollisionScene {
                          double min_agreement) const;
   /// The smallest signed distance over the hits linkHits(link, t, threshold) would return that
   /// pass `filter` (every hit when null), +infinity when none; computed by branch and bound
-  /// without the other hits (lean_query.cpp).
+  /// without the other hits (lean_query.cpp). With `hit`, also the first hit in linkHits' order
+  /// with that distance (unchanged when none).
   double linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
-                     const FacingFilter* filter) const;
+                     const FacingFilter* filter, TriangleHit* hit = nullptr) const;
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;

@@ -165,8 +165,9 @@ struct ShapePlanes {
 
 /// Depth-first branch and bound over Bullet's tree with the planes `pl` as bound, the nearer
 /// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped (a leaf's
-/// bound is its triangle's, ShapePlanes::bound); leaf(tri, bound) gets the triangles of the
-/// others until stop() holds.
+/// bound is its triangle's, ShapePlanes::bound); leaf(tri, bound, node) gets the triangles of
+/// the others (node: the leaf's index, which orders leaves as Bullet's walk does) until stop()
+/// holds.
 template <class Limit, class Stop, class Leaf>
 void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
                       const Stop& stop, const Leaf& leaf) {
@@ -187,7 +188,7 @@ void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, cons
     if (lb > pl.cut || lb > limit() + kCullSlack) continue;
     const btQuantizedBvhNode& n = nodes[i];
     if (n.isLeafNode()) {
-      leaf(n.getTriangleIndex(), lb);
+      leaf(n.getTriangleIndex(), lb, i);
       continue;
     }
     const int left = i + 1;

@@ -170,7 +170,7 @@ bool boxBeyond(const CollisionScene::Data& d, int tri, const TriangleQuery& q) {
 void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   walkNearestFirst(
       d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
-      [&](int tri, double) {
+      [&](int tri, double, int) {
         if (!boxBeyond(d, tri, *q)) runTriangle(d, tri, q);
       });
 }

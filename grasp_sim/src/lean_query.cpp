@@ -65,18 +65,33 @@ bool shapeDeeper(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen
 }
 
 bool passes(const CollisionScene::Data& d, const TriangleHit& h, const FacingFilter* f) {
-  if (!f) return true;
-  const Eigen::Vector3d& n = d.normals[static_cast<std::size_t>(h.triangle)];
-  return n.dot(f->away) < -f->opposing && h.normal.dot(n) >= f->min_agreement;
+  return !f || f->passes(d.normals[static_cast<std::size_t>(h.triangle)], h);
 }
+
+/// The best hit so far of queryLinkNearest: its distance and, when wanted, the hit and its place
+/// in the baseline's order (shape index, then Bullet's leaf order, which is node order).
+struct NearestHit {
+  double distance = kInf;
+  TriangleHit* hit = nullptr;
+  std::pair<int, int> key{-1, -1};
+
+  void offer(const TriangleHit& h, std::pair<int, int> k) {
+    if (h.distance < distance || (hit && h.distance == distance && k < key)) {
+      distance = h.distance;
+      key = k;
+      if (hit) *hit = h;
+    }
+  }
+};
 
 /// One shape of queryLinkNearest: depth-first branch and bound over Bullet's tree, nearer child
 /// first by the planes' bound; a node or triangle whose bound exceeds the best distance found is
 /// skipped. Every signed distance GJK/EPA reports is >= the bound (a separation is >= the true
 /// distance; an EPA depth is <= the true penetration depth, itself <= the overlap along any
-/// plane normal), so nothing skipped could be smaller.
+/// plane normal), so nothing skipped could be smaller, nor tie (the bound is compared with the
+/// best + 1e-9 m).
 void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Eigen::Isometry3d& ts,
-                    double threshold, const FacingFilter* f, double* best) {
+                    double threshold, const FacingFilter* f, int shape, NearestHit* best) {
   thread_local ShapePlanes pl;
   thread_local std::vector<TriangleHit> hits;
   TriangleQuery q = makeTriangleQuery(e, ts, threshold, true, &hits);
@@ -84,42 +99,46 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
   e.shape->getAabb(q.xf, amin, amax);
   pl.set(e, ts, amin, amax, threshold);
   walkNearestFirst(
-      d, pl, [best] { return *best; }, [] { return false; },
-      [&](int tri, double) {
-        if (f && !(d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing)) return;
+      d, pl, [best] { return best->distance; }, [] { return false; },
+      [&](int tri, double, int node) {
+        const Eigen::Vector3d& n = d.normals[static_cast<std::size_t>(tri)];
+        if (f && !f->any_direction && !(n.dot(f->away) < -f->opposing)) return;
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          const double limit = *best + kCullSlack;
+          const double limit = best->distance + kCullSlack;
           if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit)
             return;
         }
         hits.clear();
         runTriangle(d, tri, &q);
         for (const TriangleHit& h : hits)
-          if (passes(d, h, f)) *best = std::min(*best, h.distance);
+          if (passes(d, h, f)) best->offer(h, {shape, node});
       });
 }
 
 }  // namespace
 
 double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
-                        const Eigen::Isometry3d& t, double threshold, const FacingFilter* f) {
-  double best = kInf;
-  for (const ShapeEntry& e : entries) {
+                        const Eigen::Isometry3d& t, double threshold, const FacingFilter* f,
+                        TriangleHit* hit) {
+  NearestHit best;
+  best.hit = hit;
+  for (std::size_t s = 0; s < entries.size(); ++s) {
+    const ShapeEntry& e = entries[s];
     const Eigen::Isometry3d ts = t * e.origin;
     if (beyondObjectBox(d, e, ts, threshold)) continue;  // the baseline's cull
     if (d.culled) {
-      nearestOfShape(d, e, ts, threshold, f, &best);
+      nearestOfShape(d, e, ts, threshold, f, static_cast<int>(s), &best);
     } else {
       thread_local std::vector<TriangleHit> hits;
       hits.clear();
       queryShapeBullet(d, e, ts, threshold, true, &hits);
-      for (const TriangleHit& h : hits)
-        if (passes(d, h, f)) best = std::min(best, h.distance);
+      for (std::size_t k = 0; k < hits.size(); ++k)
+        if (passes(d, hits[k], f)) best.offer(hits[k], {static_cast<int>(s), static_cast<int>(k)});
     }
   }
-  return best;
+  return best.distance;
 }
 
 bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,

@@ -220,13 +220,26 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
     std::vector<int> links = press_extra_[c];
     if (stop_link_[c] >= 0) links.insert(links.begin(), stop_link_[c]);
     for (int l : links) {
-      std::vector<TriangleHit> hits;
-      scene.linkHits(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &hits);
-      ++st_.queries;
+      // The closest hit on a facing triangle, first in linkHits' order among equals.
+      FacingFilter facing;
+      facing.any_direction = true;
+      facing.min_agreement = kMinNormalAgreement;
+      TriangleHit hit;
       const TriangleHit* best = nullptr;
-      for (const auto& hh : hits) {
-        if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
-        if (!best || hh.distance < best->distance) best = &hh;
+      const Eigen::Isometry3d t = palm_ * lp_[static_cast<std::size_t>(l)];
+      ++st_.queries;
+      if (m_.lean_queries) {
+        if (scene.linkNearest(l, t, tol_, &facing, &hit) < kInf) best = &hit;
+      } else {
+        std::vector<TriangleHit> hits;
+        scene.linkHits(l, t, tol_, &hits);
+        for (const auto& hh : hits) {
+          if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
+          if (!best || hh.distance < best->distance) {
+            hit = hh;
+            best = &hit;
+          }
+        }
       }
       if (!best) continue;
       SqueezeContact sc;

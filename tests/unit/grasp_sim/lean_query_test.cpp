@@ -1,6 +1,7 @@
 // The lean exact queries (grasp_sim/src/lean_query.cpp) against their oracle, Bullet's BVH
 // query with every exact hit (CollisionScene::Mode::kBullet) scanned in full: the nearest hit
-// (all, or those facing a direction), the deep-press test, the penetrating-only hits and the
+// (all, or those facing a direction; its distance, or the whole first hit of that distance),
+// the deep-press test, the penetrating-only hits and the
 // shrinking thresholds of conservative advancement give the same answers bit for bit.
 #include <gtest/gtest.h>
 
@@ -39,7 +40,7 @@ bool deeperByScan(const std::vector<TriangleHit>& hits, const CollisionScene& s,
 }
 
 struct Counts {
-  int deep = 0, shallow = 0, filtered = 0, penetrating = 0;
+  int deep = 0, shallow = 0, filtered = 0, penetrating = 0, nearest_hits = 0;
 };
 
 /// Every lean query of link `link` at pose `t` against the scan of the baseline's hits.
@@ -55,6 +56,31 @@ void compareLink(const CollisionScene& lean, const CollisionScene& base, int lin
     const double expect = nearestByScan(all, base, &f);
     ASSERT_EQ(lean.linkNearest(link, t, kTol, &f), expect) << "filter " << k;
     c->filtered += expect < kInf;
+  }
+  // The squeeze's contact: the closest hit on a facing triangle (any direction), the first in
+  // the hits' order among equals, the whole hit.
+  {
+    FacingFilter f;
+    f.any_direction = true;
+    const TriangleHit* first = nullptr;
+    for (const TriangleHit& h : all)
+      if (h.normal.dot(base.faceNormal(h.triangle)) >= 0.5 &&
+          (!first || h.distance < first->distance))
+        first = &h;
+    TriangleHit got, got_base;
+    const double d = lean.linkNearest(link, t, kTol, &f, &got);
+    ASSERT_EQ(base.linkNearest(link, t, kTol, &f, &got_base), d);
+    if (!first) {
+      ASSERT_EQ(d, kInf);
+    } else {
+      ASSERT_EQ(d, first->distance);
+      for (const TriangleHit* h : {&got, &got_base}) {
+        EXPECT_EQ(h->triangle, first->triangle);
+        EXPECT_EQ(h->point, first->point);
+        EXPECT_EQ(h->normal, first->normal);
+      }
+      c->nearest_hits += 1;
+    }
   }
   for (double depth : {1e-4, 1e-3, 3e-3}) {
     const bool expect = deeperByScan(all, base, depth);
@@ -135,6 +161,7 @@ TEST(LeanQueries, MatchTheScanOfEveryExactHit) {
       EXPECT_GT(c.shallow, 5);
       EXPECT_GT(c.filtered, 5);
       EXPECT_GT(c.penetrating, 5);
+      EXPECT_GT(c.nearest_hits, 5);
     }
   }
 }
