@@ -54,9 +54,10 @@ struct ShapePlanes {
   using Block = Eigen::Array<double, kPlaneBlock, 1>;
   Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
   Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
-  int node_planes = 0;           // the first ones, tested on tree nodes
-  int bound_end = 0;             // the first ones, tested on triangles
-  int facet_begin = 0;           // hulls: the face planes from here on
+  // (The columns may be longer than count: entries from count on are stale.)
+  int node_planes = 0;  // the first ones, tested on tree nodes
+  int bound_end = 0;    // the first ones, tested on triangles
+  int facet_begin = 0;  // hulls: the face planes from here on
   int count = 0;
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
@@ -69,17 +70,22 @@ struct ShapePlanes {
            const btVector3& amax, double threshold) {
     const Eigen::Matrix3d& r = ts.linear();
     const Eigen::Vector3d c = ts.translation();
-    nx = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
-    ny = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
-    nz = r(2, 0) * e.px + r(2, 1) * e.py + r(2, 2) * e.pz;
-    h = e.pr + (nx * c.x() + ny * c.y() + nz * c.z());
+    count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
     bound_end = e.bound_end;
     facet_begin = e.facet_begin;
-    count = static_cast<int>(e.pr.size());
-    ax = nx.head(node_planes).abs();
-    ay = ny.head(node_planes).abs();
-    az = nz.head(node_planes).abs();
+    // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
+    if (nx.size() < count) {
+      for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az}) a->resize(count);
+    }
+    nx.head(count) = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
+    ny.head(count) = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
+    nz.head(count) = r(2, 0) * e.px + r(2, 1) * e.py + r(2, 2) * e.pz;
+    h.head(count) =
+        e.pr + (nx.head(count) * c.x() + ny.head(count) * c.y() + nz.head(count) * c.z());
+    ax.head(node_planes) = nx.head(node_planes).abs();
+    ay.head(node_planes) = ny.head(node_planes).abs();
+    az.head(node_planes) = nz.head(node_planes).abs();
     node_hint = std::min(node_hint, node_planes - 1);
     tri_hint = std::min(tri_hint, count - 1);
     cut = threshold + kCullSlack;

@@ -156,5 +156,39 @@ TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
   checkShape(e, shape_points, 7);
 }
 
+// One ShapePlanes serves shapes of different sizes (its columns only grow): a box after a hull
+// gives the bounds of a fresh one.
+TEST(CulledPlanes, ReusedForAShorterShape) {
+  std::mt19937 rng(9);
+  const std::vector<Eigen::Vector3d> pts = ellipsoidPoints(200, &rng);
+  ShapeEntry hull;
+  hull.shape = std::make_unique<IndexedHullShape>(pts, 0.0);
+  addCullingData(pts, &hull);
+  ShapeEntry box;
+  box.is_box = true;
+  box.half_extents = Eigen::Vector3d(0.03, 0.01, 0.02);
+  box.shape = std::make_unique<btBoxShape>(bt(box.half_extents));
+  box.shape->setMargin(0.0);
+  addCullingData({}, &box);
+  ShapePlanes reused, fresh;
+  const Eigen::Isometry3d ts = randomPose(&rng);
+  btVector3 amin, amax;
+  hull.shape->getAabb(bt(ts), amin, amax);
+  reused.set(hull, ts, amin, amax, 0.01);
+  box.shape->getAabb(bt(ts), amin, amax);
+  reused.set(box, ts, amin, amax, 0.01);
+  fresh.set(box, ts, amin, amax, 0.01);
+  ASSERT_EQ(reused.count, fresh.count);
+  std::normal_distribution<double> g(0.0, 1.0);
+  for (int k = 0; k < 100; ++k) {
+    const Eigen::Vector3d c = ts.translation() + 0.04 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    std::array<Eigen::Vector3d, 3> v;
+    for (auto& x : v) x = c + 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+    EXPECT_EQ(reused.bound(v, kInf), fresh.bound(v, kInf));
+    EXPECT_EQ(reused.nodeBound(c, c + Eigen::Vector3d::Constant(0.01), kInf),
+              fresh.nodeBound(c, c + Eigen::Vector3d::Constant(0.01), kInf));
+  }
+}
+
 }  // namespace
 }  // namespace taskmap
