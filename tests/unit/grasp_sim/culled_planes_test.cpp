@@ -56,6 +56,25 @@ std::vector<Eigen::Vector3d> ellipsoidPoints(int n, std::mt19937* rng) {
   return pts;
 }
 
+/// A box link shape (margin 0, as the scene builds it) with its culling data.
+ShapeEntry boxEntry() {
+  ShapeEntry e;
+  e.is_box = true;
+  e.half_extents = Eigen::Vector3d(0.03, 0.01, 0.02);
+  e.shape = std::make_unique<btBoxShape>(bt(e.half_extents));
+  e.shape->setMargin(0.0);
+  addCullingData({}, &e);
+  return e;
+}
+
+/// A hull link shape of `pts` with its culling data.
+ShapeEntry hullEntry(const std::vector<Eigen::Vector3d>& pts) {
+  ShapeEntry e;
+  e.shape = std::make_unique<IndexedHullShape>(pts, 0.0);
+  addCullingData(pts, &e);
+  return e;
+}
+
 Eigen::Isometry3d randomPose(std::mt19937* rng) {
   std::normal_distribution<double> g(0.0, 1.0);
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -122,12 +141,7 @@ void checkShape(const ShapeEntry& e, const std::vector<Eigen::Vector3d>& shape_p
 }
 
 TEST(CulledPlanes, BoxBlocksMatchThePlaneScan) {
-  ShapeEntry e;
-  e.is_box = true;
-  e.half_extents = Eigen::Vector3d(0.03, 0.01, 0.02);
-  e.shape = std::make_unique<btBoxShape>(bt(e.half_extents));
-  e.shape->setMargin(0.0);
-  addCullingData({}, &e);
+  const ShapeEntry e = boxEntry();
   EXPECT_EQ(e.node_planes, kPlaneBlock);  // 6 faces, padded
   EXPECT_EQ(e.bound_end, e.node_planes);
   std::vector<Eigen::Vector3d> corners;
@@ -140,9 +154,7 @@ TEST(CulledPlanes, BoxBlocksMatchThePlaneScan) {
 TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
   std::mt19937 rng(5);
   const std::vector<Eigen::Vector3d> pts = ellipsoidPoints(300, &rng);
-  ShapeEntry e;
-  e.shape = std::make_unique<IndexedHullShape>(pts, 0.0);
-  addCullingData(pts, &e);
+  const ShapeEntry e = hullEntry(pts);
   ASSERT_TRUE(e.is_hull);
   const int facets = static_cast<int>(e.pr.size()) - e.facet_begin;  // padded
   EXPECT_GT(facets, 100);
@@ -161,15 +173,7 @@ TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
 TEST(CulledPlanes, ReusedForAShorterShape) {
   std::mt19937 rng(9);
   const std::vector<Eigen::Vector3d> pts = ellipsoidPoints(200, &rng);
-  ShapeEntry hull;
-  hull.shape = std::make_unique<IndexedHullShape>(pts, 0.0);
-  addCullingData(pts, &hull);
-  ShapeEntry box;
-  box.is_box = true;
-  box.half_extents = Eigen::Vector3d(0.03, 0.01, 0.02);
-  box.shape = std::make_unique<btBoxShape>(bt(box.half_extents));
-  box.shape->setMargin(0.0);
-  addCullingData({}, &box);
+  const ShapeEntry hull = hullEntry(pts), box = boxEntry();
   ShapePlanes reused, fresh;
   const Eigen::Isometry3d ts = randomPose(&rng);
   btVector3 amin, amax;
