@@ -10,7 +10,8 @@
 //   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
 //                  [--profile 1]
 // (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path; --profile 1
-// adds per pair the new path's share of time per phase, queries per trial and the outcomes).
+// adds per pair the new path's share of time per phase, queries per trial, the outcomes and the
+// CPU time of the quality stage on the ok trials relative to the simulation's).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -107,6 +108,7 @@ ObjectModel loadObject(const Item& o) {
 struct Rate {
   double trials_per_s = 0.0;
   double valid_per_s = 0.0;
+  double quality_over_sim = 0.0;  // CPU time of the quality stage / of the simulation
   std::vector<GraspResult> results;
 };
 
@@ -124,7 +126,7 @@ struct Poses {
 Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
          std::size_t min_trials) {
   Rate r;
-  double sim_s = 0.0;
+  double sim_s = 0.0, quality_s = 0.0;
   int valid = 0;
   const auto t_end = Clock::now() + std::chrono::duration<double>(seconds);
   for (std::size_t i = 0; i < 1000000; ++i) {
@@ -132,21 +134,25 @@ Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, dou
     const Pose& pose = poses.at(i);
     const double t0 = threadSeconds();
     GraspResult g = sim.simulate(pose);
-    sim_s += threadSeconds() - t0;
+    const double t1 = threadSeconds();
+    sim_s += t1 - t0;
     if (g.status == GraspStatus::kOk &&
         evaluateGrasp(g.contacts, object.massProperties().center_of_mass,
                       object.massProperties().torque_scale)
             .force_closure)
       ++valid;
+    quality_s += threadSeconds() - t1;
     r.results.push_back(std::move(g));
   }
   r.trials_per_s = static_cast<double>(r.results.size()) / sim_s;
   r.valid_per_s = valid / sim_s;
+  r.quality_over_sim = quality_s / sim_s;
   return r;
 }
 
-/// The new path's phases (GraspSimOptions::profile), queries per trial and outcome counts.
-void printProfile(const std::vector<GraspResult>& results) {
+/// The new path's phases (GraspSimOptions::profile), queries per trial, outcome counts and the
+/// quality stage's CPU time relative to the simulation's.
+void printProfile(const std::vector<GraspResult>& results, double quality_over_sim) {
   double retract = 0.0, close = 0.0, contacts = 0.0, queries = 0.0;
   std::map<std::string, int> outcomes;
   for (const auto& g : results) {
@@ -162,7 +168,7 @@ void printProfile(const std::vector<GraspResult>& results) {
       "    phases: retract %.0f%%, close+squeeze %.0f%%, contacts %.0f%%; %.1f queries/trial;",
       100.0 * retract / all, 100.0 * close / all, 100.0 * contacts / all, queries / n);
   for (const auto& [name, count] : outcomes) std::printf(" %s %d", name.c_str(), count);
-  std::printf("\n");
+  std::printf("; quality stage %.2fx the simulation time\n", quality_over_sim);
 }
 
 bool same(const GraspResult& a, const GraspResult& b) {
@@ -198,7 +204,7 @@ void benchPair(const Item& h, const Item& o, double seconds, double baseline_sec
               rn.trials_per_s / ro.trials_per_s, rn.valid_per_s,
               100.0 * static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(n, 1)),
               agree, n);
-  if (profile) printProfile(rn.results);
+  if (profile) printProfile(rn.results, rn.quality_over_sim);
   std::fflush(stdout);
 }
 
