@@ -220,34 +220,22 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
     std::vector<int> links = press_extra_[c];
     if (stop_link_[c] >= 0) links.insert(links.begin(), stop_link_[c]);
     for (int l : links) {
-      // The closest hit on a facing triangle, first in linkHits' order among equals.
+      // The closest hit on a facing triangle, first in linkHits' order among equals (the
+      // baseline scene scans every hit, the culled one searches by branch and bound).
       FacingFilter facing;
       facing.any_direction = true;
       facing.min_agreement = kMinNormalAgreement;
-      TriangleHit hit;
-      const TriangleHit* best = nullptr;
-      const Eigen::Isometry3d t = palm_ * lp_[static_cast<std::size_t>(l)];
+      TriangleHit best;
       ++st_.queries;
-      if (m_.lean_queries) {
-        if (scene.linkNearest(l, t, tol_, &facing, &hit) < kInf) best = &hit;
-      } else {
-        std::vector<TriangleHit> hits;
-        scene.linkHits(l, t, tol_, &hits);
-        for (const auto& hh : hits) {
-          if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
-          if (!best || hh.distance < best->distance) {
-            hit = hh;
-            best = &hit;
-          }
-        }
-      }
-      if (!best) continue;
+      if (!(scene.linkNearest(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &facing, &best) <
+            kInf))
+        continue;
       SqueezeContact sc;
       sc.joint = closing[c].joint;
       sc.link = l;
-      sc.point = best->point;
-      sc.normal = scene.faceNormal(best->triangle);
-      sc.gap = best->distance;
+      sc.point = best.point;
+      sc.normal = scene.faceNormal(best.triangle);
+      sc.gap = best.distance;
       sc.dir = dir_[c];
       sc.target = closing[c].target;
       pressing.push_back(sc);

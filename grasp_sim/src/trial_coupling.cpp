@@ -37,25 +37,14 @@ bool Trial::heldLink(int l) const {
 // not blocked by it (nor by the side faces under it), a wall ahead is.
 double Trial::exactDistance(int l, const Eigen::Isometry3d& t, bool facing_shift) {
   ++st_.queries;
-  if (m_.lean_queries) {
-    FacingFilter f;
-    f.opposing = kOpposing;
-    f.min_agreement = kMinNormalAgreement;
-    if (facing_shift) f.away = shift_vel_.normalized();
-    return m_.scene->linkNearest(l, t, tol_, facing_shift ? &f : nullptr);
-  }
-  std::vector<TriangleHit> hits;
-  const double d = m_.scene->linkHits(l, t, tol_, &hits);
-  if (!facing_shift) return d;
-  const Eigen::Vector3d u = shift_vel_.normalized();
-  double mn = kInf;
-  for (const auto& hh : hits) {
-    const Eigen::Vector3d& n = m_.scene->faceNormal(hh.triangle);
-    // Pressed through that face (not a side face under a link resting on a neighbour face).
-    if (n.dot(u) < -kOpposing && hh.normal.dot(n) >= kMinNormalAgreement)
-      mn = std::min(mn, hh.distance);
-  }
-  return mn;
+  // Pressed through the face (not a side face under a link resting on a neighbour face) and
+  // facing the shift. The baseline scene scans every hit, the culled one searches by branch and
+  // bound.
+  FacingFilter f;
+  f.opposing = kOpposing;
+  f.min_agreement = kMinNormalAgreement;
+  if (facing_shift) f.away = shift_vel_.normalized();
+  return m_.scene->linkNearest(l, t, tol_, facing_shift ? &f : nullptr);
 }
 
 // While the hand shifts: the links that do not close (palm, stopped fingers; only what lies
