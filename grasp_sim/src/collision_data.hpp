@@ -77,8 +77,9 @@ struct ShapeEntry {
   // kPlaneBlock with planes that never separate (normal 0, reach +inf).
   Eigen::ArrayXd px, py, pz, pr;
   int node_planes = 0;  ///< planes [0..node_planes) are tested on tree nodes
-  int bound_end = 0;    ///< planes [0..bound_end) are tested on triangles
-  int facet_begin = 0;  ///< hulls: planes [facet_begin..] are the hull's face planes
+  /// Planes [0..facet_begin) are tested on triangles; hulls: [facet_begin..] are the hull's
+  /// face planes (exact-hit walks and the inside test).
+  int facet_begin = 0;
   bool is_hull = false;
 };
 

@@ -56,8 +56,7 @@ struct ShapePlanes {
   Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
-  int bound_end = 0;    // the first ones, tested on triangles
-  int facet_begin = 0;  // hulls: the face planes from here on
+  int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
   int count = 0;
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
@@ -72,7 +71,6 @@ struct ShapePlanes {
     const Eigen::Vector3d c = ts.translation();
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
-    bound_end = e.bound_end;
     facet_begin = e.facet_begin;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
     if (nx.size() < count) {
@@ -109,11 +107,7 @@ struct ShapePlanes {
                        (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
                         az.segment<kPlaneBlock>(b) * e.z()) -
                        h.segment<kPlaneBlock>(b);
-      lb = std::max(lb, gb.maxCoeff());
-      if (lb > limit) {
-        node_hint = b + firstAbove(gb, limit);
-        return lb;
-      }
+      if (raise(gb, b, limit, &lb, &node_hint)) break;
     }
     return lb;
   }
@@ -133,17 +127,11 @@ struct ShapePlanes {
     const double g = std::min({along(k, v[0]), along(k, v[1]), along(k, v[2])}) - h[k];
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
-    const int end = tight ? count : bound_end;
+    const int end = tight ? count : facet_begin;
     for (int b = 0; b < end; b += kPlaneBlock) {
-      if (b == bound_end) b = facet_begin;
-      if (b >= end) break;
       const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
                        h.segment<kPlaneBlock>(b);
-      lb = std::max(lb, gb.maxCoeff());
-      if (lb > limit) {
-        tri_hint = b + firstAbove(gb, limit);
-        return lb;
-      }
+      if (raise(gb, b, limit, &lb, &tri_hint)) break;
     }
     return lb;
   }
@@ -160,6 +148,14 @@ struct ShapePlanes {
   Block alongBlock(int b, const Eigen::Vector3d& p) const {
     return nx.segment<kPlaneBlock>(b) * p.x() + ny.segment<kPlaneBlock>(b) * p.y() +
            nz.segment<kPlaneBlock>(b) * p.z();
+  }
+  /// Raises *lb to the largest gap of block gb (the planes from b); true when it is now above
+  /// `limit`, with *hint naming a plane of the block that is above it.
+  static bool raise(const Block& gb, int b, double limit, double* lb, int* hint) {
+    *lb = std::max(*lb, gb.maxCoeff());
+    if (!(*lb > limit)) return false;
+    *hint = b + firstAbove(gb, limit);
+    return true;
   }
   /// Index in `gb` of the first gap above `limit` (one exists).
   static int firstAbove(const Block& gb, double limit) {

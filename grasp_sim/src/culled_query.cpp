@@ -99,8 +99,7 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
     return static_cast<int>((n + kPlaneBlock - 1) / kPlaneBlock * kPlaneBlock);
   };
   e->node_planes = padded(axes.size());
-  e->bound_end = e->node_planes + padded(spread.size());
-  e->facet_begin = e->bound_end;
+  e->facet_begin = e->node_planes + padded(spread.size());
   const int total = e->facet_begin + padded(faces.size());
   // Padding: normal 0 and reach +inf, a plane no point set is beyond.
   e->px.setZero(total);

@@ -102,7 +102,7 @@ void checkShape(const ShapeEntry& e, const std::vector<Eigen::Vector3d>& shape_p
       const Eigen::Vector3d c = ts.translation() + 0.05 * Eigen::Vector3d(g(rng), g(rng), g(rng));
       std::array<Eigen::Vector3d, 3> v;
       for (auto& x : v) x = c + 0.01 * Eigen::Vector3d(g(rng), g(rng), g(rng));
-      const double full = scanBound(pl, v, pl.bound_end);
+      const double full = scanBound(pl, v, pl.facet_begin);
       const double limit = 0.01 * g(rng);
       const Eigen::Vector3d tlo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
       const Eigen::Vector3d thi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
@@ -143,7 +143,7 @@ void checkShape(const ShapeEntry& e, const std::vector<Eigen::Vector3d>& shape_p
 TEST(CulledPlanes, BoxBlocksMatchThePlaneScan) {
   const ShapeEntry e = boxEntry();
   EXPECT_EQ(e.node_planes, kPlaneBlock);  // 6 faces, padded
-  EXPECT_EQ(e.bound_end, e.node_planes);
+  EXPECT_EQ(e.facet_begin, e.node_planes);
   std::vector<Eigen::Vector3d> corners;
   for (int k = 0; k < 8; ++k)
     corners.push_back(e.half_extents.cwiseProduct(
@@ -159,7 +159,7 @@ TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
   const int facets = static_cast<int>(e.pr.size()) - e.facet_begin;  // padded
   EXPECT_GT(facets, 100);
   // The triangle planes are a spread subset of the face normals: fewer than the faces.
-  EXPECT_LT(e.bound_end - e.node_planes, facets / 2);
+  EXPECT_LT(e.facet_begin - e.node_planes, facets / 2);
   // Valid against the shape GJK sees (its points after Bullet's hull optimisation).
   const auto& hull = static_cast<const btConvexHullShape&>(*e.shape);
   std::vector<Eigen::Vector3d> shape_points;
