@@ -66,9 +66,7 @@ TrajectoryOptimization optimizeTrajectoryBfgs(const TrajectoryProblem& problem,
   options.validate();
   TrajectoryOptimization r;
   TrajectoryCost current = evaluateTrajectory(problem, points, true);
-  const auto record = [&r](TrajectoryCost c) { detail::recordIteration(r, std::move(c)); };
-  record(current);
-  if (options.on_iteration) options.on_iteration(0, current);
+  detail::reportIteration(r, current, options);  // iteration 0: the start
   Eigen::VectorXd x = stack(points);
   const Eigen::Index n = x.size();
   Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n, n);  // zero: steepest descent of initial_step
@@ -100,13 +98,7 @@ TrajectoryOptimization optimizeTrajectoryBfgs(const TrajectoryProblem& problem,
     }
     x = ls.x;
     current = std::move(next);
-    ++r.iterations;
-    record(current);
-    if (options.on_iteration) options.on_iteration(r.iterations, current);
-    if (previous - current.total < options.relative_tolerance * std::abs(previous)) {
-      r.status = TrajectoryStatus::kConverged;
-      break;
-    }
+    if (detail::acceptIteration(r, current, previous, options)) break;
   }
   detail::finishDescent(r, unstack(x), std::move(current));
   return r;

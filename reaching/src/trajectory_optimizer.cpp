@@ -284,9 +284,7 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
   Tape tape;
   TrajectoryCost current = rollOut(problem, ik, points, true, tape);
   addGradient(problem, ik, k, tape, current);
-  const auto record = [&r](TrajectoryCost c) { detail::recordIteration(r, std::move(c)); };
-  record(current);
-  if (options.on_iteration) options.on_iteration(0, current);
+  detail::reportIteration(r, current, options);  // iteration 0: the start
   double step = options.initial_step;
   r.status = TrajectoryStatus::kIterationLimit;
   for (r.iterations = 0; r.iterations < options.max_iterations;) {
@@ -314,13 +312,7 @@ TrajectoryOptimization optimizeTrajectory(const TrajectoryProblem& problem,
     points = trial;
     current = std::move(candidate);
     addGradient(problem, ik, k, tape, current);
-    ++r.iterations;
-    record(current);
-    if (options.on_iteration) options.on_iteration(r.iterations, current);
-    if (previous - current.total < options.relative_tolerance * std::abs(previous)) {
-      r.status = TrajectoryStatus::kConverged;
-      break;
-    }
+    if (detail::acceptIteration(r, current, previous, options)) break;
   }
   detail::finishDescent(r, std::move(points), std::move(current));
   return r;
