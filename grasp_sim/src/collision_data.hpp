@@ -53,6 +53,9 @@ struct TriangleQuery : btTriangleCallback {
   // The test stops at the first axis beyond the threshold (false in the baseline, which keeps
   // the code it had: all 13 axes).
   bool sat_early_exit = true;
+  // Exact queries take a box's penetration of a triangle from the 13 axes, not EPA
+  // (queryLinkCulled with sat_depths, for shapes with ShapeEntry::sat_depths).
+  bool sat_depths = false;
   Eigen::Vector3d box_centre, box_half;
   Eigen::Matrix3d box_axes;
 
@@ -68,6 +71,9 @@ struct ShapeEntry {
   double bounding_radius = 0.0;
   bool is_box = false;
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
+  /// Boxes: penetration depths and witnesses from the 13 separating axes instead of EPA
+  /// (GraspSimOptions::box_contacts_by_sat on a culled mesh).
+  bool sat_depths = false;
   // Culled queries: separating planes of the shape in its frame, max over the shape of
   // (px[i], py[i], pz[i]) . x is pr[i] (a point set beyond any one plane by g is at least g
   // away), as columns for vector arithmetic. Boxes: their 6 faces; hulls: a 26-DOP, then their
@@ -121,6 +127,22 @@ inline bool beyondObjectBox(const CollisionScene::Data& d, const ShapeEntry& e,
 double boxTriangleSeparation(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
                              const Eigen::Vector3d& e, const btVector3* tri,
                              double limit = std::numeric_limits<double>::infinity());
+/// The separation of an oriented box (centre c, unit axes as the columns of r, half extents e)
+/// and a triangle and, when they overlap, their penetration, object frame.
+struct BoxTrianglePenetration {
+  double separation = 0.0;  ///< boxTriangleSeparation's value (no limit), the same bits
+  /// The rest only when separation < 0:
+  double depth = 0.0;  ///< the smallest overlap over the 13 axes, metres (exact for the pair)
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< unit, separates them: object -> box
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< witness on the triangle
+};
+/// The 13-axis separation and penetration of a box and a triangle: the axis of smallest overlap
+/// (a box face, then the triangle's normal, preferred at ties within 1e-12 m); the witness
+/// is the triangle's deepest feature on that axis (a corner, or the centre of a tied edge or
+/// face clipped to the box's feature), the box's deepest corner or feature moved onto the
+/// triangle, or the closest point of the triangle's edge to the box's edge.
+BoxTrianglePenetration boxTrianglePenetration(const Eigen::Vector3d& c, const Eigen::Matrix3d& r,
+                                              const Eigen::Vector3d& e, const btVector3* tri);
 /// A TriangleQuery of shape `e` at pose `ts` (object frame).
 TriangleQuery makeTriangleQuery(const ShapeEntry& e, const Eigen::Isometry3d& ts, double threshold,
                                 bool exact, std::vector<TriangleHit>* hits);
@@ -142,10 +164,12 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
                         const Eigen::Isometry3d& ts, double threshold, bool exact,
                         std::vector<TriangleHit>* hits);
 /// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
-/// triangle test, GJK only where the baseline's result depends on it.
+/// triangle test, GJK only where the baseline's result depends on it. With `sat_depths`, shapes
+/// with ShapeEntry::sat_depths take their exact hits from boxTrianglePenetration instead (not bit
+/// for bit: see GraspSimOptions::box_depths_by_sat).
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
-                       std::vector<TriangleHit>* hits);
+                       std::vector<TriangleHit>* hits, bool sat_depths = false);
 
 /// Smallest signed distance over the exact hits of the link (queryLinkBullet with `exact`)
 /// that pass `filter` (all when null); +inf when none; with `hit`, the first such hit in

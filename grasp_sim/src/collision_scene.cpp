@@ -70,7 +70,8 @@ struct CrossingCounter : btTriangleRaycastCallback {
 
 }  // namespace
 
-CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode)
+CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode,
+                               bool box_depths_by_sat)
     : d_(std::make_unique<Data>()) {
   if (mesh.faces.empty() || mesh.vertices.size() < 3)
     throw Error("grasp simulation needs a non-empty triangle mesh");
@@ -122,6 +123,7 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
       switch (s.type) {
         case ShapeType::kBox:
           e.is_box = true;
+          e.sat_depths = box_depths_by_sat && d.culled_boxes;
           e.half_extents = 0.5 * s.box_size;
           e.shape = std::make_unique<btBoxShape>(bt(Eigen::Vector3d(0.5 * s.box_size)));
           e.shape->setMargin(kConvexMargin);
@@ -186,7 +188,7 @@ double CollisionScene::linkHits(int link, const Eigen::Isometry3d& t, double thr
                                 std::vector<TriangleHit>* hits) const {
   const Data& d = *d_;
   const auto& entries = d.links[static_cast<std::size_t>(link)];
-  return d.culled ? queryLinkCulled(d, entries, t, threshold, true, hits)
+  return d.culled ? queryLinkCulled(d, entries, t, threshold, true, hits, true)
                   : queryLinkBullet(d, entries, t, threshold, true, hits);
 }
 

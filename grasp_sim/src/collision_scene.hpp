@@ -54,8 +54,12 @@ class CollisionScene {
   /// and spheres, the planes cost more than they save (measured with tests/bench/grasp_sim on
   /// the 172-face basket and 256-face cylinder; hulls gain 3x there).
   static constexpr std::size_t kCulledMinFaces = 1000;
-  /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`.
-  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto);
+  /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`. With
+  /// `box_depths_by_sat`, on a mesh whose boxes take culled queries (kCulled, or kAuto from
+  /// kCulledMinFaces faces), linkHits takes the penetration of a box link shape and a triangle
+  /// from the 13 separating axes (boxTrianglePenetration) instead of EPA.
+  CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto,
+                 bool box_depths_by_sat = false);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;
@@ -67,8 +71,9 @@ class CollisionScene {
   /// overlapping triangle, or kOverlapping when unknown). Use linkHits for exact depths.
   double linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const;
   /// Like linkDistance but exact: every triangle within `threshold` is appended to `hits`
-  /// with its signed distance (EPA depth when penetrating) and witness point; returns the
-  /// minimum signed distance.
+  /// with its signed distance (EPA depth when penetrating; the 13-axis depth for boxes when the
+  /// scene was built with box_depths_by_sat) and witness point; returns the minimum signed
+  /// distance.
   double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                   std::vector<TriangleHit>* hits) const;
   /// True when linkHits(link, t, threshold) would hold a hit deeper than `depth` (metres, > 0)

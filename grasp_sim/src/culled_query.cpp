@@ -260,7 +260,7 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Shap
 
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
-                       std::vector<TriangleHit>* hits) {
+                       std::vector<TriangleHit>* hits, bool sat_depths) {
   thread_local ShapePlanes pl;
   double best = kInf;
   for (const ShapeEntry& e : entries) {
@@ -272,6 +272,7 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
       continue;
     }
     TriangleQuery q = makeTriangleQuery(e, ts, threshold, exact, hits);
+    q.sat_depths = sat_depths && e.sat_depths;
     btVector3 amin, amax;
     e.shape->getAabb(q.xf, amin, amax);
     pl.set(e, ts, amin, amax, threshold);

@@ -11,6 +11,9 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Boxes with sat_depths: pairs overlapping by more than this (metres) take the 13-axis depth;
+/// shallower ones GJK/EPA as before.
+constexpr double kSatDepthMin = 1e-9;
 
 }  // namespace
 
@@ -72,7 +75,16 @@ bool signedDistance(const btConvexShape* a, const btTransform& ta, const btConve
 
 void TriangleQuery::processTriangle(btVector3* tri, int, int index) {
   if (overlap_found && !exact) return;
-  if (is_box) {
+  if (is_box && exact && sat_depths) {
+    // The 13 axes once: the gap, and the depth and witness of an overlap.
+    const BoxTrianglePenetration p = boxTrianglePenetration(box_centre, box_axes, box_half, tri);
+    if (p.separation > threshold) return;
+    if (p.separation < -kSatDepthMin) {
+      min_distance = std::min(min_distance, -p.depth);
+      if (hits) hits->push_back({-p.depth, p.point, index, p.normal});
+      return;
+    }
+  } else if (is_box) {
     const double sep = boxTriangleSeparation(box_centre, box_axes, box_half, tri,
                                              sat_early_exit ? threshold : kInf);
     if (sep > threshold) return;

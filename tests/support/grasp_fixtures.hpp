@@ -1,14 +1,17 @@
 #pragma once
 // Grasp-simulation fixtures shared by the grasp_sim unit tests (grasp_simulator_test.cpp,
-// coupled_closing_test.cpp): the reference hands, the contact tolerance and the top-down palm
-// pose of the box-hand cases.
+// coupled_closing_test.cpp, box_depths_test.cpp): the reference hands, the contact tolerance, the
+// top-down palm pose of the box-hand cases and random poses around an object.
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "taskmap/core/pose.hpp"
+#include "taskmap/core/random.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::testing {
@@ -35,6 +38,21 @@ inline Pose fromAbove(const Eigen::Vector3d& p) {
   pose.position = p;
   pose.orientation = Eigen::Quaterniond(r);
   return pose;
+}
+
+/// `n` poses uniform in the box [lo, hi] with uniform orientations (the volume sampler's
+/// distribution without the inside test), pose i from Rng(seed, i).
+inline std::vector<Pose> randomPoses(int n, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                                     std::uint64_t seed = 42) {
+  std::vector<Pose> poses;
+  for (int i = 0; i < n; ++i) {
+    Rng rng(seed, static_cast<std::uint64_t>(i));
+    Pose p;
+    for (int k = 0; k < 3; ++k) p.position[k] = rng.uniform(lo[k], hi[k]);
+    p.orientation = rng.rotation();
+    poses.push_back(p);
+  }
+  return poses;
 }
 
 }  // namespace taskmap::testing
