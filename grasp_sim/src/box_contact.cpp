@@ -64,8 +64,10 @@ Feature clip(const Feature& f, const Eigen::Vector3d& m, double h) {
 }
 
 /// The centre of `f` clipped by every plane of `planes` (m, h), or of `f` itself when rounding
-/// leaves nothing (the clip region then touches `f` only at its border).
+/// leaves nothing (the clip region then touches `f` only at its border). A point is its own
+/// centre either way.
 Eigen::Vector3d clippedCentre(const Feature& f, const Plane* planes, int count) {
+  if (f.n == 1) return f.p[0];
   Feature g = f;
   for (int k = 0; k < count && g.n > 0; ++k) g = clip(g, planes[k].m, planes[k].h);
   return g.n > 0 ? g.centre() : f.centre();

@@ -252,9 +252,10 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
       d.link_radius[ua] + d.link_radius[ub] + threshold)
     return kInf;
   double best = kInf;
-  for (const ShapeEntry& ea : d.links[static_cast<std::size_t>(a)])
+  for (const ShapeEntry& ea : d.links[static_cast<std::size_t>(a)]) {
+    const Eigen::Isometry3d sa = ta * ea.origin;
     for (const ShapeEntry& eb : d.links[static_cast<std::size_t>(b)]) {
-      const Eigen::Isometry3d sa = ta * ea.origin, sb = tb * eb.origin;
+      const Eigen::Isometry3d sb = tb * eb.origin;
       if ((sa.translation() - sb.translation()).norm() >
           ea.bounding_radius + eb.bounding_radius + threshold)
         continue;
@@ -270,6 +271,7 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
         dist = 0.0;  // EPA failure on overlapping shapes: treat as touching
       if (dist <= threshold) best = std::min(best, dist);
     }
+  }
   return best;
 }
 

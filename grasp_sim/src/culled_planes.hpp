@@ -168,26 +168,33 @@ struct ShapePlanes {
 /// Depth-first branch and bound over Bullet's tree with the planes `pl` as bound, the nearer
 /// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped (a leaf's
 /// bound is its triangle's, ShapePlanes::bound); leaf(tri, bound, node) gets the triangles of
-/// the others (node: the leaf's index, which orders leaves as Bullet's walk does) until stop()
-/// holds.
-template <class Limit, class Stop, class Leaf>
+/// the others that accept(tri) admits (node: the leaf's index, which orders leaves as Bullet's
+/// walk does) until stop() holds. limit() must never grow: a node above it when its parent is
+/// opened is dropped then (its bound computed only up to it), as it would be when popped.
+template <class Limit, class Stop, class Accept, class Leaf>
 void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
-                      const Stop& stop, const Leaf& leaf) {
+                      const Stop& stop, const Accept& accept, const Leaf& leaf) {
   const auto& nodes = d.mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
   if (nodes.size() == 0) return;
-  auto bound = [&](int i) {
+  // The bound of node i if it is at most `cut`, else some value above `cut`.
+  auto bound = [&](int i, double cut) {
     const btQuantizedBvhNode& n = nodes[i];
-    if (n.isLeafNode()) return pl.bound(d.corners[static_cast<std::size_t>(n.getTriangleIndex())]);
+    if (n.isLeafNode()) {
+      const int tri = n.getTriangleIndex();
+      if (!accept(tri)) return std::numeric_limits<double>::infinity();
+      return pl.bound(d.corners[static_cast<std::size_t>(tri)], cut);
+    }
     const auto& box = d.node_boxes[static_cast<std::size_t>(i)];
-    return pl.nodeBound(box[0], box[1], pl.cut);
+    return pl.nodeBound(box[0], box[1], cut);
   };
   thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
   stack.clear();
-  stack.emplace_back(bound(0), 0);
+  stack.emplace_back(bound(0, pl.cut), 0);
   while (!stack.empty() && !stop()) {
     const auto [lb, i] = stack.back();
     stack.pop_back();
-    if (lb > pl.cut || lb > limit() + kCullSlack) continue;
+    const double cut = std::min(pl.cut, limit() + kCullSlack);
+    if (lb > cut) continue;
     const btQuantizedBvhNode& n = nodes[i];
     if (n.isLeafNode()) {
       leaf(n.getTriangleIndex(), lb, i);
@@ -195,11 +202,19 @@ void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, cons
     }
     const int left = i + 1;
     const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
-    std::pair<double, int> a{bound(left), left}, b{bound(right), right};
+    std::pair<double, int> a{bound(left, cut), left}, b{bound(right, cut), right};
     if (a.first < b.first) std::swap(a, b);  // push the farther first, pop the nearer first
-    if (a.first <= pl.cut) stack.push_back(a);
-    if (b.first <= pl.cut) stack.push_back(b);
+    if (a.first <= cut) stack.push_back(a);
+    if (b.first <= cut) stack.push_back(b);
   }
+}
+
+/// walkNearestFirst over every triangle.
+template <class Limit, class Stop, class Leaf>
+void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
+                      const Stop& stop, const Leaf& leaf) {
+  walkNearestFirst(
+      d, pl, limit, stop, [](int) { return true; }, leaf);
 }
 
 /// Runs `q` on triangle `tri` (corners from d.corners).

@@ -174,6 +174,29 @@ void branchAndBound(const CollisionScene::Data& d, const ShapePlanes& pl, Triang
       });
 }
 
+/// Overlap query of a hull (distances >= 0 unless overlapping): a proof of overlap, a triangle
+/// corner 1e-6 m inside every face plane, is the answer (the baseline reports kOverlapping for
+/// whichever overlapping triangle it meets first; hull margins are 0, so GJK never returns a
+/// negative distance), and without one the answer is branchAndBound's: one nearest-first walk
+/// does both. A leaf with bound <= 0 is first tried for a proof, else it goes to GJK as in
+/// branchAndBound (an overlap GJK reports ends the walk with kOverlapping too). Deep nodes come
+/// first, where a proof lies. (This differs from the baseline only where Bullet's GJK finds no
+/// overlap on a triangle with a corner inside the hull; the proof is then the right answer.)
+void hullOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
+  walkNearestFirst(
+      d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
+      [&](int tri, double lb, int) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (lb <= 0.0 && (pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
+                          pl.inside(v[2], pl.facet_begin))) {
+          q->overlap_found = true;
+          q->min_distance = kOverlapping;
+          return;
+        }
+        runTriangle(d, tri, q);
+      });
+}
+
 /// Overlap query of a box within a small threshold (<= kOneWalkThreshold), in one walk in
 /// Bullet's order with the baseline's own tests (planes at the threshold, then the 13-axis gap
 /// g): a triangle with g <= 0 is the baseline's first overlap unless GJK, which the baseline runs
@@ -214,20 +237,15 @@ void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Trian
   }
 }
 
-/// Overlap query of a box or a hull (distances >= 0 unless overlapping). First the tree is
-/// walked in Bullet's order for a proof of overlap, visiting only what the planes do not put
-/// beyond contact: a box triangle whose separating-axis gap is <= 0, or a triangle corner
-/// inside every face plane of a hull. A proof gives the baseline's answer without its loop:
-/// the baseline stops at its first overlap in the same order, which for a box is the first
-/// triangle with gap <= 0 (it reports min(gap, kOverlapping), the same test), and for a hull
-/// reports kOverlapping whichever triangle it is. (They differ only where Bullet's GJK
-/// contradicts the proof: an overlap on a triangle a separating axis puts apart, or none on a
-/// triangle with a corner 1e-6 m inside the hull; the proof is then the right answer.)
-/// Without a proof, branchAndBound finds the nearest triangle.
-void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const ShapePlanes& pl,
-                  TriangleQuery* q) {
+/// Overlap query of a box beyond kOneWalkThreshold (distances >= 0 unless overlapping). First
+/// the tree is walked in Bullet's order for a proof of overlap, visiting only what the planes do
+/// not put beyond contact: a triangle whose separating-axis gap is <= 0. The baseline stops at
+/// its first overlap in the same order, which is the first triangle with gap <= 0 (it reports
+/// min(gap, kOverlapping), the same test), unless GJK reports one on a triangle before it: so a
+/// proof runs the baseline's loop (walkAll, which stops at the first overlap). Without a proof,
+/// branchAndBound finds the nearest triangle.
+void boxProofQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
   bool proven = false;
-  double proof_sep = 0.0;
   walkInBulletOrder(
       d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
@@ -236,24 +254,15 @@ void overlapQuery(const CollisionScene::Data& d, const ShapeEntry& e, const Shap
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         if (pl.bound(v, 0.0) > 0.0) return true;  // a face plane separates: no overlap
-        if (e.is_box) {
-          const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
-          proof_sep = boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, 0.0);
-          proven = proof_sep <= 0.0;
-        } else {
-          proven = pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
-                   pl.inside(v[2], pl.facet_begin);
-        }
+        const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
+        proven =
+            boxTriangleSeparation(q->box_centre, q->box_axes, q->box_half, corners, 0.0) <= 0.0;
         return !proven;
       });
-  if (proven && !e.is_box) {
-    q->overlap_found = true;
-    q->min_distance = kOverlapping;
-  } else if (proven) {
+  if (proven)
     walkAll(d, pl, q);
-  } else {
+  else
     branchAndBound(d, pl, q);
-  }
 }
 
 }  // namespace
@@ -278,8 +287,10 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     pl.set(e, ts, amin, amax, threshold);
     if (!exact && e.is_box && threshold <= kOneWalkThreshold) {
       boxOverlapQuery(d, pl, &q);
-    } else if (!exact && (e.is_box || e.is_hull)) {
-      overlapQuery(d, e, pl, &q);
+    } else if (!exact && e.is_box) {
+      boxProofQuery(d, pl, &q);
+    } else if (!exact && e.is_hull) {
+      hullOverlapQuery(d, pl, &q);
     } else {
       // Exact hits (in Bullet's order), and spheres and cylinders as the baseline runs them.
       walkAll(d, pl, &q);

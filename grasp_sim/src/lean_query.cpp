@@ -98,11 +98,14 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
   btVector3 amin, amax;
   e.shape->getAabb(q.xf, amin, amax);
   pl.set(e, ts, amin, amax, threshold);
+  // Triangles whose normal does not oppose the shift are dropped before their bound.
+  auto facing = [&](int tri) {
+    return !f || f->any_direction ||
+           d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing;
+  };
   walkNearestFirst(
-      d, pl, [best] { return best->distance; }, [] { return false; },
+      d, pl, [best] { return best->distance; }, [] { return false; }, facing,
       [&](int tri, double, int node) {
-        const Eigen::Vector3d& n = d.normals[static_cast<std::size_t>(tri)];
-        if (f && !f->any_direction && !(n.dot(f->away) < -f->opposing)) return;
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         if (e.is_box) {
           const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};

@@ -14,6 +14,14 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Contacts of one link closer than this are merged (the deepest is kept), metres.
 constexpr double kMergeRadius = 1e-3;
+/// |a - b| < kMergeRadius, computed as Eigen's norm() compares it (sqrt of the squared norm),
+/// with the square root taken only near the radius (sqrt is monotone: the same answer).
+bool withinMergeRadius(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double sq = (a - b).squaredNorm();
+  if (sq < 0.81 * kMergeRadius * kMergeRadius) return true;
+  if (sq > 1.21 * kMergeRadius * kMergeRadius) return false;
+  return std::sqrt(sq) < kMergeRadius;
+}
 /// Lean contact queries: hits within this distance, metres (all penetrating ones; the planes
 /// cull a triangle only beyond it plus 1e-9, where GJK cannot report a penetration).
 constexpr double kPenetrating = 1e-9;
@@ -260,7 +268,10 @@ void Trial::linkContacts(int l, std::vector<char>* finger_touch) {
     if (hh.normal.dot(scene.faceNormal(hh.triangle)) < kMinNormalAgreement) continue;
     bool near = false;
     for (const auto& k : candidates)
-      if ((k.point - hh.point).norm() < kMergeRadius) near = true;
+      if (withinMergeRadius(k.point, hh.point)) {
+        near = true;
+        break;
+      }
     if (near) continue;
     Contact ct;
     ct.point = hh.point;
