@@ -1,6 +1,7 @@
 // GraspSimOptions::box_depths_by_sat against EPA (box_depths_by_sat = false) on a real scan and
-// the reference mug: the same simulated grasps bit for bit (status, palm pose, joints, fingers
-// in contact), and contacts that move only at tied features, so that force closure and epsilon
+// the reference mug: the same simulated grasps (status, palm pose, joints: bit for bit on these
+// poses; a finger whose only contact is a pair Bullet's GJK calls apart could change the status),
+// and contacts that move only at tied features, so that force closure and epsilon
 // (taskmap::quality, the stage that reads them) stay within the documented tolerance.
 #include <algorithm>
 #include <cmath>
@@ -37,10 +38,12 @@ TEST(BoxDepths, SameGraspsAndForceClosureWithinTolerance) {
         ASSERT_EQ(a.status, b.status);
         ASSERT_EQ(a.pose.position, b.pose.position);
         ASSERT_EQ(a.joints, b.joints);
-        ASSERT_EQ(a.fingers_in_contact, b.fingers_in_contact);
-        ASSERT_EQ(a.palm_contact, b.palm_contact);
         if (a.status != GraspStatus::kOk) continue;
         ++ok;
+        // A pair Bullet's GJK calls apart can add a finger's contact (bench: 17 of 23,790
+        // trials on meshes of 1000 faces or more, one of which changed status); not here.
+        EXPECT_EQ(a.fingers_in_contact, b.fingers_in_contact);
+        EXPECT_EQ(a.palm_contact, b.palm_contact);
         // How far each contact lies from the nearest contact of the same link under EPA.
         for (const Contact& ca : a.contacts) {
           double nearest = 1.0;

@@ -132,8 +132,9 @@ struct GraspSimOptions {
   /// "Box contacts"; false = Bullet's EPA. EPA in double precision gives the same depth, and
   /// the same witness where the deepest features are unique; they differ where features tie
   /// (a face flat on a triangle: EPA returns some point of the overlap) and where Bullet's GJK
-  /// calls an overlapping pair apart. Closing, squeeze and verdict keep EPA: the simulated grasp
-  /// (status, pose, joints) is the same either way, bit for bit. Needs culled_queries.
+  /// calls an overlapping pair apart (which can give a finger its first contact). Closing and
+  /// squeeze keep EPA: the pose and joints are the same either way, bit for bit. Needs
+  /// culled_queries.
   bool box_depths_by_sat = true;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;
