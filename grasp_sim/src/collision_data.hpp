@@ -107,6 +107,14 @@ struct CollisionScene::Data {
   std::vector<std::array<Eigen::Vector3d, 3>> corners;
   // The boxes of the nodes of Bullet's quantized tree, unquantized once (lo, hi), node order.
   std::vector<std::array<Eigen::Vector3d, 2>> node_boxes;
+  // A cone holding the outward normals of each node's triangles: unit axis, half angle
+  // (radians, pi or more: every direction), node order.
+  struct NormalCone {
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+    double half = 0.0;
+    double cos_half = 1.0, sin_half = 0.0;
+  };
+  std::vector<NormalCone> node_cones;
 };
 
 /// The baseline's cull of one shape: its bounding sphere (centre at `ts`, object frame) is
@@ -154,6 +162,11 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
                   const std::vector<Eigen::Vector3i>& faces, bool all_shapes,
                   CollisionScene::Data* d);
+/// The object's part of `d` from `mesh`: vertex and index arrays, face normals, bounds and
+/// Bullet's quantized tree (margin 0). Throws Error when a face indexes a missing vertex.
+void buildObjectTree(const TriangleMesh& mesh, CollisionScene::Data* d);
+/// Fills d->node_cones from the triangles' normals (after node_boxes).
+void buildNormalCones(CollisionScene::Data* d);
 /// Link query through Bullet's BVH (the baseline): GJK/EPA on every triangle in the shape's
 /// padded bounding box. `exact` computes EPA depths and fills `hits`.
 double queryLinkBullet(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,

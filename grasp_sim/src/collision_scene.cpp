@@ -70,12 +70,8 @@ struct CrossingCounter : btTriangleRaycastCallback {
 
 }  // namespace
 
-CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode,
-                               bool box_depths_by_sat)
-    : d_(std::make_unique<Data>()) {
-  if (mesh.faces.empty() || mesh.vertices.size() < 3)
-    throw Error("grasp simulation needs a non-empty triangle mesh");
-  Data& d = *d_;
+void buildObjectTree(const TriangleMesh& mesh, CollisionScene::Data* out) {
+  CollisionScene::Data& d = *out;
   d.lo = d.hi = mesh.vertices.front();
   for (const auto& v : mesh.vertices) {
     d.vertices.insert(d.vertices.end(), {v.x(), v.y(), v.z()});
@@ -110,6 +106,15 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
   d.arrays->addIndexedMesh(im, PHY_INTEGER);
   d.mesh_shape = std::make_unique<btBvhTriangleMeshShape>(d.arrays.get(), true, true);
   d.mesh_shape->setMargin(0.0);
+}
+
+CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode,
+                               bool box_depths_by_sat)
+    : d_(std::make_unique<Data>()) {
+  if (mesh.faces.empty() || mesh.vertices.size() < 3)
+    throw Error("grasp simulation needs a non-empty triangle mesh");
+  Data& d = *d_;
+  buildObjectTree(mesh, &d);
   if (mode != Mode::kBullet)
     buildCulling(mesh.vertices, mesh.faces,
                  mode == Mode::kCulled || mesh.faces.size() >= kCulledMinFaces, &d);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <limits>
 #include <utility>
@@ -165,15 +166,34 @@ struct ShapePlanes {
   }
 };
 
+/// Admits the tree nodes that may hold a triangle whose outward normal n satisfies
+/// n . b > cos(phi) (b unit): a node whose normal cone (CollisionScene::Data::node_cones) lies
+/// farther than phi + 1e-6 rad from b holds none.
+struct NormalFilter {
+  Eigen::Vector3d b = Eigen::Vector3d::UnitZ();
+  double phi = 0.0;  ///< radians, in [0, pi]
+  double cos_phi = 1.0, sin_phi = 0.0;
+  NormalFilter(const Eigen::Vector3d& dir, double cos_bound)
+      : b(dir), phi(std::acos(cos_bound) + 1e-6), cos_phi(std::cos(phi)), sin_phi(std::sin(phi)) {}
+  bool admits(const CollisionScene::Data::NormalCone& c) const {
+    constexpr double kPi = 3.14159265358979323846;
+    if (c.half + phi >= kPi) return true;
+    return c.axis.dot(b) > c.cos_half * cos_phi - c.sin_half * sin_phi;  // cos(half + phi)
+  }
+};
+
 /// Depth-first branch and bound over Bullet's tree with the planes `pl` as bound, the nearer
 /// child first: a node whose bound exceeds pl.cut or limit() + kCullSlack is skipped (a leaf's
 /// bound is its triangle's, ShapePlanes::bound); leaf(tri, bound, node) gets the triangles of
 /// the others that accept(tri) admits (node: the leaf's index, which orders leaves as Bullet's
-/// walk does) until stop() holds. limit() must never grow: a node above it when its parent is
-/// opened is dropped then (its bound computed only up to it), as it would be when popped.
+/// walk does) until stop() holds; with `normals`, inner nodes it does not admit are skipped (it
+/// must admit every triangle accept admits). limit() must never grow: a node above it when its
+/// parent is opened is dropped then (its bound computed only up to it), as it would be when
+/// popped.
 template <class Limit, class Stop, class Accept, class Leaf>
 void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
-                      const Stop& stop, const Accept& accept, const Leaf& leaf) {
+                      const Stop& stop, const Accept& accept, const NormalFilter* normals,
+                      const Leaf& leaf) {
   const auto& nodes = d.mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
   if (nodes.size() == 0) return;
   // The bound of node i if it is at most `cut`, else some value above `cut`.
@@ -184,6 +204,8 @@ void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, cons
       if (!accept(tri)) return std::numeric_limits<double>::infinity();
       return pl.bound(d.corners[static_cast<std::size_t>(tri)], cut);
     }
+    if (normals && !normals->admits(d.node_cones[static_cast<std::size_t>(i)]))
+      return std::numeric_limits<double>::infinity();
     const auto& box = d.node_boxes[static_cast<std::size_t>(i)];
     return pl.nodeBound(box[0], box[1], cut);
   };
@@ -214,7 +236,7 @@ template <class Limit, class Stop, class Leaf>
 void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, const Limit& limit,
                       const Stop& stop, const Leaf& leaf) {
   walkNearestFirst(
-      d, pl, limit, stop, [](int) { return true; }, leaf);
+      d, pl, limit, stop, [](int) { return true; }, nullptr, leaf);
 }
 
 /// Runs `q` on triangle `tri` (corners from d.corners).

@@ -137,6 +137,52 @@ void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
     d->node_boxes[static_cast<std::size_t>(i)] = {
         eig(bvh->unQuantize(nodes[i].m_quantizedAabbMin)),
         eig(bvh->unQuantize(nodes[i].m_quantizedAabbMax))};
+  buildNormalCones(d);
+}
+
+namespace {
+
+/// The smallest cone holding cones a and b, widened by 1e-9 rad against rounding.
+CollisionScene::Data::NormalCone mergeCones(const CollisionScene::Data::NormalCone& a,
+                                            const CollisionScene::Data::NormalCone& b) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double theta = std::acos(std::clamp(a.axis.dot(b.axis), -1.0, 1.0));
+  if (theta + b.half <= a.half) return a;  // b inside a
+  if (theta + a.half <= b.half) return b;
+  CollisionScene::Data::NormalCone c;
+  c.half = 0.5 * (theta + a.half + b.half) + 1e-9;
+  if (c.half >= kPi || theta > kPi - 1e-6) {
+    c.half = kPi;
+    return c;
+  }
+  // Turn a's axis toward b's by c.half - a.half (within the plane of both axes).
+  const double t = c.half - a.half;
+  const Eigen::Vector3d side = (b.axis - a.axis * std::cos(theta)).normalized();
+  c.axis = (a.axis * std::cos(t) + side * std::sin(t)).normalized();
+  return c;
+}
+
+}  // namespace
+
+void buildNormalCones(CollisionScene::Data* d) {
+  const auto& nodes = d->mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
+  d->node_cones.assign(static_cast<std::size_t>(nodes.size()), {});
+  // Children follow their parent in the array: the last node first.
+  for (int i = nodes.size() - 1; i >= 0; --i) {
+    auto& cone = d->node_cones[static_cast<std::size_t>(i)];
+    if (nodes[i].isLeafNode()) {
+      cone.axis = d->normals[static_cast<std::size_t>(nodes[i].getTriangleIndex())];
+      continue;
+    }
+    const int left = i + 1;
+    const int right = left + (nodes[left].isLeafNode() ? 1 : nodes[left].getEscapeIndex());
+    cone = mergeCones(d->node_cones[static_cast<std::size_t>(left)],
+                      d->node_cones[static_cast<std::size_t>(right)]);
+  }
+  for (auto& cone : d->node_cones) {
+    cone.cos_half = std::cos(cone.half);
+    cone.sin_half = std::sin(cone.half);
+  }
 }
 
 namespace {

@@ -103,8 +103,13 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
     return !f || f->any_direction ||
            d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing;
   };
+  // Subtrees whose normals all lie acos(opposing) or more from -away hold no such triangle.
+  const bool filtered = f && !f->any_direction;
+  const NormalFilter normals(filtered ? Eigen::Vector3d(-f->away) : Eigen::Vector3d::UnitZ(),
+                             filtered ? f->opposing : -1.0);
   walkNearestFirst(
       d, pl, [best] { return best->distance; }, [] { return false; }, facing,
+      filtered ? &normals : nullptr,
       [&](int tri, double, int node) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         if (e.is_box) {

@@ -1,18 +1,22 @@
 // Culling planes in blocks (grasp_sim/src/culled_planes.hpp) against a plane-by-plane scan: the
 // same bound below the limit, the same cull decision above it, the same inside test; every plane
-// is a valid separating plane (no shape point beyond it), the padding never culls.
+// is a valid separating plane (no shape point beyond it), the padding never culls. The tree's
+// normal cones hold the normals of their triangles (YCB banana).
 #include "culled_planes.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <gtest/gtest.h>
 
 #include "hull_support_shape.hpp"
+#include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
 namespace {
@@ -192,6 +196,54 @@ TEST(CulledPlanes, ReusedForAShorterShape) {
     EXPECT_EQ(reused.nodeBound(c, c + Eigen::Vector3d::Constant(0.01), kInf),
               fresh.nodeBound(c, c + Eigen::Vector3d::Constant(0.01), kInf));
   }
+}
+
+/// Bullet's quantized tree of a mesh with the culling data (normals, node boxes and cones), as
+/// CollisionScene builds it.
+struct TreeOfMesh {
+  CollisionScene::Data d;
+  explicit TreeOfMesh(const TriangleMesh& mesh) {
+    buildObjectTree(mesh, &d);
+    buildCulling(mesh.vertices, mesh.faces, true, &d);
+  }
+};
+
+// Every node's normal cone holds the normals of the triangles below it, and a node the filter
+// turns away holds no triangle the filter's condition admits (the walk may skip it).
+TEST(NormalCones, HoldTheirTrianglesNormals) {
+  const ObjectModel banana =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  const TreeOfMesh tree(banana.mesh());
+  const auto& d = tree.d;
+  ASSERT_TRUE(d.culled);
+  const auto& nodes = d.mesh_shape->getOptimizedBvh()->getQuantizedNodeArray();
+  ASSERT_EQ(static_cast<std::size_t>(nodes.size()), d.node_cones.size());
+  std::mt19937 rng(3);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::vector<NormalFilter> filters;
+  for (int k = 0; k < 8; ++k)
+    filters.emplace_back(Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized(), 0.5);
+  int turned_away = 0, narrow = 0;
+  for (int i = 0; i < nodes.size(); i += 7) {
+    if (nodes[i].isLeafNode()) continue;
+    const auto& cone = d.node_cones[static_cast<std::size_t>(i)];
+    narrow += cone.half < 1.0;
+    std::vector<bool> admitted(filters.size(), false);
+    for (std::size_t k = 0; k < filters.size(); ++k) admitted[k] = filters[k].admits(cone);
+    for (int j = i; j < i + nodes[i].getEscapeIndex(); ++j) {
+      if (!nodes[j].isLeafNode()) continue;
+      const Eigen::Vector3d& n = d.normals[static_cast<std::size_t>(nodes[j].getTriangleIndex())];
+      ASSERT_LE(std::acos(std::clamp(n.dot(cone.axis), -1.0, 1.0)), cone.half + 1e-9) << i;
+      for (std::size_t k = 0; k < filters.size(); ++k) {
+        if (!admitted[k]) {
+          ASSERT_LE(n.dot(filters[k].b), 0.5) << "node " << i;
+        }
+      }
+    }
+    for (bool a : admitted) turned_away += !a;
+  }
+  EXPECT_GT(narrow, 100);        // the cones are tight enough to matter
+  EXPECT_GT(turned_away, 1000);  // and the filters skip subtrees
 }
 
 }  // namespace
