@@ -62,6 +62,10 @@ struct TriangleQuery : btTriangleCallback {
   void processTriangle(btVector3* tri, int part, int index) override;
 };
 
+/// Contacts by separating axes (sat_depths): pairs overlapping by more than this (metres) take
+/// the axes' depth; shallower ones GJK/EPA as before.
+constexpr double kSatDepthMin = 1e-9;
+
 /// Culling planes are tested in blocks of this many (vector arithmetic, early exit per block).
 constexpr int kPlaneBlock = 8;
 
@@ -179,7 +183,7 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
 /// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
 /// triangle test, GJK only where the baseline's result depends on it. With `sat_depths`, shapes
 /// with ShapeEntry::sat_depths take their exact hits from boxTrianglePenetration instead (not bit
-/// for bit: see GraspSimOptions::box_depths_by_sat).
+/// for bit: see GraspSimOptions::separating_axis_contacts).
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
                        std::vector<TriangleHit>* hits, bool sat_depths = false);

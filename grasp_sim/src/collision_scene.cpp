@@ -109,7 +109,7 @@ void buildObjectTree(const TriangleMesh& mesh, CollisionScene::Data* out) {
 }
 
 CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode,
-                               bool box_depths_by_sat)
+                               bool separating_axis_contacts)
     : d_(std::make_unique<Data>()) {
   if (mesh.faces.empty() || mesh.vertices.size() < 3)
     throw Error("grasp simulation needs a non-empty triangle mesh");
@@ -128,7 +128,7 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
       switch (s.type) {
         case ShapeType::kBox:
           e.is_box = true;
-          e.sat_depths = box_depths_by_sat && d.culled_boxes;
+          e.sat_depths = separating_axis_contacts && d.culled_boxes;
           e.half_extents = 0.5 * s.box_size;
           e.shape = std::make_unique<btBoxShape>(bt(Eigen::Vector3d(0.5 * s.box_size)));
           e.shape->setMargin(kConvexMargin);
@@ -142,6 +142,7 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
           e.shape = std::make_unique<btSphereShape>(s.radius);
           break;
         case ShapeType::kConvex: {
+          e.sat_depths = separating_axis_contacts && d.culled_boxes;
           if (mode != Mode::kBullet) {  // support cells (hull_support.hpp): same points, faster
             e.shape = std::make_unique<IndexedHullShape>(s.points, kConvexMargin);
             break;

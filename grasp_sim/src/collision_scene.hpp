@@ -55,11 +55,12 @@ class CollisionScene {
   /// the 172-face basket and 256-face cylinder; hulls gain 3x there).
   static constexpr std::size_t kCulledMinFaces = 1000;
   /// Builds the BVH of `mesh` and a convex shape for every collision shape of `hand`. With
-  /// `box_depths_by_sat`, on a mesh whose boxes take culled queries (kCulled, or kAuto from
+  /// `separating_axis_contacts`, on a mesh whose boxes take culled queries (kCulled, or kAuto from
   /// kCulledMinFaces faces), linkHits takes the penetration of a box link shape and a triangle
-  /// from the 13 separating axes (boxTrianglePenetration) instead of EPA.
+  /// from the 13 separating axes (boxTrianglePenetration), and of a hull from its face planes
+  /// where they prove it (ShapePlanes::faceContact), instead of EPA.
   CollisionScene(const TriangleMesh& mesh, const HandModel& hand, Mode mode = Mode::kAuto,
-                 bool box_depths_by_sat = false);
+                 bool separating_axis_contacts = false);
   ~CollisionScene();
   CollisionScene(const CollisionScene&) = delete;
   CollisionScene& operator=(const CollisionScene&) = delete;
@@ -72,7 +73,7 @@ class CollisionScene {
   double linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const;
   /// Like linkDistance but exact: every triangle within `threshold` is appended to `hits`
   /// with its signed distance (EPA depth when penetrating; the 13-axis depth for boxes when the
-  /// scene was built with box_depths_by_sat) and witness point; returns the minimum signed
+  /// scene was built with separating_axis_contacts) and witness point; returns the minimum signed
   /// distance.
   double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                   std::vector<TriangleHit>* hits) const;

@@ -137,6 +137,46 @@ struct ShapePlanes {
     return lb;
   }
   double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
+  /// A hull's penetration of triangle `v` from its face planes [facet_begin, count), when they
+  /// prove it: F the face of largest gap g (< -min_depth), p the triangle's corners deepest
+  /// below F (within 1e-9 m of each other); if every such corner lies at least -g inside every
+  /// face, the ball of radius -g about it lies in the hull, so no translation shorter than -g
+  /// separates the pair, and moving -g along F's normal does: the penetration depth is -g, along
+  /// F's normal, witness the corners' mean. False where that does not hold (near the hull's
+  /// edges): EPA decides there.
+  bool faceContact(const std::array<Eigen::Vector3d, 3>& v, double min_depth, double* depth,
+                   Eigen::Vector3d* normal, Eigen::Vector3d* point) const {
+    double g = -std::numeric_limits<double>::infinity();
+    int face = -1;
+    for (int b = facet_begin; b < count; b += kPlaneBlock) {
+      const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
+                       h.segment<kPlaneBlock>(b);
+      Eigen::Index i = 0;
+      const double m = gb.maxCoeff(&i);
+      if (m > g) {
+        g = m;
+        face = b + static_cast<int>(i);
+      }
+    }
+    if (face < 0 || !(g < -min_depth)) return false;
+    const Eigen::Vector3d n(nx[face], ny[face], nz[face]);
+    const double lo = std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])});
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int tied = 0;
+    for (const auto& p : v) {
+      if (n.dot(p) > lo + 1e-9) continue;
+      double inside = std::numeric_limits<double>::infinity();  // distance to the boundary
+      for (int b = facet_begin; b < count; b += kPlaneBlock)
+        inside = std::min(inside, (h.segment<kPlaneBlock>(b) - alongBlock(b, p)).minCoeff());
+      if (inside < -g - 1e-12) return false;
+      sum += p;
+      ++tied;
+    }
+    *depth = -g;
+    *normal = -n;
+    *point = sum / static_cast<double>(tied);
+    return true;
+  }
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
   bool inside(const Eigen::Vector3d& p, int first) const {
     for (int b = first; b < count; b += kPlaneBlock)

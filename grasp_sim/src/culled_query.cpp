@@ -190,11 +190,23 @@ namespace {
 /// The baseline's loop with culling: every triangle the planes keep, in Bullet's order (stops
 /// at the first overlap unless q is exact).
 void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
+  // Hull contacts (sat_depths): the face planes' penetration where they prove it.
+  const bool hull_faces = q->sat_depths && q->exact && !q->is_box && pl.facet_begin < pl.count;
   walkInBulletOrder(
       d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
-        if (pl.bound(d.corners[static_cast<std::size_t>(tri)], pl.cut, q->exact) <= pl.cut)
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        if (pl.bound(v, pl.cut, q->exact) > pl.cut) return true;
+        TriangleHit h;
+        double depth = 0.0;
+        if (hull_faces && pl.faceContact(v, kSatDepthMin, &depth, &h.normal, &h.point)) {
+          h.distance = -depth;
+          h.triangle = tri;
+          q->min_distance = std::min(q->min_distance, h.distance);
+          if (q->hits) q->hits->push_back(h);
+        } else {
           runTriangle(d, tri, q);
+        }
         return q->exact || !q->overlap_found;
       });
 }

@@ -78,7 +78,7 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
   opt.validate();
   scene = std::make_unique<CollisionScene>(
       mesh, hand, opt.culled_queries ? CollisionScene::Mode::kAuto : CollisionScene::Mode::kBullet,
-      opt.box_depths_by_sat);
+      opt.separating_axis_contacts);
   lean_queries = opt.culled_queries;
   squeeze = opt.squeeze >= 0.0 ? opt.squeeze : hand.squeeze();
   const auto& links = hand.links();

@@ -11,9 +11,6 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-/// Boxes with sat_depths: pairs overlapping by more than this (metres) take the 13-axis depth;
-/// shallower ones GJK/EPA as before.
-constexpr double kSatDepthMin = 1e-9;
 
 }  // namespace
 

@@ -1,7 +1,7 @@
 #pragma once
 // Grasp-simulation fixtures shared by the grasp_sim unit tests (grasp_simulator_test.cpp,
-// coupled_closing_test.cpp, box_depths_test.cpp): the reference hands, the contact tolerance, the
-// top-down palm pose of the box-hand cases and random poses around an object.
+// coupled_closing_test.cpp, contact_depths_test.cpp): the reference hands, the contact tolerance,
+// the top-down palm pose of the box-hand cases and random poses around an object.
 
 #include <cstdint>
 #include <string>

@@ -10,7 +10,7 @@
 // joints: bit for bit) and how many also have the same contacts bit for bit (box contacts on fine
 // meshes come from the 13 separating axes, not EPA: equal up to rounding, different at tied
 // features, a face flat on a triangle, and where Bullet's GJK calls an overlapping pair apart;
-// GraspSimOptions::box_depths_by_sat).
+// GraspSimOptions::separating_axis_contacts).
 //   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
 //                  [--profile 1]
 // (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path; --profile 1

@@ -272,7 +272,8 @@ TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
       const HandModel hand = HandModel::load(hand_path);
       GraspSimOptions baseline, culled;
       baseline.culled_queries = false;
-      culled.box_depths_by_sat = false;  // EPA, as the baseline (box_depths_test.cpp has the rest)
+      culled.separating_axis_contacts =
+          false;  // EPA, as the baseline (contact_depths_test.cpp has the rest)
       const GraspSimulator fast(object, hand, culled), slow(object, hand, baseline);
       int ok = 0;
       for (const Pose& p : randomPoses(40, lo, hi)) {
