@@ -250,6 +250,13 @@ bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {
   return false;
 }
 
+double CollisionScene::linkSphere(int link, const Eigen::Isometry3d& t,
+                                  Eigen::Vector3d* centre) const {
+  const auto u = static_cast<std::size_t>(link);
+  *centre = t * d_->link_centre[u];
+  return d_->link_radius[u];
+}
+
 double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b,
                                         const Eigen::Isometry3d& tb, double threshold) const {
   const Data& d = *d_;

@@ -91,6 +91,10 @@ class CollisionScene {
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;
+  /// The sphere enclosing link `link` at pose `t`: its centre (object frame) and radius, metres.
+  /// linkLinkDistance returns +infinity when two links' spheres are farther apart than their
+  /// radii plus the threshold (the same arithmetic: a caller may test it first).
+  double linkSphere(int link, const Eigen::Isometry3d& t, Eigen::Vector3d* centre) const;
   /// Minimum signed distance between two links at their poses, within `threshold`
   /// (+infinity beyond).
   double linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b, const Eigen::Isometry3d& tb,

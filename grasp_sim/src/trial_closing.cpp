@@ -45,8 +45,12 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
   Eigen::Isometry3d pm = palm_;
   const bool shifting = shift_group_ >= 0;
   if (shifting) pm.translation() += dt * shift_vel_;
-  for (int l : m_.shaped)
-    world_[static_cast<std::size_t>(l)] = pm * lp_[static_cast<std::size_t>(l)];
+  for (int l : m_.shaped) {
+    const auto u = static_cast<std::size_t>(l);
+    world_[u] = pm * lp_[u];
+    // linkLinkDistance's first test, once per link: the same arithmetic, so the same answer.
+    if (m_.opt.check_self_collision) radius_[u] = m_.scene->linkSphere(l, world_[u], &centre_[u]);
+  }
   double mn = kInf;
   for (int l : mov_) {
     if (shifting && heldLink(l)) continue;
@@ -55,9 +59,11 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     double d = m_.scene->linkDistance(l, tl, tol_);
     ++st_.queries;
     if (m_.opt.check_self_collision)
-      for (int o : m_.partners[u])
-        d = std::min(
-            d, m_.scene->linkLinkDistance(l, tl, o, world_[static_cast<std::size_t>(o)], tol_));
+      for (int o : m_.partners[u]) {
+        const auto uo = static_cast<std::size_t>(o);
+        if ((centre_[u] - centre_[uo]).norm() > radius_[u] + radius_[uo] + tol_) continue;
+        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_));
+      }
     dist_[u] = d;
     mn = std::min(mn, d);
   }
@@ -102,6 +108,8 @@ void Trial::close() {
     active_[c] = std::abs(diff) > 1e-12;
   }
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
+  centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
+  radius_.assign(m_.hand.links().size(), 0.0);
   refreshMoving();
   evalMoving(q_);
   std::vector<int> touching;
