@@ -1,5 +1,5 @@
 // The penetration of an oriented box and a triangle from the 13 separating axes (declared in
-// collision_data.hpp; the equations are in docs/METHOD.md §2, "Box contacts").
+// collision_data.hpp; the equations are in docs/METHOD.md §2, "Contacts from separating axes").
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -53,8 +53,9 @@ struct TriangleQuery : btTriangleCallback {
   // The test stops at the first axis beyond the threshold (false in the baseline, which keeps
   // the code it had: all 13 axes).
   bool sat_early_exit = true;
-  // Exact queries take a box's penetration of a triangle from the 13 axes, not EPA
-  // (queryLinkCulled with sat_depths, for shapes with ShapeEntry::sat_depths).
+  // Exact queries take penetrations from separating axes, not EPA (queryLinkCulled with
+  // sat_depths, for shapes with ShapeEntry::sat_depths): a box's from the 13 axes
+  // (processTriangle), a hull's from its face planes where they prove it (walkAll).
   bool sat_depths = false;
   Eigen::Vector3d box_centre, box_half;
   Eigen::Matrix3d box_axes;
@@ -66,6 +67,8 @@ struct TriangleQuery : btTriangleCallback {
 /// the axes' depth; shallower ones GJK/EPA as before.
 constexpr double kSatDepthMin = 1e-9;
 
+constexpr double kPi = 3.14159265358979323846;
+
 /// Culling planes are tested in blocks of this many (vector arithmetic, early exit per block).
 constexpr int kPlaneBlock = 8;
 
@@ -75,8 +78,10 @@ struct ShapeEntry {
   double bounding_radius = 0.0;
   bool is_box = false;
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
-  /// Boxes: penetration depths and witnesses from the 13 separating axes instead of EPA
-  /// (GraspSimOptions::box_contacts_by_sat on a culled mesh).
+  /// Boxes and hulls on meshes whose boxes take culled queries (Data::culled_boxes), with
+  /// GraspSimOptions::separating_axis_contacts: CollisionScene::linkHits takes their penetration
+  /// depths and witnesses from separating axes instead of EPA (boxTrianglePenetration,
+  /// ShapePlanes::faceContact).
   bool sat_depths = false;
   // Culled queries: separating planes of the shape in its frame, max over the shape of
   // (px[i], py[i], pz[i]) . x is pr[i] (a point set beyond any one plane by g is at least g

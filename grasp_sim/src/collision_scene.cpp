@@ -250,11 +250,12 @@ bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {
   return false;
 }
 
-double CollisionScene::linkSphere(int link, const Eigen::Isometry3d& t,
-                                  Eigen::Vector3d* centre) const {
-  const auto u = static_cast<std::size_t>(link);
-  *centre = t * d_->link_centre[u];
-  return d_->link_radius[u];
+Eigen::Vector3d CollisionScene::linkCentre(int link, const Eigen::Isometry3d& t) const {
+  return t * d_->link_centre[static_cast<std::size_t>(link)];
+}
+
+double CollisionScene::linkRadius(int link) const {
+  return d_->link_radius[static_cast<std::size_t>(link)];
 }
 
 double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b,

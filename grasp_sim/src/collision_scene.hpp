@@ -32,9 +32,11 @@ struct FacingFilter {
   double opposing = 0.5;                            ///< cosine bound on n . away
   double min_agreement = 0.5;                       ///< cosine bound on the hit normal
   bool any_direction = false;                       ///< true: no condition on n . away
+  /// True when a triangle with outward normal `n` is considered (whatever its hit).
+  bool faces(const Eigen::Vector3d& n) const { return any_direction || n.dot(away) < -opposing; }
   /// True when the hit `h` on a triangle with outward normal `n` passes.
   bool passes(const Eigen::Vector3d& n, const TriangleHit& h) const {
-    return (any_direction || n.dot(away) < -opposing) && h.normal.dot(n) >= min_agreement;
+    return faces(n) && h.normal.dot(n) >= min_agreement;
   }
 };
 
@@ -72,9 +74,9 @@ class CollisionScene {
   /// overlapping triangle, or kOverlapping when unknown). Use linkHits for exact depths.
   double linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const;
   /// Like linkDistance but exact: every triangle within `threshold` is appended to `hits`
-  /// with its signed distance (EPA depth when penetrating; the 13-axis depth for boxes when the
-  /// scene was built with separating_axis_contacts) and witness point; returns the minimum signed
-  /// distance.
+  /// with its signed distance (EPA depth when penetrating; when the scene was built with
+  /// separating_axis_contacts, the 13-axis depth for boxes and the face depth for hulls where
+  /// their face planes prove it) and witness point; returns the minimum signed distance.
   double linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                   std::vector<TriangleHit>* hits) const;
   /// True when linkHits(link, t, threshold) would hold a hit deeper than `depth` (metres, > 0)
@@ -91,10 +93,12 @@ class CollisionScene {
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;
-  /// The sphere enclosing link `link` at pose `t`: its centre (object frame) and radius, metres.
-  /// linkLinkDistance returns +infinity when two links' spheres are farther apart than their
-  /// radii plus the threshold (the same arithmetic: a caller may test it first).
-  double linkSphere(int link, const Eigen::Isometry3d& t, Eigen::Vector3d* centre) const;
+  /// The centre (object frame, metres) of the sphere enclosing link `link` at pose `t`, of radius
+  /// linkRadius(link). linkLinkDistance returns +infinity when two links' spheres are farther
+  /// apart than their radii plus the threshold (the same arithmetic: a caller may test it first).
+  Eigen::Vector3d linkCentre(int link, const Eigen::Isometry3d& t) const;
+  /// Radius of the sphere enclosing link `link` (pose independent), metres.
+  double linkRadius(int link) const;
   /// Minimum signed distance between two links at their poses, within `threshold`
   /// (+infinity beyond).
   double linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b, const Eigen::Isometry3d& tb,

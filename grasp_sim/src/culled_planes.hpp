@@ -216,7 +216,6 @@ struct NormalFilter {
   NormalFilter(const Eigen::Vector3d& dir, double cos_bound)
       : b(dir), phi(std::acos(cos_bound) + 1e-6), cos_phi(std::cos(phi)), sin_phi(std::sin(phi)) {}
   bool admits(const CollisionScene::Data::NormalCone& c) const {
-    constexpr double kPi = 3.14159265358979323846;
     if (c.half + phi >= kPi) return true;
     return c.axis.dot(b) > c.cos_half * cos_phi - c.sin_half * sin_phi;  // cos(half + phi)
   }

@@ -145,7 +145,6 @@ namespace {
 /// The smallest cone holding cones a and b, widened by 1e-9 rad against rounding.
 CollisionScene::Data::NormalCone mergeCones(const CollisionScene::Data::NormalCone& a,
                                             const CollisionScene::Data::NormalCone& b) {
-  constexpr double kPi = 3.14159265358979323846;
   const double theta = std::acos(std::clamp(a.axis.dot(b.axis), -1.0, 1.0));
   if (theta + b.half <= a.half) return a;  // b inside a
   if (theta + a.half <= b.half) return b;

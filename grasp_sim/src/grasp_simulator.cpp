@@ -83,6 +83,8 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
   squeeze = opt.squeeze >= 0.0 ? opt.squeeze : hand.squeeze();
   const auto& links = hand.links();
   thickness.assign(links.size(), kInf);
+  for (std::size_t l = 0; l < links.size(); ++l)
+    radius.push_back(scene->linkRadius(static_cast<int>(l)));
   double thinnest = kInf;
   for (std::size_t l = 0; l < links.size(); ++l) {
     if (links[l].shapes.empty()) continue;

@@ -99,10 +99,7 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
   e.shape->getAabb(q.xf, amin, amax);
   pl.set(e, ts, amin, amax, threshold);
   // Triangles whose normal does not oppose the shift are dropped before their bound.
-  auto facing = [&](int tri) {
-    return !f || f->any_direction ||
-           d.normals[static_cast<std::size_t>(tri)].dot(f->away) < -f->opposing;
-  };
+  auto facing = [&](int tri) { return !f || f->faces(d.normals[static_cast<std::size_t>(tri)]); };
   // Subtrees whose normals all lie acos(opposing) or more from -away hold no such triangle.
   const bool filtered = f && !f->any_direction;
   const NormalFilter normals(filtered ? Eigen::Vector3d(-f->away) : Eigen::Vector3d::UnitZ(),

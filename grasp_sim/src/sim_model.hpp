@@ -26,6 +26,7 @@ struct SimModel {
   double retract_step = 0.0;      ///< coarse retraction step, metres
   std::vector<int> shaped;        ///< links with collision shapes
   std::vector<double> thickness;  ///< per link, metres; +inf without shapes
+  std::vector<double> radius;     ///< per link, its enclosing sphere's (scene->linkRadius)
   std::vector<int> closing_of;    ///< actuated joint -> index in hand.closing(), or -1
   std::vector<std::pair<int, int>> self_pairs;  ///< link pairs checked for self-collision
   std::vector<std::vector<int>> partners;       ///< per link: its self-collision partners

@@ -109,8 +109,7 @@ class Trial {
   std::vector<int> mov_;   // links moved by an active closing joint
   std::vector<int> eval_;  // links evaluated per step: mov_, or every shaped link while shifting
   std::vector<Eigen::Isometry3d> world_;
-  std::vector<Eigen::Vector3d> centre_;  // evalMoving: each link's bounding sphere at world_
-  std::vector<double> radius_;
+  std::vector<Eigen::Vector3d> centre_;        // evalMoving: each link's bounding sphere's centre
   std::vector<std::vector<int>> press_extra_;  // per closing joint: more links to squeeze
   // Coupled closing: the group shifting the hand (-1: none), the touching link it holds in place
   // (and its finger), the contact point in that link's frame, the palm velocity per unit

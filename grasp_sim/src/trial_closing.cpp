@@ -49,7 +49,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     const auto u = static_cast<std::size_t>(l);
     world_[u] = pm * lp_[u];
     // linkLinkDistance's first test, once per link: the same arithmetic, so the same answer.
-    if (m_.opt.check_self_collision) radius_[u] = m_.scene->linkSphere(l, world_[u], &centre_[u]);
+    if (m_.opt.check_self_collision) centre_[u] = m_.scene->linkCentre(l, world_[u]);
   }
   double mn = kInf;
   for (int l : mov_) {
@@ -61,7 +61,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     if (m_.opt.check_self_collision)
       for (int o : m_.partners[u]) {
         const auto uo = static_cast<std::size_t>(o);
-        if ((centre_[u] - centre_[uo]).norm() > radius_[u] + radius_[uo] + tol_) continue;
+        if ((centre_[u] - centre_[uo]).norm() > m_.radius[u] + m_.radius[uo] + tol_) continue;
         d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_));
       }
     dist_[u] = d;
@@ -109,7 +109,6 @@ void Trial::close() {
   }
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
   centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
-  radius_.assign(m_.hand.links().size(), 0.0);
   refreshMoving();
   evalMoving(q_);
   std::vector<int> touching;

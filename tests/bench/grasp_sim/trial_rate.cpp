@@ -7,8 +7,8 @@
 // that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
 // Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
 // second of simulation, and on the trials both ran how many ended the same (status, palm pose,
-// joints: bit for bit) and how many also have the same contacts bit for bit (box contacts on fine
-// meshes come from the 13 separating axes, not EPA: equal up to rounding, different at tied
+// joints: bit for bit) and how many also have the same contacts bit for bit (box and hull contacts
+// on fine meshes come from separating axes, not EPA: equal up to rounding, different at tied
 // features, a face flat on a triangle, and where Bullet's GJK calls an overlapping pair apart;
 // GraspSimOptions::separating_axis_contacts).
 //   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
