@@ -173,7 +173,19 @@ BoxTrianglePenetration boxTrianglePenetration(const Eigen::Vector3d& c, const Ei
       kind = k;
     }
   };
-  for (int i = 0; i < 3; ++i) axis(Eigen::Vector3d::Unit(i), i);
+  // The box's own axes written out (unit axes: the dot products are coordinates, the norm 1,
+  // so the lambda's arithmetic gives the same numbers).
+  for (int i = 0; i < 3; ++i) {
+    const double above = std::min({v[0][i], v[1][i], v[2][i]}) - e[i];
+    const double below = -e[i] - std::max({v[0][i], v[1][i], v[2][i]});
+    const double s = std::max(above, below);
+    sep = std::max(sep, s);
+    if (s > best + kAxisTie) {
+      best = s;
+      u = above >= below ? Eigen::Vector3d::Unit(i) : Eigen::Vector3d(-Eigen::Vector3d::Unit(i));
+      kind = i;
+    }
+  }
   axis(f[0].cross(f[1]), 3);
   for (int j = 0; j < 3; ++j)
     for (int i = 0; i < 3; ++i) axis(Eigen::Vector3d::Unit(i).cross(f[j]), 4 + 3 * j + i);

@@ -294,14 +294,24 @@ void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Trian
   }
 }
 
-/// Overlap query of a box beyond kOneWalkThreshold (distances >= 0 unless overlapping). First
-/// the tree is walked in Bullet's order for a proof of overlap, visiting only what the planes do
-/// not put beyond contact: a triangle whose separating-axis gap is <= 0. The baseline stops at
-/// its first overlap in the same order, which is the first triangle with gap <= 0 (it reports
-/// min(gap, kOverlapping), the same test), unless GJK reports one on a triangle before it: so a
-/// proof runs the baseline's loop (walkAll, which stops at the first overlap). Without a proof,
-/// branchAndBound finds the nearest triangle.
+/// Overlap query of a box beyond kOneWalkThreshold (distances >= 0 unless overlapping). These
+/// are mostly asked of free poses (conservative advancement), so branchAndBound goes first: if
+/// it meets no overlap, no triangle has a separating-axis gap <= 0 (such a triangle's bound is
+/// <= 0, below every limit the search prunes at, so the search reaches it unless an overlap
+/// stops it first), and its nearest distance is the answer. Otherwise the tree is walked in
+/// Bullet's order for a proof of overlap, visiting only what the planes do not put beyond
+/// contact: a triangle whose gap is <= 0. The baseline stops at its first overlap in the same
+/// order, which is the first triangle with gap <= 0 (it reports min(gap, kOverlapping), the
+/// same test), unless GJK reports one on a triangle before it: so a proof runs the baseline's
+/// loop (walkAll, which stops at the first overlap). Without a proof (GJK alone reported the
+/// overlap) branchAndBound's answer stands.
 void boxProofQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
+  TriangleQuery free = *q;
+  branchAndBound(d, pl, &free);
+  if (!free.overlap_found) {
+    *q = free;
+    return;
+  }
   bool proven = false;
   walkInBulletOrder(
       d,
@@ -319,7 +329,7 @@ void boxProofQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Triangl
   if (proven)
     walkAll(d, pl, q);
   else
-    branchAndBound(d, pl, q);
+    *q = free;
 }
 
 }  // namespace

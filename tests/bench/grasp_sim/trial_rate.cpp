@@ -128,19 +128,19 @@ struct Poses {
 };
 
 Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
-         std::size_t min_trials) {
+         std::size_t min_trials, bool quality, std::size_t exact_trials) {
   Rate r;
   double sim_s = 0.0, quality_s = 0.0;
   int valid = 0;
   const auto t_end = Clock::now() + std::chrono::duration<double>(seconds);
   for (std::size_t i = 0; i < 1000000; ++i) {
-    if (i >= min_trials && Clock::now() > t_end) break;
+    if (exact_trials > 0 ? i >= exact_trials : (i >= min_trials && Clock::now() > t_end)) break;
     const Pose& pose = poses.at(i);
     const double t0 = threadSeconds();
     GraspResult g = sim.simulate(pose);
     const double t1 = threadSeconds();
     sim_s += t1 - t0;
-    if (g.status == GraspStatus::kOk &&
+    if (quality && g.status == GraspStatus::kOk &&
         evaluateGrasp(g.contacts, object.massProperties().center_of_mass,
                       object.massProperties().torque_scale)
             .force_closure)
@@ -192,8 +192,45 @@ bool same(const GraspResult& a, const GraspResult& b) {
   return true;
 }
 
-void benchPair(const Item& h, const Item& o, double seconds, double baseline_seconds,
-               bool profile) {
+/// FNV-1a over the bytes of every trial's status, pose, joints and contacts: equal digests mean
+/// bit-identical results (to compare two builds on the same trials, --trials N).
+unsigned long long digest(const std::vector<GraspResult>& results) {
+  unsigned long long hsh = 1469598103934665603ULL;
+  auto mix = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) hsh = (hsh ^ b[i]) * 1099511628211ULL;
+  };
+  auto mixd = [&](double x) { mix(&x, sizeof x); };
+  for (const auto& g : results) {
+    const int st = static_cast<int>(g.status);
+    mix(&st, sizeof st);
+    for (int k = 0; k < 3; ++k) mixd(g.pose.position[k]);
+    for (int k = 0; k < 4; ++k) mixd(g.pose.orientation.coeffs()[k]);
+    for (Eigen::Index k = 0; k < g.joints.size(); ++k) mixd(g.joints[k]);
+    for (const auto& c : g.contacts) {
+      for (int k = 0; k < 3; ++k) mixd(c.point[k]);
+      for (int k = 0; k < 3; ++k) mixd(c.normal[k]);
+      mixd(c.depth);
+      mix(&c.link, sizeof c.link);
+    }
+  }
+  return hsh;
+}
+
+/// What a run of the bench measures (command line).
+struct BenchOptions {
+  double seconds = 2.0;            ///< per mode and pair
+  double baseline_seconds = -1.0;  ///< the baseline's; < 0: `seconds`
+  bool profile = false;            ///< phase shares of the new path
+  bool quality = true;             ///< score the ok grasps (valid/s); off: simulation only
+  std::size_t trials = 0;          ///< > 0: exactly this many trials per mode (not `seconds`)
+  bool digest = false;             ///< print a digest of the new path's results
+};
+
+void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
+  const double seconds = bo.seconds;
+  const double baseline_seconds = bo.baseline_seconds < 0.0 ? seconds : bo.baseline_seconds;
+  const bool profile = bo.profile;
   const ObjectModel object = loadObject(o);
   const HandModel hand = HandModel::load(h.path);
   SamplerOptions so;
@@ -204,8 +241,9 @@ void benchPair(const Item& h, const Item& o, double seconds, double baseline_sec
   base.culled_queries = false;
   fast.profile = profile;
   const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
-  const Rate rn = run(sim_new, object, poses, seconds, 32);
-  const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1);
+  const Rate rn = run(sim_new, object, poses, seconds, 32, bo.quality, bo.trials);
+  const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1,
+                      bo.quality, baseline_seconds > 0 ? bo.trials : 0);
   std::size_t n = std::min(rn.results.size(), ro.results.size()), agree = 0, exact = 0, ok = 0;
   for (std::size_t i = 0; i < n; ++i) {
     agree += sameGrasp(rn.results[i], ro.results[i]);
@@ -218,30 +256,37 @@ void benchPair(const Item& h, const Item& o, double seconds, double baseline_sec
               100.0 * static_cast<double>(ok) / static_cast<double>(std::max<std::size_t>(n, 1)),
               agree, n, exact);
   if (profile) printProfile(rn.results, rn.quality_over_sim);
+  if (bo.digest)
+    std::printf("    digest of %zu trials: %016llx\n", rn.results.size(), digest(rn.results));
   std::fflush(stdout);
 }
 
 int mainImpl(int argc, char** argv) {
   std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
-  double seconds = 2.0, baseline_seconds = -1.0;
+  BenchOptions bo;
   std::string only;
-  bool profile = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--real")
       real = argv[i + 1];
     else if (a == "--seconds")
-      seconds = std::stod(argv[i + 1]);
+      bo.seconds = std::stod(argv[i + 1]);
     else if (a == "--only")
       only = argv[i + 1];
     else if (a == "--baseline-seconds")
-      baseline_seconds = std::stod(argv[i + 1]);
+      bo.baseline_seconds = std::stod(argv[i + 1]);
     else if (a == "--profile")
-      profile = std::string(argv[i + 1]) == "1";
+      bo.profile = std::string(argv[i + 1]) == "1";
+    else if (a == "--quality")
+      bo.quality = std::string(argv[i + 1]) != "0";
+    else if (a == "--trials")
+      bo.trials = static_cast<std::size_t>(std::stoul(argv[i + 1]));
+    else if (a == "--digest")
+      bo.digest = std::string(argv[i + 1]) == "1";
     else
       throw Error(
           "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
-          "[--baseline-seconds S] [--profile 1]");
+          "[--baseline-seconds S] [--profile 1] [--quality 0] [--trials N] [--digest 1]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;
@@ -261,15 +306,15 @@ int mainImpl(int argc, char** argv) {
   } else {
     std::printf("(no real set: pass --real DIR or set TASKMAP_REAL_DIR)\n");
   }
-  std::printf("one thread; trials drawn by the mixed sampler, seed 1; %.1f s per mode and pair\n",
-              seconds);
+  std::printf("one thread; trials drawn by the mixed sampler, seed 1; %.1f s per mode and pair%s\n",
+              bo.seconds, bo.quality ? "" : "; quality not scored (valid/s 0)");
   std::printf("%-10s %-16s %6s %10s %10s %8s %9s %7s %11s %5s\n", "hand", "object", "faces",
               "new/s", "base/s", "ratio", "valid/s", "ok", "same", "bits");
   for (const auto& h : hs)
     for (const auto& o : os) {
       if (!only.empty() && (h.name + "/" + o.name).find(only) == std::string::npos) continue;
       try {
-        benchPair(h, o, seconds, baseline_seconds < 0.0 ? seconds : baseline_seconds, profile);
+        benchPair(h, o, bo);
       } catch (const std::exception& e) {
         std::printf("%-10s %-16s skipped: %s\n", h.name.c_str(), o.name.c_str(), e.what());
       }
