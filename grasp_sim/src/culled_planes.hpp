@@ -53,12 +53,15 @@ void walkInBulletOrder(const CollisionScene::Data& d, const Accept& accept, cons
 /// that puts a bound above its limit; padding planes give -inf.
 struct ShapePlanes {
   using Block = Eigen::Array<double, kPlaneBlock, 1>;
+  static constexpr int kBoxPlanes = 6;
+  using BoxBlock = Eigen::Array<double, kBoxPlanes, 1>;
   Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
   Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
   int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
   int count = 0;
+  bool box = false;  // a box: planes [0, 6) its faces, the rest of the block padding
   double cut = 0.0;
   Eigen::Vector3d qlo, qhi;  // the shape's padded bounding box (Bullet's query box)
   // The plane that last culled a node / a triangle, tried first (neighbours in the tree are
@@ -73,6 +76,7 @@ struct ShapePlanes {
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
     facet_begin = e.facet_begin;
+    box = e.is_box && count == kPlaneBlock && kPlaneBlock >= kBoxPlanes;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
     if (nx.size() < count) {
       for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az}) a->resize(count);
@@ -102,6 +106,15 @@ struct ShapePlanes {
                      (ax[k] * e.x() + ay[k] * e.y() + az[k] * e.z()) - h[k];
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
+    if (box) {  // the six faces alone (the padding planes never raise the bound)
+      const BoxBlock gb = nx.head<kBoxPlanes>() * m.x() + ny.head<kBoxPlanes>() * m.y() +
+                          nz.head<kBoxPlanes>() * m.z() -
+                          (ax.head<kBoxPlanes>() * e.x() + ay.head<kBoxPlanes>() * e.y() +
+                           az.head<kBoxPlanes>() * e.z()) -
+                          h.head<kBoxPlanes>();
+      raise(gb, 0, limit, &lb, &node_hint);
+      return lb;
+    }
     for (int b = 0; b < node_planes; b += kPlaneBlock) {
       const Block gb = nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
                        nz.segment<kPlaneBlock>(b) * m.z() -
@@ -128,6 +141,12 @@ struct ShapePlanes {
     const double g = std::min({along(k, v[0]), along(k, v[1]), along(k, v[2])}) - h[k];
     if (g > limit) return g;
     double lb = -std::numeric_limits<double>::infinity();
+    if (box) {
+      const BoxBlock gb =
+          boxAlong(v[0]).min(boxAlong(v[1])).min(boxAlong(v[2])) - h.head<kBoxPlanes>();
+      raise(gb, 0, limit, &lb, &tri_hint);
+      return lb;
+    }
     const int end = tight ? count : facet_begin;
     for (int b = 0; b < end; b += kPlaneBlock) {
       const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
@@ -190,18 +209,25 @@ struct ShapePlanes {
     return nx.segment<kPlaneBlock>(b) * p.x() + ny.segment<kPlaneBlock>(b) * p.y() +
            nz.segment<kPlaneBlock>(b) * p.z();
   }
+  /// n . p for a box's six face planes.
+  BoxBlock boxAlong(const Eigen::Vector3d& p) const {
+    return nx.head<kBoxPlanes>() * p.x() + ny.head<kBoxPlanes>() * p.y() +
+           nz.head<kBoxPlanes>() * p.z();
+  }
   /// Raises *lb to the largest gap of block gb (the planes from b); true when it is now above
   /// `limit`, with *hint naming a plane of the block that is above it.
-  static bool raise(const Block& gb, int b, double limit, double* lb, int* hint) {
+  template <class B>
+  static bool raise(const B& gb, int b, double limit, double* lb, int* hint) {
     *lb = std::max(*lb, gb.maxCoeff());
     if (!(*lb > limit)) return false;
     *hint = b + firstAbove(gb, limit);
     return true;
   }
   /// Index in `gb` of the first gap above `limit` (one exists).
-  static int firstAbove(const Block& gb, double limit) {
+  template <class B>
+  static int firstAbove(const B& gb, double limit) {
     int i = 0;
-    while (i + 1 < kPlaneBlock && !(gb(i) > limit)) ++i;
+    while (i + 1 < gb.size() && !(gb(i) > limit)) ++i;
     return i;
   }
 };
