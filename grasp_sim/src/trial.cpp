@@ -40,7 +40,7 @@ Trial::Trial(const SimModel& model, const Pose& initial)
   p0_ = palm_.translation();
   a_ = (palm_.linear() * m_.hand.approachAxis()).normalized();
   q_ = m_.hand.preshape();
-  lp_ = m_.hand.linkPoses(q_);
+  m_.hand.linkPoses(q_, &lp_);
   dist_.assign(m_.hand.links().size(), kInf);
 }
 

@@ -41,7 +41,7 @@ Eigen::VectorXd Trial::advance(const Eigen::VectorXd& from, double dt) const {
 // links it may collide with; returns the minimum. While the hand shifts, the links that do not
 // close (and the held jaw) count from their floor (evalStill).
 double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
-  lp_ = m_.hand.linkPoses(qq);
+  m_.hand.linkPoses(qq, &lp_);
   Eigen::Isometry3d pm = palm_;
   const bool shifting = shift_group_ >= 0;
   if (shifting) pm.translation() += dt * shift_vel_;
@@ -124,7 +124,7 @@ void Trial::close() {
     }
     closingStep();
   }
-  lp_ = m_.hand.linkPoses(q_);
+  m_.hand.linkPoses(q_, &lp_);
 }
 
 // One coarse closing step: no point of a moving link moves more than half its thickness (or
@@ -213,7 +213,7 @@ void Trial::bisectStep(double dt, double rate, std::vector<int>* touching) {
     if (dist_lo[u] <= tol_ || (!touching_lo && dist_hi[u] < 0.0)) touching->push_back(l);
   }
   if (shift_group_ >= 0) dist_ = dist_lo;  // the state kept (settleStopped reads it)
-  lp_ = m_.hand.linkPoses(q_);
+  m_.hand.linkPoses(q_, &lp_);
 }
 
 // The contacts each contact-stopped closing joint presses: the closest hit of its stopping link
@@ -307,7 +307,7 @@ void Trial::squeeze() {
     const Eigen::VectorXd q_contact = q_;
     applySqueeze(m_.hand, palm_, lp_, pressing, m_.squeeze, &q_);
     limitSqueeze(q_contact);
-    lp_ = m_.hand.linkPoses(q_);
+    m_.hand.linkPoses(q_, &lp_);
   }
   if (m_.opt.profile) st_.close_seconds = lap();
 }

@@ -153,20 +153,24 @@ Eigen::VectorXd HandModel::allJointValues(const Eigen::VectorXd& q) const {
   return all;
 }
 
-std::vector<Eigen::Isometry3d> HandModel::linkPoses(const Eigen::VectorXd& q_in) const {
-  if (q_in.size() != static_cast<Eigen::Index>(actuated_.size()))
-    throw Error("hand '" + name_ + "': joint vector has " + std::to_string(q_in.size()) +
+std::vector<Eigen::Isometry3d> HandModel::linkPoses(const Eigen::VectorXd& q) const {
+  std::vector<Eigen::Isometry3d> poses;
+  linkPoses(q, &poses);
+  return poses;
+}
+
+void HandModel::linkPoses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>* out) const {
+  if (q.size() != static_cast<Eigen::Index>(actuated_.size()))
+    throw Error("hand '" + name_ + "': joint vector has " + std::to_string(q.size()) +
                 " values, expected " + std::to_string(actuated_.size()) + " (jointNames())");
-  Eigen::VectorXd q = q_in;
-  for (Eigen::Index i = 0; i < q.size(); ++i)
-    q[i] =
-        std::clamp(q[i], lower_[static_cast<std::size_t>(i)], upper_[static_cast<std::size_t>(i)]);
-  std::vector<Eigen::Isometry3d> poses(links_.size(), Eigen::Isometry3d::Identity());
+  std::vector<Eigen::Isometry3d>& poses = *out;
+  poses.assign(links_.size(), Eigen::Isometry3d::Identity());
   // Root-frame poses; joints_ lists parents before children.
   for (const HandJoint& jt : joints_) {
     Eigen::Isometry3d t = poses[static_cast<std::size_t>(jt.parent_link)] * jt.origin;
     if (jt.driver >= 0) {
-      const double v = jt.multiplier * q[jt.driver] + jt.offset;
+      const auto d = static_cast<std::size_t>(jt.driver);
+      const double v = jt.multiplier * std::clamp(q[jt.driver], lower_[d], upper_[d]) + jt.offset;
       if (jt.type == JointType::kRevolute)
         t.rotate(Eigen::AngleAxisd(v, jt.axis));
       else if (jt.type == JointType::kPrismatic)
@@ -174,8 +178,9 @@ std::vector<Eigen::Isometry3d> HandModel::linkPoses(const Eigen::VectorXd& q_in)
     }
     poses[static_cast<std::size_t>(jt.child_link)] = t;
   }
+  // The palm frame is often the root's: the product with the identity changes nothing.
+  if (palm_from_root_.matrix() == Eigen::Matrix4d::Identity()) return;
   for (auto& p : poses) p = palm_from_root_ * p;
-  return poses;
 }
 
 }  // namespace taskmap

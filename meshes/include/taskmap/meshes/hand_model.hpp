@@ -157,6 +157,8 @@ class HandModel {
   /// Pose of every link (links() order) in the palm frame for actuated joint values q
   /// (jointNames() order; values are clamped to the limits). Throws Error on a size mismatch.
   std::vector<Eigen::Isometry3d> linkPoses(const Eigen::VectorXd& q) const;
+  /// linkPoses(q) into *poses (resized to links().size(); no allocation once it has that size).
+  void linkPoses(const Eigen::VectorXd& q, std::vector<Eigen::Isometry3d>* poses) const;
   /// Values of every URDF joint (joints() order) for actuated values q (not clamped).
   Eigen::VectorXd allJointValues(const Eigen::VectorXd& q) const;
   /// For each link, the actuated joints (jointNames() indices) that move it relative to the palm.
