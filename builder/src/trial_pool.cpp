@@ -32,37 +32,47 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
   return o;
 }
 
+// A block is simulated, then scored: each stage then runs on caches its previous trial left
+// warm (the quality of a many-contact grasp touches megabytes, which would evict the object's
+// tree between two simulations). Outcomes do not depend on the order.
 void Worker::run() {
   std::uint64_t b = 0;
+  std::vector<GraspResult> simulated;
   while (scheduler.claim(&b)) {
     auto block = std::make_unique<TrialBlock>();
     const std::uint64_t first = scheduler.blockFirst(b);
     const std::uint64_t last = scheduler.blockLast(b);
     block->first = first;
     block->trials.reserve(last - first);
+    simulated.clear();
     for (std::uint64_t i = first; i < last; ++i) {
       // An incomplete block is dropped.
       if ((stop != nullptr && stop->load()) || scheduler.aborted()) return;
-      block->trials.push_back(runTrial(i));
+      simulated.push_back(simulateTrial(i));
     }
+    for (GraspResult& g : simulated) block->trials.push_back(scoreTrial(std::move(g)));
     scheduler.finish(b, std::move(block));
   }
 }
 
-TrialOutcome Worker::runTrial(std::uint64_t index) {
-  TrialOutcome t;
+GraspResult Worker::simulateTrial(std::uint64_t index) {
   const double t0 = threadCpuSeconds();
   const Pose initial = sampler.sample(options.seed, index);
   const double t1 = threadCpuSeconds();
   GraspResult g = simulator.simulate(initial);
-  const double t2 = threadCpuSeconds();
   times.sampling += t1 - t0;
-  times.simulation += t2 - t1;
+  times.simulation += threadCpuSeconds() - t1;
   ++times.trials;
+  return g;
+}
+
+TrialOutcome Worker::scoreTrial(GraspResult g) {
+  TrialOutcome t;
   t.status = g.status;
   if (g.status != GraspStatus::kOk) return t;
+  const double t0 = threadCpuSeconds();
   const QualityResult q = evaluateGrasp(g.contacts, com, torque_scale, options.quality);
-  times.quality += threadCpuSeconds() - t2;
+  times.quality += threadCpuSeconds() - t0;
   t.force_closure = q.force_closure;
   t.epsilon = q.epsilon;
   t.volume = q.volume;

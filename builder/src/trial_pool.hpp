@@ -1,8 +1,9 @@
 #pragma once
 // The trial pool of a build (private to builder): worker threads claim fixed blocks of trial
-// indices, run each trial (sample, simulate, score) and hand the finished block to a Scheduler
-// that keeps blocks by index and stops when the completed prefix holds valid_target
-// force-closure grasps. Results depend only on (seed, trial index), never on the thread count.
+// indices, sample and simulate a block's trials, then score them, and hand the finished block
+// to a Scheduler that keeps blocks by index and stops when the completed prefix holds
+// valid_target force-closure grasps. Results depend only on (seed, trial index), never on the
+// thread count.
 
 #include <algorithm>
 #include <atomic>
@@ -132,7 +133,10 @@ struct Worker {
   StageTimes times;
 
   void run();
-  TrialOutcome runTrial(std::uint64_t index);
+  /// Samples and simulates trial `index`.
+  GraspResult simulateTrial(std::uint64_t index);
+  /// Scores a simulated trial (the quality of an ok grasp) into its outcome.
+  TrialOutcome scoreTrial(GraspResult g);
 };
 
 /// Everything runTrialPool needs.

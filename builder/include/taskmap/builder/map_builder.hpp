@@ -36,7 +36,9 @@ struct BuildOptions {
   int threads = 0;                    ///< worker threads; 0 = all cores
   bool keep_invalid = false;          ///< store every completed (status ok) trial, not only FC
   bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)
-  std::uint64_t block_size = 16;      ///< trials per work block (>= 1); does not change results
+  /// Trials per work block (>= 1): a worker simulates a block, then scores it. Does not change
+  /// results.
+  std::uint64_t block_size = 16;
   /// Extra entries for /sampling params_json (a JSON object, e.g. file paths), merged in.
   std::string extra_params_json = "{}";
   /// Throws Error naming the option when a value is out of range.
