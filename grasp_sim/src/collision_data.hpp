@@ -189,9 +189,11 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
 /// triangle test, GJK only where the baseline's result depends on it. With `sat_depths`, shapes
 /// with ShapeEntry::sat_depths take their exact hits from boxTrianglePenetration instead (not bit
 /// for bit: see GraspSimOptions::separating_axis_contacts).
+/// With `seen` (a link of one box): what its overlap walk saw (SeenTriangles).
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
-                       std::vector<TriangleHit>* hits, bool sat_depths = false);
+                       std::vector<TriangleHit>* hits, bool sat_depths = false,
+                       SeenTriangles* seen = nullptr);
 
 /// Smallest signed distance over the exact hits of the link (queryLinkBullet with `exact`)
 /// that pass `filter` (all when null); +inf when none; with `hit`, the first such hit in
@@ -199,6 +201,12 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
 double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                         const Eigen::Isometry3d& t, double threshold, const FacingFilter* filter,
                         TriangleHit* hit);
+/// queryLinkNearest of a link of one box from what its overlap walk at the same pose and
+/// threshold saw (`seen` complete): the same answer (lean_query.cpp).
+double queryLinkNearestSeen(const CollisionScene::Data& d, const ShapeEntry& e,
+                            const Eigen::Isometry3d& ts, double threshold,
+                            const FacingFilter* filter, TriangleHit* hit,
+                            const SeenTriangles& seen);
 /// True when some triangle within `threshold` of a shape of the link at pose `t` is penetrated
 /// deeper than `depth` with a separation direction within acos(min_agreement) of its face
 /// normal: the same answer as scanning queryLinkBullet's exact hits (lean_query.cpp).

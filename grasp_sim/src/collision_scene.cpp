@@ -190,6 +190,19 @@ double CollisionScene::linkDistance(int link, const Eigen::Isometry3d& t, double
                   : queryLinkBullet(d, entries, t, threshold, false, nullptr);
 }
 
+double CollisionScene::linkDistance(int link, const Eigen::Isometry3d& t, double threshold,
+                                    SeenTriangles* seen) const {
+  const Data& d = *d_;
+  const auto& entries = d.links[static_cast<std::size_t>(link)];
+  if (!d.culled) {
+    seen->complete = false;
+    return queryLinkBullet(d, entries, t, threshold, false, nullptr);
+  }
+  const double dist = queryLinkCulled(d, entries, t, threshold, false, nullptr, false, seen);
+  seen->link = link;
+  return dist;
+}
+
 double CollisionScene::linkHits(int link, const Eigen::Isometry3d& t, double threshold,
                                 std::vector<TriangleHit>* hits) const {
   const Data& d = *d_;
@@ -228,6 +241,18 @@ double CollisionScene::linkNearest(int link, const Eigen::Isometry3d& t, double 
     return best->distance;
   }
   return queryLinkNearest(d, d.links[static_cast<std::size_t>(link)], t, threshold, filter, hit);
+}
+
+double CollisionScene::linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
+                                   const FacingFilter* filter, TriangleHit* hit,
+                                   const SeenTriangles& seen) const {
+  const Data& d = *d_;
+  const auto& entries = d.links[static_cast<std::size_t>(link)];
+  // A link of one box (its walk was recorded): the shape the walk asked about.
+  if (!seen.complete || seen.link != link || seen.threshold != threshold ||
+      seen.pose.matrix() != t.matrix() || entries.size() != 1)
+    return linkNearest(link, t, threshold, filter, hit);
+  return queryLinkNearestSeen(d, entries[0], t * entries[0].origin, threshold, filter, hit, seen);
 }
 
 bool CollisionScene::linkInside(int link, const Eigen::Isometry3d& t) const {

@@ -40,6 +40,25 @@ struct FacingFilter {
   }
 };
 
+/// What the overlap question of a link of one box saw (CollisionScene::linkDistance with
+/// `seen`): every triangle the separating axes put within the threshold, with its gap and leaf
+/// node, from a walk that met no overlap (`complete`; also when the link is beyond the object's
+/// box: none). Every hit linkNearest could report at the same pose and threshold is among them,
+/// so it reads them instead of searching the tree.
+struct SeenTriangles {
+  /// One triangle within the threshold.
+  struct Near {
+    double gap;    ///< separating-axis gap, metres (a lower bound of the distance)
+    int triangle;  ///< index in the mesh
+    int node;      ///< its leaf in Bullet's tree
+  };
+  bool complete = false;                                   ///< `near` holds every such triangle
+  int link = -1;                                           ///< the link asked about
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the link's pose, object frame
+  double threshold = 0.0;                                  ///< the question's, metres
+  std::vector<Near> near;                                  ///< by gap, then triangle
+};
+
 /// Returned by CollisionScene::linkDistance for an overlapping link (depth not computed).
 constexpr double kOverlapping = -1e-300;
 
@@ -73,6 +92,10 @@ class CollisionScene {
   /// lower bound of the link's penetration depth (the box-triangle SAT depth of the first
   /// overlapping triangle, or kOverlapping when unknown). Use linkHits for exact depths.
   double linkDistance(int link, const Eigen::Isometry3d& t, double threshold) const;
+  /// linkDistance, recording in *seen what a link of one box saw (seen->complete false for
+  /// other links and when the walk stopped at an overlap).
+  double linkDistance(int link, const Eigen::Isometry3d& t, double threshold,
+                      SeenTriangles* seen) const;
   /// Like linkDistance but exact: every triangle within `threshold` is appended to `hits`
   /// with its signed distance (EPA depth when penetrating; when the scene was built with
   /// separating_axis_contacts, the 13-axis depth for boxes and the face depth for hulls where
@@ -90,6 +113,10 @@ class CollisionScene {
   /// with that distance (unchanged when none).
   double linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
                      const FacingFilter* filter, TriangleHit* hit = nullptr) const;
+  /// linkNearest, the same answer; from `seen` instead of the tree when it is complete and was
+  /// recorded for this link at the same pose (bit for bit) and threshold.
+  double linkNearest(int link, const Eigen::Isometry3d& t, double threshold,
+                     const FacingFilter* filter, TriangleHit* hit, const SeenTriangles& seen) const;
   /// True when some shape of `link` at pose `t` lies wholly inside the object (ray parity from
   /// the shape's centre); call only for links that touch no triangle.
   bool linkInside(int link, const Eigen::Isometry3d& t) const;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -27,7 +28,8 @@ constexpr double kInsideSlack = 1e-6;
 /// rejected subtree by its escape index), with our node test on inner nodes: leaves come in
 /// Bullet's order. A leaf's box is not tested: `leaf(triangle)` must begin with a test on the
 /// triangle that rejects whatever its box would (ShapePlanes::bound: the triangle lies in its
-/// box, so every plane puts it at least as far). `leaf` returns false to stop. (Bullet's
+/// box, so every plane puts it at least as far). `leaf` returns false to stop; it may take the
+/// leaf's node index as a second argument. (Bullet's
 /// accessors are non-const; nothing is changed.)
 template <class Accept, class Leaf>
 void walkInBulletOrder(const CollisionScene::Data& d, const Accept& accept, const Leaf& leaf) {
@@ -38,7 +40,11 @@ void walkInBulletOrder(const CollisionScene::Data& d, const Accept& accept, cons
   while (cur < end) {
     const btQuantizedBvhNode& n = nodes[cur];
     if (n.isLeafNode()) {
-      if (!leaf(n.getTriangleIndex())) return;
+      if constexpr (std::is_invocable_v<Leaf, int, int>) {
+        if (!leaf(n.getTriangleIndex(), cur)) return;
+      } else {
+        if (!leaf(n.getTriangleIndex())) return;
+      }
       ++cur;
     } else {
       const auto& box = d.node_boxes[static_cast<std::size_t>(cur)];

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <LinearMath/btConvexHullComputer.h>
 
@@ -262,13 +263,15 @@ void hullOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Tria
 /// triangle the kept ones are all the baseline runs GJK on: their minimum distance is found
 /// nearest gap first, stopping where the gap exceeds the best distance (GJK distances are >= the
 /// gap).
-void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q) {
-  thread_local std::vector<std::pair<double, int>> kept;  // (gap, triangle), Bullet's order
+/// With `seen`, the kept triangles of a walk without a proof are recorded (by gap).
+void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery* q,
+                     SeenTriangles* seen) {
+  thread_local std::vector<std::tuple<double, int, int>> kept;  // (gap, triangle, leaf node)
   kept.clear();
   int proof = -1;
   walkInBulletOrder(
       d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
-      [&](int tri) {
+      [&](int tri, int node) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         if (pl.bound(v) > pl.cut) return true;
         const btVector3 corners[3] = {bt(v[0]), bt(v[1]), bt(v[2])};
@@ -279,16 +282,21 @@ void boxOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Trian
           proof = tri;
           return false;
         }
-        kept.emplace_back(gap, tri);
+        kept.emplace_back(gap, tri, node);  // Bullet's order
         return true;
       });
   if (proof >= 0) {
-    for (const auto& [gap, tri] : kept) runTriangle(d, tri, q);  // no-op after an overlap
+    for (const auto& k : kept) runTriangle(d, std::get<1>(k), q);  // no-op after an overlap
     runTriangle(d, proof, q);
     return;
   }
-  std::sort(kept.begin(), kept.end());
-  for (const auto& [gap, tri] : kept) {
+  std::sort(kept.begin(), kept.end());  // by gap, then triangle (each in one leaf)
+  if (seen) {
+    seen->near.clear();
+    for (const auto& [gap, tri, node] : kept) seen->near.push_back({gap, tri, node});
+    seen->complete = true;
+  }
+  for (const auto& [gap, tri, node] : kept) {
     if (q->overlap_found || gap > q->min_distance + kCullSlack) break;
     runTriangle(d, tri, q);
   }
@@ -336,12 +344,27 @@ void boxProofQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Triangl
 
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,
-                       std::vector<TriangleHit>* hits, bool sat_depths) {
+                       std::vector<TriangleHit>* hits, bool sat_depths, SeenTriangles* seen) {
   thread_local ShapePlanes pl;
+  if (seen) {
+    seen->complete = false;
+    seen->link = -1;
+    seen->pose = t;
+    seen->threshold = threshold;
+    if (entries.size() != 1 || !entries[0].is_box || !d.culled_boxes || exact ||
+        threshold > kOneWalkThreshold)
+      seen = nullptr;  // only a link of one box's overlap walk is recorded
+  }
   double best = kInf;
   for (const ShapeEntry& e : entries) {
     const Eigen::Isometry3d ts = t * e.origin;
-    if (beyondObjectBox(d, e, ts, threshold)) continue;
+    if (beyondObjectBox(d, e, ts, threshold)) {
+      if (seen) {  // nothing within reach
+        seen->near.clear();
+        seen->complete = true;
+      }
+      continue;
+    }
     if (!e.is_hull && !d.culled_boxes) {
       best = std::min(best, queryShapeBullet(d, e, ts, threshold, exact, hits));
       if (!exact && best < 0.0) break;
@@ -353,7 +376,7 @@ double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEnt
     e.shape->getAabb(q.xf, amin, amax);
     pl.set(e, ts, amin, amax, threshold);
     if (!exact && e.is_box && threshold <= kOneWalkThreshold) {
-      boxOverlapQuery(d, pl, &q);
+      boxOverlapQuery(d, pl, &q, seen);
     } else if (!exact && e.is_box) {
       boxProofQuery(d, pl, &q);
     } else if (!exact && e.is_hull) {

@@ -146,6 +146,28 @@ double queryLinkNearest(const CollisionScene::Data& d, const std::vector<ShapeEn
   return best.distance;
 }
 
+// The triangles nearestOfShape could report are within the threshold by their gap, so among
+// `seen`; by gap order, a triangle whose gap exceeds the best distance + 1e-9 m ends the scan
+// (GJK's distance is at least the gap; the rest lie farther), as it is skipped there; the rest
+// go through the same exact TriangleQuery, and the best is kept with the same key.
+double queryLinkNearestSeen(const CollisionScene::Data& d, const ShapeEntry& e,
+                            const Eigen::Isometry3d& ts, double threshold, const FacingFilter* f,
+                            TriangleHit* hit, const SeenTriangles& seen) {
+  NearestHit best;
+  best.hit = hit;
+  thread_local std::vector<TriangleHit> hits;
+  TriangleQuery q = makeTriangleQuery(e, ts, threshold, true, &hits);
+  for (const SeenTriangles::Near& n : seen.near) {
+    if (n.gap > best.distance + kCullSlack) break;
+    if (f && !f->faces(d.normals[static_cast<std::size_t>(n.triangle)])) continue;
+    hits.clear();
+    runTriangle(d, n.triangle, &q);
+    for (const TriangleHit& h : hits)
+      if (passes(d, h, f)) best.offer(h, {0, n.node});
+  }
+  return best.distance;
+}
+
 bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                      const Eigen::Isometry3d& t, double threshold, double depth,
                      double min_agreement) {

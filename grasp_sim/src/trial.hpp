@@ -4,6 +4,7 @@
 //   retract -> placePalm -> close -> squeeze -> collectContacts -> judge.
 // A step that ends the trial early sets the status and returns false.
 
+#include <array>
 #include <chrono>
 #include <string>
 #include <utility>
@@ -109,7 +110,13 @@ class Trial {
   std::vector<int> mov_;   // links moved by an active closing joint
   std::vector<int> eval_;  // links evaluated per step: mov_, or every shaped link while shifting
   std::vector<Eigen::Isometry3d> world_;
-  std::vector<Eigen::Vector3d> centre_;        // evalMoving: each link's bounding sphere's centre
+  std::vector<Eigen::Vector3d> centre_;  // evalMoving: each link's bounding sphere's centre
+  // Lean queries: per link, what its last kSeen closing evaluations saw (a ring; the squeeze's
+  // contacts read the one at the pose where the link stopped) and the next slot.
+  static constexpr std::size_t kSeen = 8;
+  std::vector<std::array<SeenTriangles, kSeen>>* seen_ = nullptr;
+  std::vector<std::size_t> seen_next_;
+  const SeenTriangles* seenAt(int link, const Eigen::Isometry3d& pose) const;
   std::vector<std::vector<int>> press_extra_;  // per closing joint: more links to squeeze
   // Coupled closing: the group shifting the hand (-1: none), the touching link it holds in place
   // (and its finger), the contact point in that link's frame, the palm velocity per unit

@@ -56,7 +56,13 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     if (shifting && heldLink(l)) continue;
     const auto u = static_cast<std::size_t>(l);
     const Eigen::Isometry3d& tl = world_[u];
-    double d = m_.scene->linkDistance(l, tl, tol_);
+    double d = 0.0;
+    if (m_.lean_queries) {
+      SeenTriangles& slot = (*seen_)[u][seen_next_[u]++ % kSeen];
+      d = m_.scene->linkDistance(l, tl, tol_, &slot);
+    } else {
+      d = m_.scene->linkDistance(l, tl, tol_);
+    }
     ++st_.queries;
     if (m_.opt.check_self_collision)
       for (int o : m_.partners[u]) {
@@ -109,6 +115,13 @@ void Trial::close() {
   }
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
   centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
+  // The rings live per thread (their vectors keep their capacity from trial to trial).
+  thread_local std::vector<std::array<SeenTriangles, kSeen>> seen;
+  seen.resize(std::max(seen.size(), m_.hand.links().size()));
+  for (auto& ring : seen)
+    for (auto& s : ring) s.complete = false;
+  seen_ = &seen;
+  seen_next_.assign(m_.hand.links().size(), 0);
   refreshMoving();
   evalMoving(q_);
   std::vector<int> touching;
@@ -234,9 +247,13 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
       facing.min_agreement = kMinNormalAgreement;
       TriangleHit best;
       ++st_.queries;
-      if (!(scene.linkNearest(l, palm_ * lp_[static_cast<std::size_t>(l)], tol_, &facing, &best) <
-            kInf))
-        continue;
+      const Eigen::Isometry3d pose = palm_ * lp_[static_cast<std::size_t>(l)];
+      // Where the link stopped a closing evaluation saw its triangles within tol_ (lean
+      // queries): the same answer without a tree search.
+      const SeenTriangles* seen = seenAt(l, pose);
+      const double gap = seen ? scene.linkNearest(l, pose, tol_, &facing, &best, *seen)
+                              : scene.linkNearest(l, pose, tol_, &facing, &best);
+      if (!(gap < kInf)) continue;
       SqueezeContact sc;
       sc.joint = closing[c].joint;
       sc.link = l;
@@ -249,6 +266,16 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
     }
   }
   return pressing;
+}
+
+// The complete record of a closing evaluation of `link` at `pose` (bit for bit) and tol_, or
+// null.
+const SeenTriangles* Trial::seenAt(int link, const Eigen::Isometry3d& pose) const {
+  if (!seen_) return nullptr;
+  for (const SeenTriangles& s : (*seen_)[static_cast<std::size_t>(link)])
+    if (s.complete && s.link == link && s.threshold == tol_ && s.pose.matrix() == pose.matrix())
+      return &s;
+  return nullptr;
 }
 
 // True when a squeezed link at joint values qq presses a facing triangle deeper than `limit`.

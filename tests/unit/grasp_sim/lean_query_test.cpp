@@ -1,8 +1,9 @@
 // The lean exact queries (grasp_sim/src/lean_query.cpp) against their oracle, Bullet's BVH
 // query with every exact hit (CollisionScene::Mode::kBullet) scanned in full: the nearest hit
 // (all, or those facing a direction; its distance, or the whole first hit of that distance),
-// the deep-press test, the penetrating-only hits and the
-// shrinking thresholds of conservative advancement give the same answers bit for bit.
+// the deep-press test, the penetrating-only hits, the nearest hit from what an overlap question
+// saw, and the shrinking thresholds of conservative advancement give the same answers bit for
+// bit.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -40,7 +41,7 @@ bool deeperByScan(const std::vector<TriangleHit>& hits, const CollisionScene& s,
 }
 
 struct Counts {
-  int deep = 0, shallow = 0, filtered = 0, penetrating = 0, nearest_hits = 0;
+  int deep = 0, shallow = 0, filtered = 0, penetrating = 0, nearest_hits = 0, seen_hits = 0;
 };
 
 /// Every lean query of link `link` at pose `t` against the scan of the baseline's hits.
@@ -106,6 +107,53 @@ void compareLink(const CollisionScene& lean, const CollisionScene& base, int lin
   c->penetrating += !expect_pen.empty();
 }
 
+/// The squeeze's contact (the nearest hit on a facing triangle, any direction) and a facing
+/// filter's nearest distance, from what the overlap question at the same pose saw (a link of
+/// one box whose walk met no overlap), against the scan of the baseline's hits; another pose
+/// falls back to the tree.
+void compareSeen(const CollisionScene& lean, const CollisionScene& base, int link,
+                 const Eigen::Isometry3d& t, Rng& rng, Counts* c) {
+  SeenTriangles seen;
+  ASSERT_EQ(lean.linkDistance(link, t, kTol, &seen), lean.linkDistance(link, t, kTol));
+  if (!seen.complete) return;
+  std::vector<TriangleHit> all;
+  base.linkHits(link, t, kTol, &all);
+  FacingFilter f;
+  f.any_direction = true;
+  const TriangleHit* first = nullptr;
+  for (const TriangleHit& h : all)
+    if (h.normal.dot(base.faceNormal(h.triangle)) >= 0.5 &&
+        (!first || h.distance < first->distance))
+      first = &h;
+  TriangleHit got;
+  const double d = lean.linkNearest(link, t, kTol, &f, &got, seen);
+  ASSERT_EQ(d, first ? first->distance : kInf);
+  if (first) {
+    EXPECT_EQ(got.triangle, first->triangle);
+    EXPECT_EQ(got.point, first->point);
+    EXPECT_EQ(got.normal, first->normal);
+    c->seen_hits += 1;
+  }
+  FacingFilter g;
+  g.away = V(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)).normalized();
+  ASSERT_EQ(lean.linkNearest(link, t, kTol, &g, nullptr, seen), nearestByScan(all, base, &g));
+  Eigen::Isometry3d moved = t;
+  moved.translation().x() += 1e-4;
+  ASSERT_EQ(lean.linkNearest(link, moved, kTol, &f, nullptr, seen),
+            lean.linkNearest(link, moved, kTol, &f));
+}
+
+/// Link `link` at `t` moved toward its nearest triangle (within 2 cm) to about kTol / 2 from it:
+/// where the squeeze asks (a link stopped within the tolerance). `t` when nothing is that near.
+Eigen::Isometry3d nearTouch(const CollisionScene& lean, int link, const Eigen::Isometry3d& t) {
+  TriangleHit h;
+  const double d = lean.linkNearest(link, t, 0.02, nullptr, &h);
+  if (!(d > kTol && d < 0.02)) return t;
+  Eigen::Isometry3d out = t;
+  out.translation() -= (d - 0.5 * kTol) * h.normal;
+  return out;
+}
+
 /// Conservative advancement (Trial::evalNearest): each link asked within the smallest distance
 /// found so far (+1e-9, at least kTol, at most `far`) gives the minimum over the links at `far`
 /// and every distance <= kTol unchanged.
@@ -151,6 +199,7 @@ TEST(LeanQueries, MatchTheScanOfEveryExactHit) {
         for (int l : links) {
           SCOPED_TRACE("link " + std::to_string(l));
           ASSERT_NO_FATAL_FAILURE(compareLink(lean, base, l, t, rng, &c));
+          ASSERT_NO_FATAL_FAILURE(compareSeen(lean, base, l, nearTouch(lean, l, t), rng, &c));
         }
         Eigen::Isometry3d away = t;  // the same hand backed off: a free pose to advance from
         away.translation() += 0.01 * t.linear().col(2);
@@ -162,6 +211,9 @@ TEST(LeanQueries, MatchTheScanOfEveryExactHit) {
       EXPECT_GT(c.filtered, 5);
       EXPECT_GT(c.penetrating, 5);
       EXPECT_GT(c.nearest_hits, 5);
+      if (hand_path.find("hull_palm") == std::string::npos) {
+        EXPECT_GT(c.seen_hits, 5);
+      }
     }
   }
 }
