@@ -117,8 +117,8 @@ struct Rate {
 };
 
 /// Runs trials 0, 1, ... until `seconds` have passed (at least `min_trials`; exactly
-/// `exact_trials` when > 0). As a build does (BuildOptions::block_size 16), trials run in blocks
-/// of 16: a block is simulated, then its ok grasps are scored (with `quality`); only the
+/// `exact_trials` when > 0). As a build does (BuildOptions::block_size), trials run in blocks
+/// (`block_size`): a block is simulated, then its ok grasps are scored (with `quality`); only the
 /// simulation is timed for trials/s. Initial poses of trials 0, 1, ... drawn on demand (seed 1),
 /// shared by both modes.
 struct Poses {
@@ -131,14 +131,13 @@ struct Poses {
 };
 
 Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
-         std::size_t min_trials, bool quality, std::size_t exact_trials) {
-  constexpr std::size_t kBlock = 16;
+         std::size_t min_trials, bool quality, std::size_t exact_trials, std::size_t block_size) {
   Rate r;
   double sim_s = 0.0, quality_s = 0.0;
   int valid = 0;
   const auto t_end = Clock::now() + std::chrono::duration<double>(seconds);
   // No time given (--baseline-seconds 0): just the minimum, in one block.
-  const std::size_t block = seconds > 0.0 || exact_trials > 0 ? kBlock : min_trials;
+  const std::size_t block = seconds > 0.0 || exact_trials > 0 ? block_size : min_trials;
   for (std::size_t i = 0; i < 1000000; i += block) {
     if (exact_trials > 0 ? i >= exact_trials : (i >= min_trials && Clock::now() > t_end)) break;
     const std::size_t n = exact_trials > 0 ? std::min(block, exact_trials - i) : block;
@@ -232,6 +231,7 @@ struct BenchOptions {
   bool profile = false;            ///< phase shares of the new path
   bool quality = true;             ///< score the ok grasps (valid/s); off: simulation only
   std::size_t trials = 0;          ///< > 0: exactly this many trials per mode (not `seconds`)
+  std::size_t block = 64;          ///< trials simulated before their grasps are scored (as a build)
   bool digest = false;             ///< print a digest of the new path's results
 };
 
@@ -249,9 +249,9 @@ void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
   base.culled_queries = false;
   fast.profile = profile;
   const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
-  const Rate rn = run(sim_new, object, poses, seconds, 32, bo.quality, bo.trials);
+  const Rate rn = run(sim_new, object, poses, seconds, 32, bo.quality, bo.trials, bo.block);
   const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1,
-                      bo.quality, baseline_seconds > 0 ? bo.trials : 0);
+                      bo.quality, baseline_seconds > 0 ? bo.trials : 0, bo.block);
   std::size_t n = std::min(rn.results.size(), ro.results.size()), agree = 0, exact = 0, ok = 0;
   for (std::size_t i = 0; i < n; ++i) {
     agree += sameGrasp(rn.results[i], ro.results[i]);
@@ -289,12 +289,15 @@ int mainImpl(int argc, char** argv) {
       bo.quality = std::string(argv[i + 1]) != "0";
     else if (a == "--trials")
       bo.trials = static_cast<std::size_t>(std::stoul(argv[i + 1]));
+    else if (a == "--block")
+      bo.block = std::max<std::size_t>(1, std::stoul(argv[i + 1]));
     else if (a == "--digest")
       bo.digest = std::string(argv[i + 1]) == "1";
     else
       throw Error(
           "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
-          "[--baseline-seconds S] [--profile 1] [--quality 0] [--trials N] [--digest 1]");
+          "[--baseline-seconds S] [--profile 1] [--quality 0] [--trials N] [--digest 1] [--block "
+          "N]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;

@@ -38,7 +38,7 @@ struct BuildOptions {
   bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)
   /// Trials per work block (>= 1): a worker simulates a block, then scores it. Does not change
   /// results.
-  std::uint64_t block_size = 16;
+  std::uint64_t block_size = 64;
   /// Extra entries for /sampling params_json (a JSON object, e.g. file paths), merged in.
   std::string extra_params_json = "{}";
   /// Throws Error naming the option when a value is out of range.
