@@ -40,6 +40,17 @@ bool deeperByScan(const std::vector<TriangleHit>& hits, const CollisionScene& s,
   return false;
 }
 
+/// The squeeze's contact by scan: the first of the closest hits whose separation direction is
+/// within 60 degrees of its face normal, null when none.
+const TriangleHit* firstFacingByScan(const std::vector<TriangleHit>& hits,
+                                     const CollisionScene& s) {
+  const TriangleHit* first = nullptr;
+  for (const TriangleHit& h : hits)
+    if (h.normal.dot(s.faceNormal(h.triangle)) >= 0.5 && (!first || h.distance < first->distance))
+      first = &h;
+  return first;
+}
+
 struct Counts {
   int deep = 0, shallow = 0, filtered = 0, penetrating = 0, nearest_hits = 0, seen_hits = 0;
 };
@@ -63,11 +74,7 @@ void compareLink(const CollisionScene& lean, const CollisionScene& base, int lin
   {
     FacingFilter f;
     f.any_direction = true;
-    const TriangleHit* first = nullptr;
-    for (const TriangleHit& h : all)
-      if (h.normal.dot(base.faceNormal(h.triangle)) >= 0.5 &&
-          (!first || h.distance < first->distance))
-        first = &h;
+    const TriangleHit* first = firstFacingByScan(all, base);
     TriangleHit got, got_base;
     const double d = lean.linkNearest(link, t, kTol, &f, &got);
     ASSERT_EQ(base.linkNearest(link, t, kTol, &f, &got_base), d);
@@ -120,11 +127,7 @@ void compareSeen(const CollisionScene& lean, const CollisionScene& base, int lin
   base.linkHits(link, t, kTol, &all);
   FacingFilter f;
   f.any_direction = true;
-  const TriangleHit* first = nullptr;
-  for (const TriangleHit& h : all)
-    if (h.normal.dot(base.faceNormal(h.triangle)) >= 0.5 &&
-        (!first || h.distance < first->distance))
-      first = &h;
+  const TriangleHit* first = firstFacingByScan(all, base);
   TriangleHit got;
   const double d = lean.linkNearest(link, t, kTol, &f, &got, seen);
   ASSERT_EQ(d, first ? first->distance : kInf);
