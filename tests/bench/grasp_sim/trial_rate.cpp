@@ -116,11 +116,7 @@ struct Rate {
   std::vector<GraspResult> results;
 };
 
-/// Runs trials 0, 1, ... until `seconds` have passed (at least `min_trials`; exactly
-/// `exact_trials` when > 0). As a build does (BuildOptions::block_size), trials run in blocks
-/// (`block_size`): a block is simulated, then its ok grasps are scored (with `quality`); only the
-/// simulation is timed for trials/s. Initial poses of trials 0, 1, ... drawn on demand (seed 1),
-/// shared by both modes.
+/// Initial poses of trials 0, 1, ... drawn on demand (seed 1), shared by both modes.
 struct Poses {
   const Sampler& sampler;
   std::vector<Pose> drawn;
@@ -130,6 +126,10 @@ struct Poses {
   }
 };
 
+/// Runs trials 0, 1, ... until `seconds` have passed (at least `min_trials`; exactly
+/// `exact_trials` when > 0). As a build does (BuildOptions::block_size), trials run in blocks
+/// of `block_size`: a block is simulated, then its ok grasps are scored (with `quality`); only
+/// the simulation is timed for trials/s.
 Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, double seconds,
          std::size_t min_trials, bool quality, std::size_t exact_trials, std::size_t block_size) {
   Rate r;
