@@ -249,8 +249,7 @@ double CollisionScene::linkNearest(int link, const Eigen::Isometry3d& t, double 
   const Data& d = *d_;
   const auto& entries = d.links[static_cast<std::size_t>(link)];
   // A link of one box (its walk was recorded): the shape the walk asked about.
-  if (!seen.complete || seen.link != link || seen.threshold != threshold ||
-      seen.pose.matrix() != t.matrix() || entries.size() != 1)
+  if (!seen.answers(link, t, threshold) || entries.size() != 1)
     return linkNearest(link, t, threshold, filter, hit);
   return queryLinkNearestSeen(d, entries[0], t * entries[0].origin, threshold, filter, hit, seen);
 }

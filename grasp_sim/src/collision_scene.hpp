@@ -57,6 +57,12 @@ struct SeenTriangles {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the link's pose, object frame
   double threshold = 0.0;                                  ///< the question's, metres
   std::vector<Near> near;                                  ///< by gap, then triangle
+  /// True when this is the complete record of `link`'s question at `pose` (bit for bit) and
+  /// `threshold`.
+  bool answers(int link_asked, const Eigen::Isometry3d& pose_asked, double threshold_asked) const {
+    return complete && link == link_asked && threshold == threshold_asked &&
+           pose.matrix() == pose_asked.matrix();
+  }
 };
 
 /// Returned by CollisionScene::linkDistance for an overlapping link (depth not computed).

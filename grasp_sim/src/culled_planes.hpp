@@ -61,6 +61,7 @@ struct ShapePlanes {
   using Block = Eigen::Array<double, kPlaneBlock, 1>;
   static constexpr int kBoxPlanes = 6;
   using BoxBlock = Eigen::Array<double, kBoxPlanes, 1>;
+  static_assert(kPlaneBlock >= kBoxPlanes, "a box's faces fill its first block");
   Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
   Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
   // (The columns may be longer than count: entries from count on are stale.)
@@ -82,7 +83,7 @@ struct ShapePlanes {
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
     facet_begin = e.facet_begin;
-    box = e.is_box && count == kPlaneBlock && kPlaneBlock >= kBoxPlanes;
+    box = e.is_box && count == kPlaneBlock;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
     if (nx.size() < count) {
       for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az}) a->resize(count);

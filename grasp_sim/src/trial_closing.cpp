@@ -273,8 +273,7 @@ std::vector<SqueezeContact> Trial::pressingContacts() {
 const SeenTriangles* Trial::seenAt(int link, const Eigen::Isometry3d& pose) const {
   if (!seen_) return nullptr;
   for (const SeenTriangles& s : (*seen_)[static_cast<std::size_t>(link)])
-    if (s.complete && s.link == link && s.threshold == tol_ && s.pose.matrix() == pose.matrix())
-      return &s;
+    if (s.answers(link, pose, tol_)) return &s;
   return nullptr;
 }
 
