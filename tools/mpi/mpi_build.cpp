@@ -161,6 +161,7 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
     return 3;
   }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);
+  validateIfAsked(args, *setup.hand, &result.map, "taskmap-mpi build");
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output, result.map);
   checkpoint.remove();

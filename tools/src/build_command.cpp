@@ -84,6 +84,9 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
+  cmd->add_flag("--validate", args.validate,
+                "label every stored grasp with the physics hold test before writing "
+                "(taskmap validate; docs/VALIDATION.md)");
   cmd->add_flag("--timestamp", args.timestamp,
                 "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
                 "else none, so the same arguments give the same bytes)");

@@ -27,7 +27,14 @@ struct BuildArgs {
   MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
   bool timestamp = false;  ///< store the current time as created_utc
+  bool validate = false;   ///< label the grasps with the physics hold test before writing
 };
+
+/// With --validate: labels the built map's grasps with the physics hold test (validate stage,
+/// docs/VALIDATION.md) on args.threads threads and prints one line about it (unless quiet).
+/// `label` starts the line, e.g. "taskmap build".
+void validateIfAsked(const BuildArgs& args, const HandModel& hand, TaskMapData* map,
+                     const std::string& label);
 
 /// How to load the object: --scale and the repair options.
 MeshLoadOptions meshLoadOptions(const BuildArgs& args);

@@ -82,6 +82,7 @@ void runBuild(const BuildArgs& args) {
     return;
   }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);
+  validateIfAsked(args, hand, &result.map, "taskmap build");
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output,
            result.map);  // signals stay caught: the write is never cut short

@@ -133,6 +133,7 @@ json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job) {
     BuildResult result = buildMap(object, hand, options);
     if (result.status == BuildStatus::kNoGrasps) throw Error(result.message);
     if (plan.args.knobs.timestamp) result.map.created_utc = mapCreationTime(true);
+    validateIfAsked(plan.args.knobs, hand, &result.map, "taskmap dataset");
     const std::string path = (fs::path(plan.dir) / job.file).string();
     writeMap(path, result.map);
     entry["status"] = toString(result.status);

@@ -98,16 +98,20 @@ std::string inertial(const HandLink& link, double density) {
          num(i) + " " + num(i) + " " + num(i) + "\"/>";
 }
 
-/// Cells of a box of half extents h along one axis: ceil(2 h / patch), 1 to 4.
+/// Cells along an extent of 2 h: round(2 h / patch), 1 to 4.
 int cells(double h, double patch) {
   if (patch <= 0.0) return 1;
-  return std::clamp(static_cast<int>(std::ceil(2.0 * h / patch - 1e-9)), 1, 4);
+  return std::clamp(static_cast<int>(std::lround(2.0 * h / patch)), 1, 4);
 }
 
-/// A box as cells of at most `patch` per side (one geom when patch is 0).
+/// A box as cells of about `patch` per side across its two largest extents (the faces a pad
+/// presses with; one geom when patch is 0).
 void boxGeoms(const CollisionShape& s, double patch, std::ostringstream* body, int* geoms) {
   const Eigen::Vector3d h = (0.5 * s.box_size).cwiseMax(kMinSize);
-  const Eigen::Vector3i n(cells(h.x(), patch), cells(h.y(), patch), cells(h.z(), patch));
+  Eigen::Index thin = 0;
+  h.minCoeff(&thin);
+  Eigen::Vector3i n(cells(h.x(), patch), cells(h.y(), patch), cells(h.z(), patch));
+  n[thin] = 1;
   const Eigen::Vector3d c = h.cwiseQuotient(n.cast<double>());  // half extents of a cell
   for (int i = 0; i < n.x(); ++i)
     for (int j = 0; j < n.y(); ++j)

@@ -1,0 +1,79 @@
+// `taskmap validate` and `taskmap build --validate` as a user runs them: labels in the map, the
+// summary and its JSON, the same labels for one and two threads, clear refusals.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_run.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ValidateCliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(::testing::TempDir()) / ("validate_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  /// A small map of the panda jaws on the reference box.
+  std::string buildBoxMap(const std::string& name, const std::string& extra = "") {
+    const auto r = testing::runTaskmap("build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                                       "/box.obj --hand panda --valid 8 --seed 4 -q -o " +
+                                       path(name) + " " + extra);
+    EXPECT_EQ(r.code, 0) << r.out;
+    return path(name);
+  }
+  fs::path dir_;
+};
+
+TEST_F(ValidateCliTest, WritesLabelsAndTheSameForAnyThreadCount) {
+  const std::string map = buildBoxMap("box.h5");
+  const auto one = testing::runTaskmap("validate " + map + " --threads 1 -o " + path("one.h5"));
+  ASSERT_EQ(one.code, 0) << one.out;
+  EXPECT_NE(one.out.find("grasps hold"), std::string::npos) << one.out;
+  EXPECT_NE(one.out.find("grasps per CPU-second"), std::string::npos) << one.out;
+  const auto two =
+      testing::runTaskmap("validate " + map + " --threads 2 --json -o " + path("two.h5"));
+  ASSERT_EQ(two.code, 0) << two.out;
+  const auto j = nlohmann::json::parse(two.out);
+  EXPECT_EQ(j["tested"], 8);
+  EXPECT_GE(j["holding"].get<int>(), 4);  // jaws at 70 N on a 0.1 kg box
+  const TaskMapData a = readMap(path("one.h5")), b = readMap(path("two.h5"));
+  ASSERT_TRUE(a.validation && b.validation);
+  EXPECT_EQ(a.validation->hold, b.validation->hold);
+  EXPECT_EQ(a.validation->translation, b.validation->translation);
+  EXPECT_EQ(j["holding"].get<std::size_t>(), a.validation->holding());
+  EXPECT_FALSE(readMap(map).validation.has_value());  // -o leaves the input alone
+}
+
+TEST_F(ValidateCliTest, BuildValidateLabelsAsItBuilds) {
+  const std::string map = buildBoxMap("labelled.h5", "--validate");
+  const TaskMapData m = readMap(map);
+  ASSERT_TRUE(m.validation);
+  EXPECT_EQ(m.validation->tested(), m.grasps.size());
+}
+
+TEST_F(ValidateCliTest, RefusesWhatIsNotAMapAndAnotherHand) {
+  std::ofstream(path("junk.h5")) << "not a map";
+  const auto junk = testing::runTaskmap("validate " + path("junk.h5"));
+  EXPECT_NE(junk.code, 0);
+  EXPECT_NE(junk.out.find("junk.h5"), std::string::npos) << junk.out;
+  const std::string map = buildBoxMap("box2.h5");
+  const auto hand = testing::runTaskmap("validate " + map + " --hand " +
+                                        std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  EXPECT_NE(hand.code, 0);
+  EXPECT_NE(hand.out.find("actuated joints"), std::string::npos) << hand.out;
+}
+
+}  // namespace
+}  // namespace taskmap
