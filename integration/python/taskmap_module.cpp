@@ -10,6 +10,7 @@
 
 #include "reaching_bindings.hpp"
 #include "trajectory_bindings.hpp"
+#include "validate_bindings.hpp"
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
@@ -230,6 +231,7 @@ PYBIND11_MODULE(taskmap, m) {
 
   bindReaching(m);
   bindTrajectory(m);
+  bindValidate(m);
 
   py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
       .def_static(

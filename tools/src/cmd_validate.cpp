@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -48,6 +49,7 @@ nlohmann::ordered_json summaryJson(const ValidationSummary& s, const ValidateArg
   j["slipped_by_direction"] = dirs;
   j["object_pieces"] = s.model.object_pieces;
   j["object_volume_error"] = s.model.object_volume_error;
+  j["object_note"] = s.model.object_note;
   j["cpu_seconds"] = s.cpu_seconds;
   j["wall_seconds"] = s.wall_seconds;
   j["grasps_per_cpu_second"] =
@@ -75,6 +77,11 @@ void printSummary(const ValidationSummary& s, const ValidateArgs& a) {
   std::snprintf(line, sizeof line, "\n  object: %d convex piece(s), volume error %+.1f %%\n",
                 s.model.object_pieces, 100.0 * s.model.object_volume_error);
   std::cout << line;
+  if (std::abs(s.model.object_volume_error) > 0.1)
+    std::cout << "  warning: the object's convex pieces differ from it by "
+              << static_cast<int>(std::lround(100.0 * s.model.object_volume_error))
+              << " % in volume (" << s.model.object_note
+              << "); labels of grasps that touch where they differ are not reliable\n";
   std::snprintf(line, sizeof line, "  %.1f grasps per CPU-second (%.1f CPU s, %.1f s wall)",
                 s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0,
                 s.cpu_seconds, s.wall_seconds);

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <ctime>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -128,6 +129,19 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["contact_patch"] = o.contact_patch;
   j["object_max_pieces"] = o.object_max_pieces;
   return j.dump();
+}
+
+std::string recordedHandUrdf(const TaskMapData& map) {
+  const auto params = nlohmann::json::parse(map.sampling.params_json, nullptr, false);
+  if (!params.is_object() || !params.contains("hand") || !params["hand"].is_string()) return "";
+  const std::string path = params["hand"].get<std::string>();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return "";
+  try {
+    return sha256File(path) == map.hand.urdf_sha256 ? path : "";
+  } catch (const Error&) {
+    return "";
+  }
 }
 
 ObjectModel mapObjectModel(const TaskMapData& map) {

@@ -1,0 +1,74 @@
+// taskmap.validate: labels a map's grasps with the physics hold test (docs/VALIDATION.md) and
+// writes them into the map, with the keyword arguments of `taskmap validate`.
+#include "validate_bindings.hpp"
+
+#include <pybind11/stl.h>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/validate/validate_map.hpp"
+
+namespace py = pybind11;
+
+namespace taskmap {
+namespace {
+
+py::dict summaryDict(const ValidationSummary& s) {
+  py::dict d;
+  d["tested"] = s.tested;
+  d["holding"] = s.holding;
+  d["hold_rate"] = s.tested ? static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0;
+  d["force_closure_tested"] = s.fc_tested;
+  d["force_closure_holding"] = s.fc_holding;
+  d["statuses"] = s.statuses;
+  d["slipped_by_direction"] = s.failed_by_direction;
+  d["object_pieces"] = s.model.object_pieces;
+  d["object_volume_error"] = s.model.object_volume_error;
+  d["cpu_seconds"] = s.cpu_seconds;
+  d["wall_seconds"] = s.wall_seconds;
+  return d;
+}
+
+py::dict validatePath(const std::string& map_path, const std::string& hand,
+                      const std::string& output, int threads, std::size_t grasps,
+                      double object_mass, double friction, double jaw_force, double contact_patch) {
+  TaskMapData map = readMap(map_path);
+  const std::string urdf = hand.empty() ? recordedHandUrdf(map) : hand;
+  if (urdf.empty())
+    throw Error("validate: the hand URDF the map '" + map_path +
+                "' was built with is not where the build recorded it; pass hand=PATH");
+  ValidateOptions o;
+  o.threads = threads;
+  o.grasps = grasps;
+  o.hold.object_mass = object_mass;
+  o.hold.sliding_friction = friction;
+  o.hold.jaw_force = jaw_force;
+  o.hold.contact_patch = contact_patch;
+  ValidationSummary s;
+  {
+    py::gil_scoped_release release;
+    s = validateMap(&map, HandModel::load(urdf), o);
+    writeMap(output.empty() ? map_path : output, map);
+  }
+  return summaryDict(s);
+}
+
+}  // namespace
+
+void bindValidate(py::module_& m) {
+  const HoldTestOptions d;
+  m.def("validate", &validatePath, py::arg("map"), py::arg("hand") = "", py::arg("output") = "",
+        py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
+        py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
+        py::arg("contact_patch") = d.contact_patch,
+        "Tests whether the grasps of the map at `map` hold the object in physics "
+        "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
+        "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
+        "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
+        "was built with); threads: 0 all cores; grasps: test only the first N (0 all); "
+        "jaw_force: N per parallel jaw; contact_patch: metres (0: one contact per shape). "
+        "Returns a dict: tested, holding, hold_rate, statuses, slipped_by_direction (-x +x -y +y "
+        "-z +z), object_pieces, object_volume_error, cpu_seconds, wall_seconds.");
+}
+
+}  // namespace taskmap

@@ -1,0 +1,59 @@
+"""taskmap.validate: the physics hold test from Python, the same labels as the command line."""
+import os
+import subprocess
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+import taskmap
+
+CLI = os.environ["TASKMAP_CLI"]
+SRC = os.environ["TASKMAP_SOURCE_DIR"]
+
+
+class ValidateTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        cls.map = os.path.join(cls.dir.name, "box.h5")
+        subprocess.run([CLI, "build", "--object", os.path.join(SRC, "meshes/objects/box.obj"),
+                        "--hand", "panda", "--valid", "6", "--seed", "5", "-q", "-o", cls.map],
+                       check=True)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.dir.cleanup()
+
+    def test_labels_match_the_command_line(self):
+        py_out = os.path.join(self.dir.name, "py.h5")
+        cli_out = os.path.join(self.dir.name, "cli.h5")
+        s = taskmap.validate(self.map, output=py_out, grasps=4, threads=1)
+        subprocess.run([CLI, "validate", self.map, "--grasps", "4", "-q", "-o", cli_out],
+                       check=True)
+        self.assertEqual(s["tested"], 4)
+        self.assertEqual(sum(s["statuses"].values()), 4)
+        with h5py.File(py_out, "r") as a, h5py.File(cli_out, "r") as b:
+            hold = a["grasps/hold"][:]
+            np.testing.assert_array_equal(hold, b["grasps/hold"][:])
+            np.testing.assert_array_equal(a["grasps/hold_translation"][:],
+                                          b["grasps/hold_translation"][:])
+            self.assertTrue(set(hold.tolist()) <= {0, 1, 255})
+            self.assertEqual(int((hold == 1).sum()), s["holding"])
+            self.assertEqual(int((hold == 255).sum()), 2)
+            self.assertEqual(a["validation"].attrs["protocol"], b"dexgraspbench_fc")
+        # The labelled map reads back through the verified reader.
+        self.assertEqual(len(taskmap.load(py_out)), 6)
+
+    def test_refuses_a_file_that_is_not_a_map(self):
+        junk = os.path.join(self.dir.name, "junk.h5")
+        with open(junk, "w") as f:
+            f.write("not a map")
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.validate(junk)
+        self.assertIn("junk.h5", str(e.exception))
+
+
+if __name__ == "__main__":
+    unittest.main()
