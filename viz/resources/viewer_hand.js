@@ -17,7 +17,7 @@ TM.run(function () {
   const reach = Math.max(h.reach, 0.02);
   v.scene.add(new THREE.AxesHelper(0.5 * reach));
   const a = new THREE.Vector3().fromArray(h.approach).normalize();
-  v.scene.add(new THREE.ArrowHelper(a, a.clone().multiplyScalar(-1.2 * reach), 1.1 * reach, 0xd01010, 0.12 * reach, 0.06 * reach));
+  v.scene.add(new THREE.ArrowHelper(a, a.clone().multiplyScalar(-1.4 * reach), 1.0 * reach, 0xd01010, 0.15 * reach, 0.08 * reach));
   ui.side.appendChild(TM.el('h1', {}, 'hand ' + h.name));
   ui.side.appendChild(TM.el('div', { class: 'tm-note' }, TM.data.source));
   ui.side.appendChild(TM.el('div', { class: 'tm-note' }, 'palm frame: x red, y green, z blue; approach axis: red arrow ' +

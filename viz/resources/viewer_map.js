@@ -35,14 +35,14 @@ TM.mapUi = function (side, D, state, filtered, refresh, select, reps, clusterOf)
   gh.onchange = () => { state.ghosts = gh.checked; refresh(); };
   const gl = TM.el('label');
   gl.appendChild(gh);
-  gl.appendChild(document.createTextNode(' all filtered grasps as ghost hands (first ' + D.ghost_limit + ')'));
+  gl.appendChild(document.createTextNode(' filtered grasps as ghost hands (best ' + D.ghost_limit + ')'));
   side.appendChild(gl);
   const legend = TM.el('div', { class: 'tm-note' });
   D.clusters.slice(0, TM.palette.length).forEach((c) => {
     legend.appendChild(TM.el('span', { class: 'tm-swatch', style: 'background:' + TM.clusterColor(c.id) }));
     legend.appendChild(document.createTextNode(c.id + ' '));
   });
-  legend.appendChild(document.createTextNode('\u25cf black: representative; orange link: touches'));
+  legend.appendChild(document.createTextNode('\u25cf black: representative; yellowish link: touches the object'));
   side.appendChild(legend);
   side.appendChild(TM.el('h2', {}, 'grasps (best \u03b5 first)'));
   side.appendChild(TM.el('div', { class: 'tm-list' }));
@@ -56,7 +56,7 @@ TM.fillList = function (list, idx, G, reps, clusterOf, select, selected) {
     const row = TM.el('div', { 'data-i': String(i) });
     row.appendChild(TM.el('span', { class: 'tm-swatch', style: 'background:' + TM.clusterColor(c) }));
     row.appendChild(document.createTextNode('#' + i + '  \u03b5 ' + TM.fmt(G.eps[i], 4) +
-      (c === null ? '' : '  c' + c) + (reps.has(i) ? '  \u2605' : '')));
+      (c === null ? '' : c < 0 ? '  outlier' : '  c' + c) + (reps.has(i) ? '  \u2605' : '')));
     if (i === selected) row.classList.add('sel');
     row.onclick = () => select(i);
     list.appendChild(row);
@@ -222,7 +222,7 @@ TM.run(function () {
     if (i >= 0) {
       if (hand) {
         const base = TM.handMaterial(TM.clusterColor(clusterOf(i)), false);
-        const touch = TM.handMaterial(0xffc000, false);
+        const touch = TM.handMaterial(new THREE.Color(TM.clusterColor(clusterOf(i))).lerp(new THREE.Color(0xffc000), 0.6), false);
         const h = placedHand(i, base);
         h.children.forEach((lg) => { if (touching.has(hand.links[lg.userData.link].name)) lg.children.forEach((m) => { m.material = touch; }); });
         swap('hand', h);
@@ -236,11 +236,10 @@ TM.run(function () {
   TM.mapUi(ui.side, D, state, filtered, () => refresh(), select, reps, clusterOf);
   let listed = [];
   const refresh = () => {
-    listed = filtered();
+    listed = TM.fillList(ui.side.querySelector('.tm-list'), filtered(), G, reps, clusterOf, select, state.selected);
     swap('glyphs', glyphs(listed));
     swap('reps', repMarkers(listed));
-    swap('ghosts', ghostHands(listed));
-    listed = TM.fillList(ui.side.querySelector('.tm-list'), listed, G, reps, clusterOf, select, state.selected);
+    swap('ghosts', ghostHands(listed));  // the best epsilon first
     v.render();
     return listed.length;
   };
@@ -258,7 +257,7 @@ TM.run(function () {
     if (hits.length) select(layers.glyphs.userData.points.userData.index[hits[0].index]);
   });
   const sceneRadius = scale + (hand ? hand.reach : 0.1 * scale);
-  v.look(ob.center, sceneRadius, TM.hash.view || 'iso');
+  v.look(ob.center, 0.8 * sceneRadius, TM.hash.view || 'iso');
   let first = TM.hash.grasp !== undefined ? Number(TM.hash.grasp) : -1;
   if (first < 0 && n > 0) first = D.clusters.length ? D.clusters[0].rep : listed[0];
   select(first >= 0 && first < n ? first : -1);

@@ -3,7 +3,8 @@
 // A sphere-swept primitive (capsule or rectangle) as in the GLB export: a UV sphere of the sweep
 // radius whose vertices move by +-half_u along u and +-half_v along v.
 TM.primitiveGeometry = function (s) {
-  const g = new THREE.SphereBufferGeometry(Math.max(s.r, 1e-4), 16, 9);
+  // Pole along z, longitudes half a step off the axes: no vertex on u = 0 or v = 0 but the poles.
+  const g = new THREE.SphereBufferGeometry(Math.max(s.r, 1e-4), 16, 9, Math.PI / 16).rotateX(Math.PI / 2);
   const p = g.attributes.position;
   const ax = s.axes;  // row by row: column k is (ax[k], ax[3 + k], ax[6 + k])
   for (let i = 0; i < p.count; ++i) {
