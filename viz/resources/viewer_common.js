@@ -168,9 +168,11 @@ TM.bounds = function (v) {
   const radius = box.isEmpty() ? 0.1 : Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-3);
   return { center, radius };
 };
-// Marks the page drawn: <body data-ready="n"> once a frame is rendered (drawing is synchronous).
+// Marks the page drawn: <body data-ready="n"> once a frame is rendered (drawing is synchronous),
+// and data-draw-ms: milliseconds from navigation start to then.
 TM.ready = function (v, n) {
   v.render();
+  document.body.setAttribute('data-draw-ms', String(Math.round(performance.now())));
   document.body.setAttribute('data-ready', String(n));
   requestAnimationFrame(v.render);
 };
