@@ -49,9 +49,9 @@ TM.layout = function () {
 };
 // Renderer, z-up camera, orbit/pan/zoom controls, lights; render() draws once.
 TM.viewer = function (container) {
-  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  const renderer = new THREE.WebGLRenderer({ antialias: true, alpha: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio || 1);
-  renderer.setClearColor(0xf4f4f2);
+  renderer.setClearColor(0xf4f4f2, 1);  // alpha: some software compositors show an opaque canvas black
   container.appendChild(renderer.domElement);
   const scene = new THREE.Scene();
   const camera = new THREE.PerspectiveCamera(40, 1, 0.001, 100);

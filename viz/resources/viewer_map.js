@@ -190,9 +190,10 @@ TM.run(function () {
     if (D.hold) row('hold', D.hold[i]);
     row('position (m)', [0, 1, 2].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
     row('quaternion', [3, 4, 5, 6].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
-    const J = D.joint_names.length;
-    D.joint_names.forEach((name, k) => row(name, TM.fmt(G.joints[i * J + k], 4)));
     box.appendChild(t);
+    const J = D.joint_names.length;
+    box.appendChild(TM.el('div', { class: 'tm-note' }, 'joints: ' +
+      D.joint_names.map((name, k) => name + ' ' + TM.fmt(G.joints[i * J + k], 3)).join(', ')));
     const cs = contactsOf(i);
     box.appendChild(TM.el('h2', {}, cs.length + ' contacts'));
     const ct = TM.el('table');

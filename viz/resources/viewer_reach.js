@@ -33,6 +33,33 @@ TM.costTable = function (side, plan) {
   });
   side.appendChild(t);
 };
+// Proximity and quality over the movement (weighted map terms per step) with a cursor at the
+// shown step; returns the function that moves the cursor.
+TM.movementPlot = function (side, plan) {
+  side.appendChild(TM.el('h2', {}, 'map terms over the movement'));
+  const c = TM.el('canvas', { width: '280', height: '120', id: 'tm-plot' });
+  side.appendChild(c);
+  side.appendChild(TM.el('div', { class: 'tm-note' }, 'blue: proximity, green: quality, per step'));
+  const series = [[plan.proximity, '#1f77b4'], [plan.quality, '#2ca02c']];
+  const all = plan.proximity.concat(plan.quality);
+  const lo = all.reduce((a, b) => Math.min(a, b), 0), hi = all.reduce((a, b) => Math.max(a, b), 1e-9);
+  const n = Math.max(plan.proximity.length - 1, 1);
+  const x = (t) => 4 + (272 * t) / n, y = (val) => 116 - (112 * (val - lo)) / (hi - lo || 1);
+  return (t) => {
+    const g = c.getContext('2d');
+    g.clearRect(0, 0, 280, 120);
+    g.strokeStyle = '#ccc';
+    g.beginPath(); g.moveTo(4, y(0)); g.lineTo(276, y(0)); g.stroke();
+    series.forEach(([values, color]) => {
+      g.strokeStyle = color;
+      g.beginPath();
+      values.forEach((val, k) => (k ? g.lineTo(x(k), y(val)) : g.moveTo(x(k), y(val))));
+      g.stroke();
+    });
+    g.strokeStyle = '#d01010';
+    g.beginPath(); g.moveTo(x(t), 0); g.lineTo(x(t), 120); g.stroke();
+  };
+};
 TM.run(function () {
   const D = TM.data, B = D.bodies, S = D.rows, nb = B.names.length;
   const ui = TM.layout();
@@ -55,7 +82,9 @@ TM.run(function () {
   grasp.matrix.copy(TM.poseMatrix(D.palm_world, S - 1));
   v.scene.add(grasp);
   const label = TM.el('div', { class: 'tm-note' });
+  let cursor = () => {};
   const show = (t) => {
+    cursor(t);
     for (let b = 0; b < nb; ++b) bodies[b].matrix.copy(TM.poseMatrix(B.poses.slice((t * nb + b) * 7, (t * nb + b) * 7 + 7)));
     label.textContent = 't = ' + TM.fmt(t * D.dt, 3) + ' s (step ' + t + ' of ' + (S - 1) + '), proximity ' +
       TM.fmt(D.plan.proximity[t], 4) + ', quality ' + TM.fmt(D.plan.quality[t], 4);
@@ -76,6 +105,7 @@ TM.run(function () {
   ui.side.appendChild(slider);
   ui.side.appendChild(label);
   TM.costTable(ui.side, D.plan);
+  cursor = TM.movementPlot(ui.side, D.plan);
   const box = new THREE.Box3();
   for (let t of [0, S - 1]) for (let b = 0; b < nb; ++b) box.expandByPoint(new THREE.Vector3().fromArray(B.poses, (t * nb + b) * 7));
   box.expandByObject(object);

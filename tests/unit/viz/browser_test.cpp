@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -99,6 +100,10 @@ TEST_F(Browser, MapPageDrawsTheHandWhereTheGraspPutsIt) {
     const double palm_px = side + std::stod(m[1]) * (width - side);
     cairo_surface_t* shot = screenshot(page, "#view=front&details=0", width, height);
     const auto [count, mean_x] = pixels(shot, side + 5, blueish);
+    const auto background = [](int r, int g, int b) {  // #f4f4f2, not black
+      return std::abs(r - 244) < 6 && std::abs(g - 244) < 6 && std::abs(b - 242) < 6;
+    };
+    EXPECT_GT(pixels(shot, side + 5, background).first, (width - side) * height / 3);
     cairo_surface_destroy(shot);
     const double centre = side + 0.5 * (width - side);
     EXPECT_GT(count, 2000) << "too few hand pixels";
