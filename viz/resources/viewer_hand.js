@@ -20,8 +20,8 @@ TM.run(function () {
   v.scene.add(new THREE.ArrowHelper(a, a.clone().multiplyScalar(-1.4 * reach), 1.0 * reach, 0xd01010, 0.15 * reach, 0.08 * reach));
   ui.side.appendChild(TM.el('h1', {}, 'hand ' + h.name));
   ui.side.appendChild(TM.el('div', { class: 'tm-note' }, TM.data.source));
-  ui.side.appendChild(TM.el('div', { class: 'tm-note' }, 'palm frame: x red, y green, z blue; approach axis: red arrow ' +
-    '(into the palm); grey ghost: open preshape; blue: the sliders\' pose'));
+  ui.side.appendChild(TM.el('div', { class: 'tm-note' }, 'palm frame: x red, y green, z blue; red arrow: the approach axis (the direction the hand ' +
+    'moves toward the object); grey ghost: open preshape; blue: the sliders\' pose'));
   const sliders = [];
   const setAll = (values) => { values.forEach((x, k) => { q[k] = x; sliders[k].value = String(x); }); pose(); };
   const buttons = TM.el('div');
@@ -45,7 +45,10 @@ TM.run(function () {
     sliders.push(s);
     ui.side.appendChild(l);
   });
-  if (TM.hash.pose === 'closed') setAll(h.closed);
+  if (TM.hash.pose === 'closed') {
+    blend.value = '1';
+    setAll(h.closed);
+  }
   else pose();
   v.look(new THREE.Vector3(), 1.3 * reach, TM.hash.view || 'iso');
   TM.ready(v, 1);
