@@ -23,6 +23,8 @@ pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet-float64)
 pkg_check_modules(QHULL_R REQUIRED IMPORTED_TARGET qhull_r)
 # mapstore: HDF5 C API
 find_package(HDF5 REQUIRED COMPONENTS C)
+# validate: MuJoCo 2.2.2 (libmujoco-dev)
+find_package(mujoco REQUIRED)
 # clustering / integration: FLANN (needs liblz4)
 pkg_check_modules(LZ4 REQUIRED IMPORTED_TARGET liblz4)
 find_package(flann REQUIRED)

@@ -137,6 +137,24 @@ void writeGrasps(hid_t file, const TaskMapData& map) {
                    static_cast<std::size_t>(linkage.rows()), 4);
 }
 
+void writeValidation(hid_t file, const TaskMapData& map) {
+  if (!map.validation) return;
+  const MapValidation& v = *map.validation;
+  const std::size_t n = map.grasps.size();
+  Id g = h5::openGroup(file, "/grasps");
+  h5::writeVector(g, "hold", h5::Type::kU8, v.hold.data(), n);
+  h5::writeVector(g, "hold_status", h5::Type::kU8, v.status.data(), n);
+  h5::writeVector(g, "hold_translation", h5::Type::kF64, v.translation.data(), n);
+  h5::writeVector(g, "hold_rotation", h5::Type::kF64, v.rotation.data(), n);
+  h5::writeVector(g, "hold_direction", h5::Type::kI32, v.direction.data(), n);
+  Id vg = h5::createGroup(file, "validation");
+  h5::writeAttr(vg, "protocol", v.protocol);
+  h5::writeAttr(vg, "engine", v.engine);
+  h5::writeAttr(vg, "params_json", v.params_json);
+  h5::writeAttrUInt(vg, "tested", v.tested());
+  h5::writeAttrUInt(vg, "holding", v.holding());
+}
+
 void writeFile(const std::string& tmp, const TaskMapData& map) {
   Id fcpl = h5::mapFileCreation(seal::kSealBytes);
   Id fapl = h5::mapFileAccess();
@@ -151,6 +169,7 @@ void writeFile(const std::string& tmp, const TaskMapData& map) {
   writeSampling(file, map.sampling);
   writeQuality(file, map.quality);
   writeGrasps(file, map);
+  writeValidation(file, map);
   h5::check(H5Fflush(file, H5F_SCOPE_GLOBAL), "cannot flush the file (disk full?)");
   if (!file.reset()) throw Error("cannot close the file (disk full?)");
   seal::stampFile(tmp);
@@ -304,6 +323,36 @@ void readClustering(hid_t file, TaskMapData& map) {
   map.clustering = std::move(c);
 }
 
+/// Integers of a 1-D dataset, each checked to lie in [lo, hi].
+template <class T>
+std::vector<T> readIntsIn(hid_t file, const std::string& path, std::int64_t lo, std::int64_t hi) {
+  const auto a = h5::readI64(file, path, 1);
+  std::vector<T> out;
+  out.reserve(a.values.size());
+  for (std::size_t i = 0; i < a.values.size(); ++i) {
+    if (a.values[i] < lo || a.values[i] > hi)
+      throw Error(path + ": entry " + std::to_string(i) + " is out of range");
+    out.push_back(static_cast<T>(a.values[i]));
+  }
+  return out;
+}
+
+void readValidation(hid_t file, TaskMapData& map) {
+  map.validation.reset();
+  if (!h5::exists(file, "/validation")) return;
+  MapValidation v;
+  Id vg = h5::openGroup(file, "/validation");
+  v.protocol = h5::readAttrString(vg, "/validation", "protocol");
+  v.engine = h5::readAttrString(vg, "/validation", "engine");
+  v.params_json = h5::readAttrString(vg, "/validation", "params_json");
+  v.hold = readIntsIn<std::uint8_t>(file, "/grasps/hold", 0, 255);
+  v.status = readIntsIn<std::uint8_t>(file, "/grasps/hold_status", 0, 255);
+  v.translation = vectorOf(h5::readF64(file, "/grasps/hold_translation", 1));
+  v.rotation = vectorOf(h5::readF64(file, "/grasps/hold_rotation", 1));
+  v.direction = readIntsIn<std::int32_t>(file, "/grasps/hold_direction", -1, 5);
+  map.validation = std::move(v);
+}
+
 TaskMapData readFile(hid_t file) {
   if (!h5::hasAttr(file, "format") ||
       h5::readAttrString(file, "/", "format") != std::string(kFormat))
@@ -324,6 +373,7 @@ TaskMapData readFile(hid_t file) {
   readQuality(file, map.quality);
   readGrasps(file, map);
   readClustering(file, map);
+  readValidation(file, map);
   map.validate();
   return map;
 }

@@ -173,7 +173,40 @@ void validateClustering(const ClusteringResult& c, std::size_t n) {
   if (c.min_size < 0) fail("/clustering attribute min_size", "must not be negative");
 }
 
+void validateValidation(const MapValidation& v, std::size_t n) {
+  requireRows(v.hold.size(), n, "/grasps/hold", "one per grasp");
+  requireRows(v.status.size(), n, "/grasps/hold_status", "one per grasp");
+  requireRows(v.translation.size(), n, "/grasps/hold_translation", "one per grasp");
+  requireRows(v.rotation.size(), n, "/grasps/hold_rotation", "one per grasp");
+  requireRows(v.direction.size(), n, "/grasps/hold_direction", "one per grasp");
+  requireFinite(v.translation, "/grasps/hold_translation");
+  requireFinite(v.rotation, "/grasps/hold_rotation");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string e = "entry " + std::to_string(i);
+    const bool untested = v.hold[i] == MapValidation::kNotTested;
+    if (v.hold[i] > 1 && !untested) fail("/grasps/hold", e + " is not 0, 1 or 255");
+    if (untested != (v.status[i] == MapValidation::kNotTested) || (!untested && v.status[i] > 4))
+      fail("/grasps/hold_status", e + " is not a status code matching /grasps/hold");
+    if ((v.status[i] == 0) != (v.hold[i] == 1))
+      fail("/grasps/hold_status", e + " disagrees with /grasps/hold");
+    if (v.direction[i] < -1 || v.direction[i] > 5)
+      fail("/grasps/hold_direction", e + " is outside [-1, 5]");
+  }
+}
+
 }  // namespace
+
+std::size_t MapValidation::tested() const {
+  std::size_t n = 0;
+  for (auto h : hold) n += h != kNotTested;
+  return n;
+}
+
+std::size_t MapValidation::holding() const {
+  std::size_t n = 0;
+  for (auto h : hold) n += h == 1;
+  return n;
+}
 
 Pose MapGrasps::poseAt(std::size_t i) const {
   assert(i < size());
@@ -202,6 +235,7 @@ void TaskMapData::validate() const {
   requireScalar(quality.friction, false, "/quality attribute friction");
   if (quality.cone_edges < 0) fail("/quality attribute cone_edges", "must not be negative");
   if (clustering) validateClustering(*clustering, grasps.size());
+  if (validation) validateValidation(*validation, grasps.size());
 }
 
 }  // namespace taskmap

@@ -106,7 +106,8 @@ ConvexPieces decomposeOrWrap(const MeshSoup& part, const CollisionOptions& o,
   }
 }
 
-/// One connected part as convex pieces (see the file comment).
+}  // namespace
+
 PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::string& what) {
   PartShapes out;
   PointHull hull = convexHull(part.points, what);
@@ -134,8 +135,6 @@ PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::strin
   for (const auto& p : out.pieces) out.info.pieces_volume += p.volume;
   return out;
 }
-
-}  // namespace
 
 CollisionOptions collisionOptionsOf(const nlohmann::json& sidecar, const std::string& where) {
   CollisionOptions o;

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "convex_hull.hpp"
+#include "mesh_soup.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::detail {
@@ -34,6 +35,12 @@ struct PartShapes {
   std::vector<PointHull> pieces;
   CollisionMeshInfo info;
 };
+
+/// One connected part (points and faces, metres) as convex pieces: its qhull hull, or when it
+/// is clearly non-convex and options allow, the merged pieces of an exact decomposition (of
+/// its alpha wrap when the part is not a clean solid). A failed decomposition keeps the hull
+/// and says why in info.note. Throws Error starting with `what` for fewer than 4 points.
+PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::string& what);
 
 /// Loads mesh `file` (relative to the URDF, or file://) with assimp, scaled, in the file's
 /// frame, and converts each connected part. Throws Error naming the URDF, link and file on an

@@ -82,6 +82,24 @@ struct MapGrasps {
   Pose poseAt(std::size_t i) const;
 };
 
+/// Physics hold labels of the grasps (/grasps/hold*, /validation; mapstore/SCHEMA.md), written
+/// by taskmap::validate (docs/VALIDATION.md). Every vector has one entry per grasp.
+struct MapValidation {
+  static constexpr std::uint8_t kNotTested = 255;  ///< hold and status of a grasp not tested
+  std::vector<std::uint8_t> hold;                  ///< 1 holds, 0 does not, kNotTested
+  std::vector<std::uint8_t> status;     ///< HoldStatus code (0 holds .. 4 unstable), kNotTested
+  std::vector<double> translation;      ///< largest object displacement, metres (-1 not tested)
+  std::vector<double> rotation;         ///< largest object rotation, radians (-1 not tested)
+  std::vector<std::int32_t> direction;  ///< failing push 0..5 (-x +x -y +y -z +z), -1 none
+  std::string protocol;                 ///< protocol name, e.g. "dexgraspbench_fc"
+  std::string engine;                   ///< physics engine and version, e.g. "MuJoCo 2.2.2"
+  std::string params_json = "{}";       ///< every protocol parameter, JSON object
+  /// Grasps tested (hold != kNotTested).
+  std::size_t tested() const;
+  /// Grasps that hold (hold == 1).
+  std::size_t holding() const;
+};
+
 /// A whole task map.
 struct TaskMapData {
   std::string generator;    ///< "taskmap <version>"
@@ -92,6 +110,7 @@ struct TaskMapData {
   MapQuality quality;
   MapGrasps grasps;
   std::optional<ClusteringResult> clustering;  ///< /grasps/cluster, /clusters, /clustering
+  std::optional<MapValidation> validation;     ///< /grasps/hold*, /validation
 
   /// Checks every invariant the reader checks (shapes, offsets, unit quaternions, finite
   /// values); throws Error naming the first violated dataset.

@@ -1,0 +1,138 @@
+// The hold test on hand-made grasps whose outcome is known from mechanics: jaws squeezing a box
+// hold it; a hand that does not touch the object lets the first push carry it away; a hand
+// starting inside the object is refused. The model of every bundled and real hand compiles.
+#include "taskmap/validate/hold_test.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "build_fixtures.hpp"
+#include "error_matchers.hpp"
+#include "taskmap/core/error.hpp"
+#include "test_meshes.hpp"
+
+namespace taskmap {
+namespace {
+
+/// Palm above the 4 x 5 x 12 cm box, approach down (-z), jaws closing along object x.
+Pose topGrasp(double height) {
+  Eigen::Matrix3d r;
+  r.col(0) = Eigen::Vector3d(0, 1, 0);
+  r.col(1) = Eigen::Vector3d(1, 0, 0);
+  r.col(2) = Eigen::Vector3d(0, 0, -1);
+  Pose p;
+  p.position = Eigen::Vector3d(0, 0, height);
+  p.orientation = Eigen::Quaterniond(r);
+  return p;
+}
+
+const HoldTester& pandaOnBox() {
+  static const HoldTester tester(testing::pandaHand(), testing::boxObject());
+  return tester;
+}
+
+TEST(HoldTest, JawsSqueezingTheBoxHoldIt) {
+  // Jaw inner faces at +-q: the box's half width 0.02 m is where they touch.
+  const HoldResult r = pandaOnBox().test(topGrasp(0.061), Eigen::Vector2d(0.02, 0.02));
+  EXPECT_EQ(r.status, HoldStatus::kHolds) << holdStatusName(r.status);
+  EXPECT_TRUE(r.holds);
+  EXPECT_EQ(r.failed_direction, -1);
+  EXPECT_LT(r.max_translation, 0.01);
+  EXPECT_LT(r.max_rotation, 0.1);
+  EXPECT_GT(r.steps, 6 * 500);                   // two closing phases and six full pushes
+  EXPECT_GT(pandaOnBox().info().hand_geoms, 3);  // pads split into patches
+}
+
+TEST(HoldTest, AHandThatDoesNotTouchLetsTheFirstPushWin) {
+  // 1 N on 0.1 kg without contact: 0.2 m after 0.2 s, far past 5 cm at the first check.
+  const HoldResult r = pandaOnBox().test(topGrasp(0.5), Eigen::Vector2d(0.04, 0.04));
+  EXPECT_EQ(r.status, HoldStatus::kSlipped);
+  EXPECT_EQ(r.failed_direction, 0);
+  EXPECT_STREQ(pushDirectionNames()[0], "-x");
+  EXPECT_GT(r.max_translation, 0.05);
+}
+
+TEST(HoldTest, OpenJawsAroundTheBoxDoNotHold) {
+  // Stored joints at the open limit: the jaws never close on the box.
+  const HoldResult r = pandaOnBox().test(topGrasp(0.061), Eigen::Vector2d(0.04, 0.04));
+  EXPECT_FALSE(r.holds);
+}
+
+TEST(HoldTest, AHandStartingInsideTheObjectFails) {
+  const HoldResult r = pandaOnBox().test(topGrasp(0.0), Eigen::Vector2d(0.02, 0.02));
+  EXPECT_EQ(r.status, HoldStatus::kPenetration);
+  EXPECT_GT(r.initial_penetration, 0.01);
+  EXPECT_EQ(r.steps, 0);
+}
+
+TEST(HoldTest, OnePointPerPadLetsTheBoxTwist) {
+  // Without patches each pad touches at one point and resists twisting about the jaw axis by
+  // torsional friction alone: the push along +y turns the box out of the grasp.
+  HoldTestOptions o;
+  o.contact_patch = 0.0;
+  const HoldTester tester(testing::pandaHand(), testing::boxObject(), o);
+  EXPECT_EQ(tester.info().hand_geoms, 3);
+  const HoldResult r = tester.test(topGrasp(0.061), Eigen::Vector2d(0.02, 0.02));
+  EXPECT_EQ(r.status, HoldStatus::kSlipped);
+  EXPECT_EQ(r.failed_direction, 3);
+  EXPECT_GT(r.max_rotation, o.max_rotation);
+}
+
+TEST(HoldTest, SameGraspSameResult) {
+  const Pose p = topGrasp(0.061);
+  const HoldResult a = pandaOnBox().test(p, Eigen::Vector2d(0.021, 0.019));
+  const HoldResult b = pandaOnBox().test(p, Eigen::Vector2d(0.021, 0.019));
+  EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.max_translation, b.max_translation);
+  EXPECT_EQ(a.max_rotation, b.max_rotation);
+  EXPECT_EQ(a.steps, b.steps);
+}
+
+TEST(HoldTest, RefusesWrongJointCountAndBadOptions) {
+  EXPECT_TRUE(
+      testing::throwsError([] { pandaOnBox().test(topGrasp(0.061), Eigen::Vector3d(0, 0, 0)); },
+                           {"3 joint values", "hand"}));
+  HoldTestOptions o;
+  o.object_mass = 0.0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"object_mass", "positive"}));
+  o = HoldTestOptions{};
+  o.squeeze_fraction = 0.5;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"squeeze_fraction", "[1, 2]"}));
+}
+
+struct HandCase {
+  std::string urdf;
+  int mimic;
+};
+
+class EveryHand : public ::testing::TestWithParam<HandCase> {};
+
+TEST_P(EveryHand, ModelCompilesWithOneActuatorPerJoint) {
+  const HandModel hand = HandModel::load(GetParam().urdf);
+  static const ObjectModel basket =
+      ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj");
+  const HoldTester tester(hand, basket);
+  EXPECT_EQ(tester.info().actuators, static_cast<int>(hand.jointNames().size()));
+  EXPECT_EQ(tester.info().mimic_constraints, GetParam().mimic);
+  EXPECT_EQ(tester.info().hand_bodies, static_cast<int>(hand.links().size()));
+  // The basket is not convex: MuJoCo would collide its hull, so it is decomposed.
+  EXPECT_TRUE(tester.info().object_decomposed);
+  EXPECT_GT(tester.info().object_pieces, 1);
+  EXPECT_LT(std::abs(tester.info().object_volume_error), 0.05);
+  EXPECT_NE(tester.mjcf().find("<freejoint"), std::string::npos);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Hands, EveryHand,
+    ::testing::Values(
+        HandCase{std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf", 0},
+        HandCase{std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf", 1},
+        HandCase{std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf", 5},
+        HandCase{std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf", 1},
+        HandCase{std::string(TEST_DATA_DIR) +
+                     "/real/hands/allegro_right/allegro_hand_description_right.urdf",
+                 0}));
+
+}  // namespace
+}  // namespace taskmap

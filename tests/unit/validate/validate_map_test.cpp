@@ -1,0 +1,103 @@
+// Labels of a built map: one per grasp, the same for any thread count, stored and read back;
+// force-closure jaw grasps of a box mostly hold; the wrong hand is refused.
+#include "taskmap/validate/validate_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdio>
+#include <string>
+
+#include "build_fixtures.hpp"
+#include "error_matchers.hpp"
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap {
+namespace {
+
+const TaskMapData& boxMap() {
+  static const TaskMapData map = [] {
+    BuildOptions o;
+    o.valid_target = 12;
+    o.seed = 3;
+    o.threads = 1;
+    return buildMap(testing::boxObject(), testing::pandaHand(), o).map;
+  }();
+  return map;
+}
+
+TEST(ValidateMap, LabelsDoNotDependOnThreads) {
+  TaskMapData one = boxMap(), two = boxMap();
+  ValidateOptions o;
+  o.threads = 1;
+  const ValidationSummary a = validateMap(&one, testing::pandaHand(), o);
+  o.threads = 2;
+  const ValidationSummary b = validateMap(&two, testing::pandaHand(), o);
+  ASSERT_TRUE(one.validation && two.validation);
+  EXPECT_EQ(one.validation->hold, two.validation->hold);
+  EXPECT_EQ(one.validation->translation, two.validation->translation);
+  EXPECT_EQ(one.validation->rotation, two.validation->rotation);
+  EXPECT_EQ(one.validation->direction, two.validation->direction);
+  EXPECT_EQ(a.holding, b.holding);
+  EXPECT_EQ(a.tested, boxMap().grasps.size());
+  // Jaws pressing 70 N each on a 0.1 kg box: most force-closure grasps hold.
+  EXPECT_GE(a.fc_holding * 2, a.fc_tested) << a.message;
+}
+
+TEST(ValidateMap, LabelsRoundTripThroughTheMapFile) {
+  TaskMapData map = boxMap();
+  ValidateOptions o;
+  o.grasps = 4;
+  const ValidationSummary s = validateMap(&map, testing::pandaHand(), o);
+  EXPECT_EQ(s.tested, 4u);
+  ASSERT_TRUE(map.validation);
+  EXPECT_EQ(map.validation->tested(), 4u);
+  EXPECT_EQ(map.validation->hold[5], MapValidation::kNotTested);
+  EXPECT_EQ(map.validation->engine, "MuJoCo 2.2.2");
+  const std::string path = ::testing::TempDir() + "validated_map.h5";
+  writeMap(path, map);
+  const TaskMapData back = readMap(path);
+  ASSERT_TRUE(back.validation);
+  EXPECT_EQ(back.validation->hold, map.validation->hold);
+  EXPECT_EQ(back.validation->status, map.validation->status);
+  EXPECT_EQ(back.validation->translation, map.validation->translation);
+  EXPECT_EQ(back.validation->direction, map.validation->direction);
+  EXPECT_EQ(back.validation->params_json, map.validation->params_json);
+  std::remove(path.c_str());
+}
+
+TEST(ValidateMap, AMapWithoutLabelsReadsWithout) {
+  const std::string path = ::testing::TempDir() + "plain_map.h5";
+  writeMap(path, boxMap());
+  EXPECT_FALSE(readMap(path).validation.has_value());
+  std::remove(path.c_str());
+}
+
+TEST(ValidateMap, InconsistentLabelsAreRefused) {
+  TaskMapData map = boxMap();
+  ValidateOptions o;
+  o.grasps = 2;
+  validateMap(&map, testing::pandaHand(), o);
+  map.validation->status[0] = map.validation->hold[0] == 1 ? 3 : 0;  // disagrees with hold
+  EXPECT_TRUE(testing::throwsError([&] { map.validate(); }, {"/grasps/hold_status"}));
+}
+
+TEST(ValidateMap, RefusesAnotherHand) {
+  TaskMapData map = boxMap();
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  EXPECT_TRUE(testing::throwsError([&] { validateMap(&map, barrett, ValidateOptions{}); },
+                                   {"actuated joints", "the hand the map was built with"}));
+}
+
+TEST(ValidateMap, StopLeavesTheMapUnchanged) {
+  TaskMapData map = boxMap();
+  std::atomic<bool> stop{true};
+  const ValidationSummary s = validateMap(&map, testing::pandaHand(), ValidateOptions{}, {}, &stop);
+  EXPECT_EQ(s.status, ValidationSummary::Status::kInterrupted);
+  EXPECT_FALSE(map.validation.has_value());
+}
+
+}  // namespace
+}  // namespace taskmap

@@ -1,0 +1,161 @@
+// taskmap validate: label a map's grasps with the physics hold test (validate stage,
+// docs/VALIDATION.md) and write the labels into the map (atomically, re-sealed).
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "command.hpp"
+#include "reach_resimulate.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/validate/validate_map.hpp"
+
+namespace taskmap::cli {
+namespace {
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void onValidateStop(int sig) {
+  g_stop.store(true);
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C kills at once; the map is written by rename
+}
+
+struct ValidateArgs {
+  std::string map, output, hand;
+  ValidateOptions options;
+  bool json = false, quiet = false;
+};
+
+nlohmann::ordered_json summaryJson(const ValidationSummary& s, const ValidateArgs& a) {
+  nlohmann::ordered_json j;
+  j["map"] = a.map;
+  j["output"] = a.output.empty() ? a.map : a.output;
+  j["tested"] = s.tested;
+  j["holding"] = s.holding;
+  j["hold_rate"] = s.tested ? static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0;
+  j["force_closure_tested"] = s.fc_tested;
+  j["force_closure_holding"] = s.fc_holding;
+  j["statuses"] = s.statuses;
+  nlohmann::ordered_json dirs;
+  for (std::size_t d = 0; d < 6; ++d) dirs[pushDirectionNames()[d]] = s.failed_by_direction[d];
+  j["slipped_by_direction"] = dirs;
+  j["object_pieces"] = s.model.object_pieces;
+  j["object_volume_error"] = s.model.object_volume_error;
+  j["cpu_seconds"] = s.cpu_seconds;
+  j["wall_seconds"] = s.wall_seconds;
+  j["grasps_per_cpu_second"] =
+      s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0;
+  j["steps"] = s.steps;
+  return j;
+}
+
+void printSummary(const ValidationSummary& s, const ValidateArgs& a) {
+  auto pct = [](std::size_t k, std::size_t n) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1f %%",
+                  n ? 100.0 * static_cast<double>(k) / static_cast<double>(n) : 0.0);
+    return std::string(b);
+  };
+  std::cout << "taskmap validate: " << s.holding << " of " << s.tested << " grasps hold ("
+            << pct(s.holding, s.tested) << "); force-closure grasps: " << s.fc_holding << " of "
+            << s.fc_tested << " (" << pct(s.fc_holding, s.fc_tested) << ")\n";
+  std::cout << "  outcomes:";
+  for (const auto& [name, n] : s.statuses) std::cout << " " << name << " " << n;
+  std::cout << "\n  slipped under push:";
+  for (std::size_t d = 0; d < 6; ++d)
+    std::cout << " " << pushDirectionNames()[d] << " " << s.failed_by_direction[d];
+  char line[160];
+  std::snprintf(line, sizeof line, "\n  object: %d convex piece(s), volume error %+.1f %%\n",
+                s.model.object_pieces, 100.0 * s.model.object_volume_error);
+  std::cout << line;
+  std::snprintf(line, sizeof line, "  %.1f grasps per CPU-second (%.1f CPU s, %.1f s wall)",
+                s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0,
+                s.cpu_seconds, s.wall_seconds);
+  std::cout << line << "; labels written to " << (a.output.empty() ? a.map : a.output) << "\n";
+}
+
+void runValidate(const ValidateArgs& args) {
+  TaskMapData map = readMap(args.map);
+  const std::string urdf = args.hand.empty() ? mapHandUrdf(map) : args.hand;
+  const HandModel hand = HandModel::load(urdf);
+  g_stop.store(false);
+  struct sigaction action {};
+  action.sa_handler = onValidateStop;
+  sigemptyset(&action.sa_mask);
+  struct sigaction old_int {
+  }, old_term{};
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
+  const bool terminal = ::isatty(STDERR_FILENO) != 0 && !args.quiet;
+  auto progress = [terminal](const ValidateProgress& p) {
+    if (!terminal) return;
+    std::fprintf(stderr, "\rtaskmap validate: %zu / %zu grasps, %zu hold", p.done, p.total,
+                 p.holding);
+  };
+  ValidationSummary s;
+  try {
+    s = validateMap(&map, hand, args.options, progress, &g_stop);
+    if (terminal) std::fprintf(stderr, "\n");
+    if (s.status == ValidationSummary::Status::kCompleted)
+      writeMap(args.output.empty() ? args.map : args.output, map);
+  } catch (...) {
+    sigaction(SIGINT, &old_int, nullptr);
+    sigaction(SIGTERM, &old_term, nullptr);
+    throw;
+  }
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  if (s.status == ValidationSummary::Status::kInterrupted) {
+    std::cerr << "taskmap validate: " << s.message << "\n";
+    exitCode() = 130;
+    return;
+  }
+  if (args.json) {
+    std::cout << summaryJson(s, args).dump(2) << "\n";
+  } else if (!args.quiet) {
+    printSummary(s, args);
+  }
+}
+
+const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
+  auto a = std::make_shared<ValidateArgs>();
+  HoldTestOptions& h = a->options.hold;
+  CLI::App* cmd = app.add_subcommand(
+      "validate",
+      "Test whether a map's grasps hold the object in physics (DexGraspBench's protocol in "
+      "MuJoCo: the hand closes on a free 0.1 kg object, then a push of 1 N along each object "
+      "axis; docs/VALIDATION.md) and store the labels in the map (/grasps/hold).");
+  cmd->add_option("map", a->map, "task map (.h5); labels are written into it unless -o")
+      ->required()
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", a->output, "write the labelled map here instead");
+  cmd->add_option("--hand", a->hand,
+                  "hand URDF (default: the one the map was built with, found by its SHA-256)");
+  cmd->add_option("--threads", a->options.threads, "worker threads (0: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--grasps", a->options.grasps, "test only the first N grasps (0: all)");
+  cmd->add_option("--object-mass", h.object_mass, "object mass, kg")->capture_default_str();
+  cmd->add_option("--friction", h.sliding_friction, "sliding friction coefficient")
+      ->capture_default_str();
+  cmd->add_option("--jaw-force", h.jaw_force, "parallel jaws: force of each jaw, N")
+      ->capture_default_str();
+  cmd->add_option("--kp", h.kp_revolute, "position gain of revolute joints, N m/rad")
+      ->capture_default_str();
+  cmd->add_option("--max-translation", h.max_translation, "failure displacement, m")
+      ->capture_default_str();
+  cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
+      ->capture_default_str();
+  cmd->add_flag("--json", a->json, "print the summary as JSON");
+  cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
+  cmd->callback([a]() { runValidate(*a); });
+});
+
+}  // namespace
+}  // namespace taskmap::cli

@@ -1,0 +1,140 @@
+#pragma once
+/// @file hold_test.hpp
+/// Does a grasp hold the object in physics? The DexGraspBench force-closure protocol (BODex,
+/// ICRA 2025) run in MuJoCo (kept private): the hand's base fixed at the grasp's palm pose, its
+/// joints position-controlled from a pregrasp through the grasp to a squeeze, then a push on
+/// the object's centre of mass along each of the object frame's six axis directions; the grasp
+/// holds when the object moves and turns less than the thresholds under every push. Protocol,
+/// numbers and sources: docs/VALIDATION.md. Units: metres, radians, kilograms, newtons, seconds.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "taskmap/core/pose.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/meshes/object_model.hpp"
+
+namespace taskmap {
+
+/// The protocol's numbers; defaults are DexGraspBench's (docs/VALIDATION.md, "Parameters").
+struct HoldTestOptions {
+  double object_mass = 0.1;          ///< kg, the object a free body of this mass
+  double sliding_friction = 0.6;     ///< sliding friction coefficient of every geom
+  double torsional_friction = 0.02;  ///< torsional friction, metres (MuJoCo's second friction)
+  double timestep = 0.004;           ///< s
+  double impratio = 10.0;            ///< MuJoCo's frictional-to-normal impedance ratio
+  int noslip_iterations = 2;         ///< MuJoCo's no-slip solver iterations
+  double kp_revolute = 5.0;          ///< N m / rad, position gain of revolute joints
+  double joint_damping = 0.1;        ///< N m s / rad, damping of revolute joints
+  double link_density = 800.0;       ///< kg / m^3, hand links' mass from their shapes
+  double revolute_armature = 0.0;    ///< kg m^2, reflected rotor inertia of revolute joints
+  /// Parallel jaws (prismatic joints, outside DexGraspBench): the force each jaw presses with,
+  /// N (Franka Hand: 70 N continuous; Robotiq 2F-85: 20 to 235 N).
+  double jaw_force = 70.0;
+  double kp_prismatic = 20000.0;     ///< N / m, position gain of prismatic joints
+  double prismatic_damping = 100.0;  ///< N s / m, damping of prismatic joints
+  /// kg, reflected inertia of a jaw's drive (keeps light jaws stable against stiff contacts).
+  double prismatic_armature = 0.1;
+  double pregrasp_fraction = 0.9;  ///< pregrasp joints: this far from preshape to the grasp
+  double squeeze_fraction = 1.1;   ///< squeeze target: this far from preshape past the grasp
+  int interpolation_stages = 10;   ///< control targets per closing phase (linear steps)
+  int steps_per_stage = 10;        ///< simulation steps per control target
+  double push_per_mass = 10.0;     ///< N / kg: push force = this x object_mass
+  double push_duration = 2.0;      ///< s per direction
+  int check_every = 50;            ///< steps between displacement checks during a push
+  double max_translation = 0.05;   ///< m: the grasp fails when the object moves this far
+  double max_rotation = 0.2617993877991494;  ///< rad (15 deg): or turns this far
+  double max_penetration = 0.01;             ///< m: a hand starting deeper inside the object fails
+  /// Contact patches: MuJoCo 2.2.2 gives one contact point per pair of geoms, so a finger pad
+  /// pressed flat on a face touches at one point and resists twisting only by torsional
+  /// friction. With a size > 0, hand boxes are split into cells of at most this size (metres,
+  /// at most 4 per axis) and cylinders into segments, each its own geom: the union is the same
+  /// solid, and a pad touches at several points. 0: the shapes as they are, one point each.
+  double contact_patch = 0.01;
+  /// Convex pieces of a non-convex object (MuJoCo collides each mesh geom as its hull).
+  int object_max_pieces = 64;
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Why a grasp does or does not hold.
+enum class HoldStatus : std::uint8_t {
+  kHolds = 0,      ///< the object stayed within the thresholds under all six pushes
+  kPenetration,    ///< the hand starts more than max_penetration inside the object
+  kLostInClosing,  ///< the object left the thresholds while the hand closed (before a push)
+  kSlipped,        ///< the object left the thresholds under a push
+  kUnstable,       ///< the simulation diverged (non-finite state or MuJoCo warning)
+};
+
+/// Name of a status: "holds", "penetration", "lost_in_closing", "slipped", "unstable".
+const char* holdStatusName(HoldStatus status);
+
+/// Names of the push directions in test order: "-x", "+x", "-y", "+y", "-z", "+z" (object frame).
+const std::array<const char*, 6>& pushDirectionNames();
+
+/// The physics engine and its version, e.g. "MuJoCo 2.2.2".
+std::string physicsEngine();
+
+/// Outcome of one grasp.
+struct HoldResult {
+  HoldStatus status = HoldStatus::kUnstable;  ///< see HoldStatus
+  bool holds = false;                         ///< status == kHolds
+  /// Largest displacement of the object from its start over the pushes simulated, metres.
+  double max_translation = 0.0;
+  /// Largest rotation of the object from its start over the pushes simulated, radians.
+  double max_rotation = 0.0;
+  /// Index into pushDirectionNames() of the push under which the grasp failed; -1 when it
+  /// holds or failed before any push (penetration).
+  int failed_direction = -1;
+  double initial_penetration = 0.0;  ///< deepest hand-object penetration at the start, metres
+  int steps = 0;                     ///< simulation steps taken
+};
+
+/// Summary of the simulation model built for a hand and an object.
+struct HoldModelInfo {
+  int object_pieces = 0;             ///< convex pieces of the object
+  double object_volume_error = 0.0;  ///< (pieces - mesh) / mesh volume of the object
+  bool object_decomposed = false;    ///< the object was decomposed (not its hull)
+  std::string object_note;           ///< why the hull was kept, or ""
+  int hand_bodies = 0;               ///< bodies of the hand
+  int hand_geoms = 0;                ///< collision geoms of the hand
+  int actuators = 0;                 ///< position actuators (one per actuated joint)
+  int mimic_constraints = 0;         ///< joint equality constraints (URDF mimic)
+};
+
+/// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text
+/// from the hand model and the object's convex pieces); test() is const and thread-safe (each
+/// call has its own simulation state), and its result depends on its arguments only.
+class HoldTester {
+ public:
+  /// @param hand the hand (URDF + sidecar); @param object the solid (metres, object frame; its
+  /// centre of mass and inertia shape the free body). Throws Error when the options are invalid
+  /// or MuJoCo refuses the model (with its message).
+  HoldTester(const HandModel& hand, const ObjectModel& object, const HoldTestOptions& options = {});
+  ~HoldTester();
+  HoldTester(HoldTester&&) noexcept;
+  HoldTester& operator=(HoldTester&&) noexcept;
+
+  /// Tests the grasp: palm frame `palm` in the object frame, actuated joints `joints`
+  /// (HandModel::jointNames() order, radians or metres). Throws Error on a size mismatch.
+  HoldResult test(const Pose& palm, const Eigen::VectorXd& joints) const;
+
+  /// What the model holds.
+  const HoldModelInfo& info() const;
+  /// The MJCF text of the model (for inspection: load it in MuJoCo's viewer).
+  const std::string& mjcf() const;
+  /// The options in force.
+  const HoldTestOptions& options() const;
+
+  struct Impl;  ///< private (MuJoCo model)
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace taskmap

@@ -1,0 +1,70 @@
+#pragma once
+/// @file validate_map.hpp
+/// Labels a map's grasps with the physics hold test (hold_test.hpp) on all cores: per grasp,
+/// whether it holds, the object's largest displacement and rotation, and the first push under
+/// which it failed (MapValidation, mapstore/SCHEMA.md). Same labels for any thread count.
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <string>
+
+#include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/validate/hold_test.hpp"
+
+namespace taskmap {
+
+/// Which grasps to test and how.
+struct ValidateOptions {
+  HoldTestOptions hold;    ///< the protocol's numbers
+  int threads = 0;         ///< worker threads, 0: all cores
+  std::size_t grasps = 0;  ///< test the first this many grasps (0: all); the rest stay untested
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Progress of a validation: grasps done of the total to test.
+struct ValidateProgress {
+  std::size_t done = 0;     ///< grasps tested so far
+  std::size_t total = 0;    ///< grasps to test
+  std::size_t holding = 0;  ///< of those done, how many hold
+};
+
+/// What a validation found.
+struct ValidationSummary {
+  /// How the validation ended.
+  enum class Status { kCompleted, kInterrupted };
+  Status status = Status::kCompleted;  ///< kInterrupted: stop raised; no labels were written
+  std::size_t tested = 0;              ///< grasps tested
+  std::size_t holding = 0;             ///< grasps that hold
+  /// Force-closure grasps tested and how many of them hold.
+  std::size_t fc_tested = 0, fc_holding = 0;
+  std::map<std::string, std::size_t> statuses;       ///< grasps per holdStatusName()
+  std::array<std::size_t, 6> failed_by_direction{};  ///< slipped grasps per push direction
+  HoldModelInfo model;                               ///< the simulation model
+  double cpu_seconds = 0.0;   ///< CPU time of the process during the tests, s
+  double wall_seconds = 0.0;  ///< wall-clock time of the tests, s
+  long long steps = 0;        ///< simulation steps taken
+  std::string message;        ///< one line for people
+};
+
+/// Tests the grasps of `map` (its object mesh, hand joints and palm poses) with `hand`, which
+/// must be the map's hand (same actuated joints; throws Error naming both otherwise), and
+/// stores the labels in map->validation (replacing earlier ones), with the protocol's
+/// parameters. `progress` is called on the calling thread about every 0.25 s; when *stop
+/// becomes true the workers finish their current grasp and the map is left unchanged.
+ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
+                              const ValidateOptions& options,
+                              const std::function<void(const ValidateProgress&)>& progress = {},
+                              const std::atomic<bool>* stop = nullptr);
+
+/// The protocol's parameters as a JSON object (what /validation params_json stores).
+std::string holdParamsJson(const HoldTestOptions& options);
+
+/// The map's object as a solid (its stored mesh, already closed and in metres).
+ObjectModel mapObjectModel(const TaskMapData& map);
+
+}  // namespace taskmap

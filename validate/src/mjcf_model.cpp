@@ -1,0 +1,315 @@
+// The hold test's scene as MJCF (MuJoCo 2.2.2's XML), written from the hand model and the
+// object's convex pieces. Frames: world = palm frame; URDF link frames become body frames.
+#include "mjcf_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+#include "taskmap/core/error.hpp"
+
+namespace taskmap::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMinSize = 1e-5;  // MuJoCo refuses geoms of zero size (metres)
+
+/// Full-precision number.
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+/// Text safe inside an XML attribute value.
+std::string xmlName(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string vec(const Eigen::Vector3d& v) {
+  return num(v.x()) + " " + num(v.y()) + " " + num(v.z());
+}
+
+/// pos and quat attributes of a transform.
+std::string frame(const Eigen::Isometry3d& t) {
+  const Eigen::Quaterniond q(t.rotation());
+  return "pos=\"" + vec(t.translation()) + "\" quat=\"" + num(q.w()) + " " + num(q.x()) + " " +
+         num(q.y()) + " " + num(q.z()) + "\"";
+}
+
+/// Volume of a convex shape, m^3 (hulls: half their bounding box, an estimate for the mass).
+double shapeVolume(const CollisionShape& s) {
+  switch (s.type) {
+    case ShapeType::kBox:
+      return s.box_size.prod();
+    case ShapeType::kCylinder:
+      return kPi * s.radius * s.radius * s.length;
+    case ShapeType::kSphere:
+      return 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+    case ShapeType::kConvex: {
+      Eigen::AlignedBox3d box;
+      for (const auto& p : s.points) box.extend(p);
+      return s.points.empty() ? 0.0 : 0.5 * box.sizes().prod();
+    }
+  }
+  return 0.0;
+}
+
+/// The <inertial> of a link: density x shape volume at the volume-weighted centre of its shapes,
+/// the inertia of a solid sphere of the shapes' extent (docs/VALIDATION.md, "The model").
+std::string inertial(const HandLink& link, double density) {
+  double volume = 0.0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& s : link.shapes) {
+    const double v = shapeVolume(s);
+    volume += v;
+    centre += v * s.origin.translation();
+  }
+  if (volume > 0.0) centre /= volume;
+  double radius = 0.0;
+  for (const auto& s : link.shapes)
+    radius = std::max(radius, (s.origin.translation() - centre).norm() + s.boundingRadius());
+  const double mass = std::max(density * volume, 1e-3);
+  const double i = std::max(0.4 * mass * radius * radius, 1e-8);
+  return "<inertial pos=\"" + vec(centre) + "\" mass=\"" + num(mass) + "\" diaginertia=\"" +
+         num(i) + " " + num(i) + " " + num(i) + "\"/>";
+}
+
+/// Cells of a box of half extents h along one axis: ceil(2 h / patch), 1 to 4.
+int cells(double h, double patch) {
+  if (patch <= 0.0) return 1;
+  return std::clamp(static_cast<int>(std::ceil(2.0 * h / patch - 1e-9)), 1, 4);
+}
+
+/// A box as cells of at most `patch` per side (one geom when patch is 0).
+void boxGeoms(const CollisionShape& s, double patch, std::ostringstream* body, int* geoms) {
+  const Eigen::Vector3d h = (0.5 * s.box_size).cwiseMax(kMinSize);
+  const Eigen::Vector3i n(cells(h.x(), patch), cells(h.y(), patch), cells(h.z(), patch));
+  const Eigen::Vector3d c = h.cwiseQuotient(n.cast<double>());  // half extents of a cell
+  for (int i = 0; i < n.x(); ++i)
+    for (int j = 0; j < n.y(); ++j)
+      for (int k = 0; k < n.z(); ++k) {
+        const Eigen::Vector3d at =
+            -h + Eigen::Vector3d(2 * i + 1, 2 * j + 1, 2 * k + 1).cwiseProduct(c);
+        Eigen::Isometry3d t = s.origin;
+        t.translation() += s.origin.linear() * at;
+        *body << "<geom class=\"hand\" " << frame(t) << " type=\"box\" size=\"" << vec(c)
+              << "\"/>\n";
+        ++*geoms;
+      }
+}
+
+/// A cylinder as segments along its axis of at most `patch` length (one when patch is 0).
+void cylinderGeoms(const CollisionShape& s, double patch, std::ostringstream* body, int* geoms) {
+  const double half = std::max(0.5 * s.length, kMinSize);
+  const int n = cells(half, patch);
+  for (int k = 0; k < n; ++k) {
+    Eigen::Isometry3d t = s.origin;
+    t.translation() += s.origin.linear() * Eigen::Vector3d(0, 0, -half + (2 * k + 1) * half / n);
+    *body << "<geom class=\"hand\" " << frame(t) << " type=\"cylinder\" size=\""
+          << num(std::max(s.radius, kMinSize)) << " " << num(half / n) << "\"/>\n";
+    ++*geoms;
+  }
+}
+
+/// Mesh assets and geoms of one link's shapes.
+void linkGeoms(const HandLink& link, int link_index, double patch, std::ostringstream* assets,
+               std::ostringstream* body, int* geoms) {
+  for (std::size_t k = 0; k < link.shapes.size(); ++k) {
+    const CollisionShape& s = link.shapes[k];
+    if (s.type == ShapeType::kBox) {
+      boxGeoms(s, patch, body, geoms);
+      continue;
+    }
+    if (s.type == ShapeType::kCylinder) {
+      cylinderGeoms(s, patch, body, geoms);
+      continue;
+    }
+    *body << "<geom class=\"hand\" " << frame(s.origin) << " ";
+    switch (s.type) {
+      case ShapeType::kBox:
+      case ShapeType::kCylinder:
+        break;
+      case ShapeType::kSphere:
+        *body << "type=\"sphere\" size=\"" << num(std::max(s.radius, kMinSize)) << "\"/>";
+        break;
+      case ShapeType::kConvex: {
+        const std::string name = "hand_" + std::to_string(link_index) + "_" + std::to_string(k);
+        *assets << "<mesh name=\"" << name << "\" vertex=\"";
+        for (const auto& p : s.points) *assets << vec(p) << " ";
+        *assets << "\"/>\n";
+        *body << "type=\"mesh\" mesh=\"" << name << "\"/>";
+        break;
+      }
+    }
+    *body << "\n";
+    ++*geoms;
+  }
+}
+
+/// Extra force of a driver that drags mimic jaws along: 1 + sum of |multiplier| of the prismatic
+/// joints it drives besides its own.
+double jawShare(const HandModel& hand, int actuated) {
+  const std::string name = hand.jointNames()[static_cast<std::size_t>(actuated)];
+  double share = 1.0;
+  for (const auto& j : hand.joints())
+    if (j.driver == actuated && j.name != name && j.type == JointType::kPrismatic)
+      share += std::abs(j.multiplier);
+  return share;
+}
+
+/// The hand's body tree (iterative: any depth), its actuators and its mimic equalities.
+void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstream* assets,
+              std::ostringstream* bodies, std::ostringstream* actuators,
+              std::ostringstream* equalities, MjcfScene* scene) {
+  const auto& links = hand.links();
+  const auto& joints = hand.joints();
+  const std::vector<std::string> actuated = hand.jointNames();
+  std::vector<std::vector<int>> children(links.size());
+  int root = -1;
+  for (std::size_t j = 0; j < joints.size(); ++j)
+    children[static_cast<std::size_t>(joints[j].parent_link)].push_back(static_cast<int>(j));
+  for (std::size_t l = 0; l < links.size(); ++l)
+    if (links[l].parent_joint < 0) root = static_cast<int>(l);
+  if (root < 0) throw Error("hold test: hand '" + hand.name() + "' has no root link");
+  // Stack of (link, next child); a link's body opens when pushed and closes when popped.
+  std::vector<std::pair<int, std::size_t>> stack;
+  auto open = [&](int l, const Eigen::Isometry3d& t) {
+    const HandLink& link = links[static_cast<std::size_t>(l)];
+    *bodies << "<body name=\"link_" << l << "\" " << frame(t) << ">\n"
+            << inertial(link, o.link_density) << "\n";
+    if (link.parent_joint >= 0) {
+      const HandJoint& j = joints[static_cast<std::size_t>(link.parent_joint)];
+      if (j.type != JointType::kFixed) {
+        const bool slide = j.type == JointType::kPrismatic;
+        *bodies << "<joint name=\"" << xmlName(j.name) << "\" type=\""
+                << (slide ? "slide" : "hinge") << "\" axis=\"" << vec(j.axis)
+                << "\" limited=\"true\" range=\"" << num(j.lower) << " " << num(j.upper)
+                << "\" damping=\"" << num(slide ? o.prismatic_damping : o.joint_damping)
+                << "\" armature=\"" << num(slide ? o.prismatic_armature : o.revolute_armature)
+                << "\"/>\n";
+      }
+    }
+    int geoms = 0;
+    linkGeoms(link, l, o.contact_patch, assets, bodies, &geoms);
+    scene->hand_geoms += geoms;
+    ++scene->hand_bodies;
+    stack.emplace_back(l, 0);
+  };
+  open(root, hand.rootToPalm().inverse());
+  while (!stack.empty()) {
+    auto& [l, next] = stack.back();
+    if (next == children[static_cast<std::size_t>(l)].size()) {
+      *bodies << "</body>\n";
+      stack.pop_back();
+      continue;
+    }
+    const HandJoint& j =
+        joints[static_cast<std::size_t>(children[static_cast<std::size_t>(l)][next++])];
+    open(j.child_link, j.origin);
+  }
+  for (const auto& j : joints) {
+    if (j.type == JointType::kFixed || j.driver < 0) continue;
+    const std::string& driver = actuated[static_cast<std::size_t>(j.driver)];
+    if (j.name == driver) continue;
+    *equalities << "<joint joint1=\"" << xmlName(j.name) << "\" joint2=\"" << xmlName(driver)
+                << "\" polycoef=\"" << num(j.offset) << " " << num(j.multiplier) << " 0 0 0\"/>\n";
+    ++scene->mimic_constraints;
+  }
+  for (std::size_t a = 0; a < actuated.size(); ++a) {
+    const HandJoint* j = nullptr;
+    for (const auto& c : joints)
+      if (c.name == actuated[a]) j = &c;
+    if (!j) throw Error("hold test: actuated joint '" + actuated[a] + "' is not a URDF joint");
+    *actuators << "<position name=\"act_" << a << "\" joint=\"" << xmlName(j->name)
+               << "\" ctrllimited=\"true\" ctrlrange=\"" << num(j->lower) << " " << num(j->upper)
+               << "\" ";
+    if (j->type == JointType::kPrismatic) {
+      const double f = o.jaw_force * jawShare(hand, static_cast<int>(a));
+      *actuators << "kp=\"" << num(o.kp_prismatic) << "\" forcelimited=\"true\" forcerange=\""
+                 << num(-f) << " " << num(f) << "\"/>\n";
+    } else {
+      *actuators << "kp=\"" << num(o.kp_revolute) << "\"/>\n";
+    }
+    ++scene->actuators;
+  }
+}
+
+/// The object: a free body with the solid's mass properties at options.object_mass.
+void objectBody(const ObjectModel& object, const ConvexPieces& pieces, const HoldTestOptions& o,
+                std::ostringstream* assets, std::ostringstream* bodies) {
+  const MassProperties& mp = object.massProperties();
+  const double density = o.object_mass / mp.volume;
+  const Eigen::Matrix3d i = density * mp.inertia;
+  *bodies << "<body name=\"" << kObjectBody << "\">\n<freejoint name=\"" << kObjectJoint
+          << "\"/>\n<inertial pos=\"" << vec(mp.center_of_mass) << "\" mass=\""
+          << num(o.object_mass) << "\" fullinertia=\"" << num(i(0, 0)) << " " << num(i(1, 1)) << " "
+          << num(i(2, 2)) << " " << num(i(0, 1)) << " " << num(i(0, 2)) << " " << num(i(1, 2))
+          << "\"/>\n";
+  for (std::size_t k = 0; k < pieces.pieces.size(); ++k) {
+    *assets << "<mesh name=\"object_" << k << "\" vertex=\"";
+    for (const auto& p : pieces.pieces[k]) *assets << vec(p) << " ";
+    *assets << "\"/>\n";
+    *bodies << "<geom class=\"object\" type=\"mesh\" mesh=\"object_" << k << "\"/>\n";
+  }
+  *bodies << "</body>\n";
+}
+
+}  // namespace
+
+MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const ConvexPieces& pieces,
+                    const HoldTestOptions& o) {
+  MjcfScene scene;
+  std::ostringstream assets, bodies, actuators, equalities;
+  handTree(hand, o, &assets, &bodies, &actuators, &equalities, &scene);
+  objectBody(object, pieces, o, &assets, &bodies);
+  const std::string friction =
+      num(o.sliding_friction) + " " + num(o.torsional_friction) + " 0.0001";
+  std::ostringstream x;
+  x << "<mujoco model=\"taskmap_hold_test\">\n"
+    << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+    << "<option timestep=\"" << num(o.timestep) << "\" gravity=\"0 0 0\" integrator=\"implicit\""
+    << " cone=\"elliptic\" impratio=\"" << num(o.impratio) << "\" noslip_iterations=\""
+    << o.noslip_iterations << "\"/>\n"
+    << "<size njmax=\"1000\" nconmax=\"250\"/>\n"
+    << "<default>\n"
+    // Hand geoms collide with the object only (contype 1 / conaffinity 2 against 2 / 1).
+    << "<default class=\"hand\"><geom contype=\"1\" conaffinity=\"2\" condim=\"4\" friction=\""
+    << friction << "\" solimp=\"0.5 0.99 0.0001\" solref=\"0.005 1\"/></default>\n"
+    << "<default class=\"object\"><geom contype=\"2\" conaffinity=\"1\" condim=\"4\" friction=\""
+    << friction << "\"/></default>\n"
+    << "</default>\n"
+    << "<asset>\n"
+    << assets.str() << "</asset>\n"
+    << "<worldbody>\n"
+    << bodies.str() << "</worldbody>\n";
+  if (scene.mimic_constraints > 0) x << "<equality>\n" << equalities.str() << "</equality>\n";
+  x << "<actuator>\n" << actuators.str() << "</actuator>\n</mujoco>\n";
+  scene.xml = x.str();
+  return scene;
+}
+
+}  // namespace taskmap::detail

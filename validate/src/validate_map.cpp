@@ -1,0 +1,187 @@
+// Labels a map's grasps with the hold test on worker threads. Steps: check the hand against
+// the map, build the tester, test grasps in index order across threads (each result depends on
+// its grasp only), summarise, store.
+#include "taskmap/validate/validate_map.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "taskmap/core/error.hpp"
+
+namespace taskmap {
+namespace {
+
+double cpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void checkHand(const TaskMapData& map, const HandModel& hand) {
+  if (hand.jointNames() != map.hand.joint_names)
+    throw Error("validate: hand '" + hand.name() + "' (" + hand.urdfPath() +
+                ") does not have the actuated joints of the map's hand '" + map.hand.name +
+                "'; pass the hand the map was built with");
+}
+
+/// Runs the tests of grasps [0, n) on `threads` workers; results[i] is grasp i's.
+bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, int threads,
+              std::vector<HoldResult>* results,
+              const std::function<void(const ValidateProgress&)>& progress,
+              const std::atomic<bool>* stop) {
+  results->assign(n, HoldResult{});
+  std::atomic<std::size_t> next{0}, done{0}, holding{0};
+  std::atomic<bool> failed{false};
+  std::string error;
+  std::mutex error_mutex;
+  auto worker = [&] {
+    for (;;) {
+      if ((stop && stop->load()) || failed.load()) return;
+      const std::size_t i = next.fetch_add(1);
+      if (i >= n) return;
+      try {
+        const Eigen::VectorXd q = map.grasps.joints.row(static_cast<Eigen::Index>(i)).transpose();
+        (*results)[i] = tester.test(map.grasps.poseAt(i), q);
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!failed.exchange(true)) error = "grasp " + std::to_string(i) + ": " + e.what();
+        return;
+      }
+      holding += (*results)[i].holds ? 1 : 0;
+      ++done;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+  while (done.load() < n && !failed.load() && !(stop && stop->load())) {
+    if (progress) progress({done.load(), n, holding.load()});
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  for (auto& th : pool) th.join();
+  if (failed) throw Error("validate: " + error);
+  if (progress) progress({done.load(), n, holding.load()});
+  return done.load() == n;
+}
+
+MapValidation labels(const std::vector<HoldResult>& results, std::size_t n,
+                     const HoldTestOptions& options) {
+  MapValidation v;
+  v.hold.assign(n, MapValidation::kNotTested);
+  v.status.assign(n, MapValidation::kNotTested);
+  v.translation.assign(n, -1.0);
+  v.rotation.assign(n, -1.0);
+  v.direction.assign(n, -1);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const HoldResult& r = results[i];
+    v.hold[i] = r.holds ? 1 : 0;
+    v.status[i] = static_cast<std::uint8_t>(r.status);
+    v.translation[i] = r.max_translation;
+    v.rotation[i] = r.max_rotation;
+    v.direction[i] = r.failed_direction;
+  }
+  v.protocol = "dexgraspbench_fc";
+  v.engine = physicsEngine();
+  v.params_json = holdParamsJson(options);
+  return v;
+}
+
+}  // namespace
+
+void ValidateOptions::validate() const {
+  hold.validate();
+  if (threads < 0) throw Error("validate: threads (--threads) must be >= 0 (0: all cores)");
+}
+
+std::string holdParamsJson(const HoldTestOptions& o) {
+  nlohmann::ordered_json j;
+  j["object_mass"] = o.object_mass;
+  j["sliding_friction"] = o.sliding_friction;
+  j["torsional_friction"] = o.torsional_friction;
+  j["timestep"] = o.timestep;
+  j["integrator"] = "implicit";
+  j["cone"] = "elliptic";
+  j["impratio"] = o.impratio;
+  j["noslip_iterations"] = o.noslip_iterations;
+  j["kp_revolute"] = o.kp_revolute;
+  j["joint_damping"] = o.joint_damping;
+  j["link_density"] = o.link_density;
+  j["jaw_force"] = o.jaw_force;
+  j["kp_prismatic"] = o.kp_prismatic;
+  j["prismatic_damping"] = o.prismatic_damping;
+  j["prismatic_armature"] = o.prismatic_armature;
+  j["revolute_armature"] = o.revolute_armature;
+  j["pregrasp_fraction"] = o.pregrasp_fraction;
+  j["squeeze_fraction"] = o.squeeze_fraction;
+  j["interpolation_stages"] = o.interpolation_stages;
+  j["steps_per_stage"] = o.steps_per_stage;
+  j["push_per_mass"] = o.push_per_mass;
+  j["push_duration"] = o.push_duration;
+  j["check_every"] = o.check_every;
+  j["max_translation"] = o.max_translation;
+  j["max_rotation"] = o.max_rotation;
+  j["max_penetration"] = o.max_penetration;
+  j["contact_patch"] = o.contact_patch;
+  j["object_max_pieces"] = o.object_max_pieces;
+  return j.dump();
+}
+
+ObjectModel mapObjectModel(const TaskMapData& map) {
+  TriangleMesh mesh;
+  const MapObject& o = map.object;
+  for (Eigen::Index r = 0; r < o.vertices.rows(); ++r)
+    mesh.vertices.emplace_back(o.vertices(r, 0), o.vertices(r, 1), o.vertices(r, 2));
+  for (Eigen::Index r = 0; r < o.faces.rows(); ++r)
+    mesh.faces.emplace_back(static_cast<int>(o.faces(r, 0)), static_cast<int>(o.faces(r, 1)),
+                            static_cast<int>(o.faces(r, 2)));
+  return ObjectModel::fromMesh(mesh, o.name);
+}
+
+ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
+                              const ValidateOptions& options,
+                              const std::function<void(const ValidateProgress&)>& progress,
+                              const std::atomic<bool>* stop) {
+  options.validate();
+  checkHand(*map, hand);
+  ValidationSummary s;
+  const HoldTester tester(hand, mapObjectModel(*map), options.hold);
+  s.model = tester.info();
+  const std::size_t n =
+      options.grasps == 0 ? map->grasps.size() : std::min(options.grasps, map->grasps.size());
+  const int threads = options.threads > 0
+                          ? options.threads
+                          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<HoldResult> results;
+  const double cpu0 = cpuSeconds();
+  const auto wall0 = std::chrono::steady_clock::now();
+  const bool complete = runTests(tester, *map, n, threads, &results, progress, stop);
+  s.cpu_seconds = cpuSeconds() - cpu0;
+  s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (!complete) {
+    s.status = ValidationSummary::Status::kInterrupted;
+    s.message = "validation interrupted; the map is unchanged";
+    return s;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const HoldResult& r = results[i];
+    ++s.tested;
+    s.holding += r.holds;
+    ++s.statuses[holdStatusName(r.status)];
+    if (r.status == HoldStatus::kSlipped)
+      ++s.failed_by_direction[static_cast<std::size_t>(r.failed_direction)];
+    if (map->grasps.force_closure[i]) {
+      ++s.fc_tested;
+      s.fc_holding += r.holds;
+    }
+    s.steps += r.steps;
+  }
+  map->validation = labels(results, map->grasps.size(), options.hold);
+  s.message = std::to_string(s.holding) + " of " + std::to_string(s.tested) + " grasps hold";
+  return s;
+}
+
+}  // namespace taskmap
