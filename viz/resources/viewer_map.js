@@ -24,7 +24,7 @@ TM.mapUi = function (side, D, state, filtered, refresh, select, reps, clusterOf)
   if (D.hold) {
     const hs = TM.el('select', { id: 'tm-hold' });
     hs.appendChild(TM.el('option', { value: 'all' }, 'all holds'));
-    [...new Set(D.hold)].sort().forEach((h) => hs.appendChild(TM.el('option', { value: h }, h)));
+    [...new Set(D.hold.labels)].sort().forEach((h) => hs.appendChild(TM.el('option', { value: h }, h)));
     hs.onchange = () => { state.hold = hs.value; refresh(); };
     const hl = TM.el('label', {}, 'hold ');
     hl.appendChild(hs);
@@ -87,7 +87,7 @@ TM.run(function () {
       const c = clusterOf(i);
       if (state.cluster !== 'all' && String(c) !== state.cluster) continue;
       if (G.eps[i] < state.eps) continue;
-      if (D.hold && state.hold !== 'all' && D.hold[i] !== state.hold) continue;
+      if (D.hold && state.hold !== 'all' && D.hold.labels[i] !== state.hold) continue;
       out.push(i);
     }
     return out;
@@ -187,7 +187,7 @@ TM.run(function () {
     row('epsilon', TM.fmt(G.eps[i], 5));
     row('volume', G.vol[i].toExponential(3));
     row('force closure', G.fc[i] ? 'yes' : 'no');
-    if (D.hold) row('hold', D.hold[i]);
+    if (D.hold) row('hold (' + D.hold.engine + ')', D.hold.labels[i] + (D.hold.translation[i] >= 0 ? ', moved ' + TM.fmt(D.hold.translation[i] * 1000, 1) + ' mm' : ''));
     row('position (m)', [0, 1, 2].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
     row('quaternion', [3, 4, 5, 6].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
     box.appendChild(t);

@@ -57,12 +57,24 @@ nlohmann::json clustersJson(const TaskMapData& map) {
   return out;
 }
 
+/// One label per grasp from the physics hold test (HoldStatus names), null without one.
+nlohmann::json holdJson(const TaskMapData& map) {
+  if (!map.validation) return nullptr;
+  static const char* const kStatus[] = {"holds", "penetration", "lost in closing", "slipped",
+                                        "unstable"};
+  nlohmann::json labels = nlohmann::json::array(), moved = nlohmann::json::array();
+  const MapValidation& v = *map.validation;
+  for (std::size_t i = 0; i < v.status.size(); ++i) {
+    const std::uint8_t s = v.status[i];
+    labels.push_back(s < 5 ? kStatus[s] : s == MapValidation::kNotTested ? "not tested" : "?");
+    moved.push_back(viz_detail::rounded(v.translation[i], 5));
+  }
+  return {{"labels", labels}, {"translation", moved}, {"engine", v.engine}};
+}
+
 void checkInput(const MapPageInput& input) {
   if (input.map == nullptr) throw Error("map page: no map given");
   const TaskMapData& map = *input.map;
-  if (!input.hold.empty() && input.hold.size() != map.grasps.size())
-    throw Error("map page: " + std::to_string(input.hold.size()) + " hold labels for " +
-                std::to_string(map.grasps.size()) + " grasps");
   if (input.hand != nullptr && input.hand->jointNames() != map.hand.joint_names)
     throw Error("map page: hand '" + input.hand->name() +
                 "' has other actuated joints than the map's hand '" + map.hand.name + "'");
@@ -86,7 +98,7 @@ std::string mapPageHtml(const MapPageInput& input, const PageOptions& options) {
       {"grasps", graspsJson(map, d)},
       {"clusters", clustersJson(map)},
       {"hand", input.hand != nullptr ? viz_detail::handJson(*input.hand, d) : nlohmann::json()},
-      {"hold", input.hold.empty() ? nlohmann::json() : nlohmann::json(input.hold)}};
+      {"hold", holdJson(map)}};
   std::string title = options.title;
   if (title.empty())
     title = "taskmap: " + map.object.name + " x " + map.hand.name + " (" +

@@ -3,11 +3,11 @@
 /// `taskmap view MAP.h5`: one self-contained HTML page (three.js inlined, data as JSON) showing
 /// the object, every grasp's palm as a glyph coloured by cluster, cluster representatives
 /// marked, and the hand's collision shapes posed with a grasp's pose and joint values for the
-/// selection (or for the filtered grasps as ghosts); filters by cluster, epsilon and hold label,
-/// and each grasp's numbers, contacts with normals and touching links. Opens offline.
+/// selection (or for the filtered grasps as ghosts); filters by cluster, epsilon and physics hold
+/// label (map.validation, when the map has /grasps/hold), and each grasp's numbers, contacts
+/// with normals and touching links. Opens offline.
 
 #include <string>
-#include <vector>
 
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
@@ -20,14 +20,12 @@ struct MapPageInput {
   const TaskMapData* map = nullptr;  ///< the map (required)
   /// The map's hand (joint names must match the map's); nullptr draws palms only.
   const HandModel* hand = nullptr;
-  /// One hold label per grasp (/grasps/hold) when the map has them, else empty.
-  std::vector<std::string> hold;
   std::string source;  ///< file name shown in the page ("" for none)
 };
 
 /// The page as a string. The body gets data-ready="N" (N grasps drawn) once drawn; errors go
 /// to the console and to the element #tm-error. Throws Error on a hand whose joints differ
-/// from the map's or hold labels of the wrong count.
+/// from the map's.
 std::string mapPageHtml(const MapPageInput& input, const PageOptions& options = {});
 
 /// Writes mapPageHtml atomically (temporary file, then rename); throws Error naming the path.
