@@ -64,6 +64,110 @@ TM.fillList = function (list, idx, G, reps, clusterOf, select, selected) {
   if (sorted.length > 400) list.appendChild(TM.el('div', { class: 'tm-note' }, '\u2026 ' + (sorted.length - 400) + ' more (filter to see them)'));
   return sorted;
 };
+// Contact rows of grasp i.
+TM.contactsOf = (G, i) => {
+  const out = [];
+  for (let k = G.off[i]; k < G.off[i + 1]; ++k) out.push(k);
+  return out;
+};
+// Palm positions as points and approach axes as short lines, one draw call each.
+TM.mapGlyphs = function (m, idx) {
+  const { G, palms, approach, scale, clusterOf } = m;
+  const pos = [], col = [], line = [], lcol = [];
+  const len = 0.12 * scale;
+  idx.forEach((i) => {
+    const p = new THREE.Vector3().setFromMatrixPosition(palms[i]);
+    const a = approach.clone().transformDirection(palms[i]);
+    const c = new THREE.Color(TM.clusterColor(clusterOf(i)));
+    pos.push(p.x, p.y, p.z);
+    col.push(c.r, c.g, c.b);
+    line.push(p.x - a.x * len, p.y - a.y * len, p.z - a.z * len, p.x, p.y, p.z);
+    lcol.push(c.r, c.g, c.b, c.r, c.g, c.b);
+  });
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+  g.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
+  const points = new THREE.Points(g, new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: THREE.VertexColors }));
+  points.userData.index = idx;
+  const lg = new THREE.BufferGeometry();
+  lg.setAttribute('position', new THREE.Float32BufferAttribute(line, 3));
+  lg.setAttribute('color', new THREE.Float32BufferAttribute(lcol, 3));
+  const group = new THREE.Group();
+  group.add(points, new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
+  group.userData.points = points;
+  return group;
+};
+// Representatives: larger dark markers.
+TM.mapRepMarkers = function (m, idx) {
+  const { palms, reps } = m;
+  const pos = [];
+  idx.filter((i) => reps.has(i)).forEach((i) => {
+    const p = new THREE.Vector3().setFromMatrixPosition(palms[i]);
+    pos.push(p.x, p.y, p.z);
+  });
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+  return new THREE.Points(g, new THREE.PointsMaterial({ size: 11, sizeAttenuation: false, color: 0x111111 }));
+};
+// Contacts of grasp i: red balls and their normals.
+TM.mapContacts = function (m, i) {
+  const { G, scale } = m;
+  const group = new THREE.Group();
+  const ball = new THREE.SphereBufferGeometry(0.025 * scale, 10, 8);
+  const red = new THREE.MeshLambertMaterial({ color: 0xd01010 });
+  const line = [];
+  TM.contactsOf(G, i).forEach((k) => {
+    const p = new THREE.Vector3(G.cp[3 * k], G.cp[3 * k + 1], G.cp[3 * k + 2]);
+    const dot = new THREE.Mesh(ball, red);
+    dot.position.copy(p);
+    group.add(dot);
+    line.push(p.x, p.y, p.z, p.x + G.cn[3 * k] * 0.25 * scale, p.y + G.cn[3 * k + 1] * 0.25 * scale, p.z + G.cn[3 * k + 2] * 0.25 * scale);
+  });
+  const lg = new THREE.BufferGeometry();
+  lg.setAttribute('position', new THREE.Float32BufferAttribute(line, 3));
+  group.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0xd01010 })));
+  return group;
+};
+// The numbers of grasp i in the details box; returns the names of the links that touch.
+TM.mapDetails = function (m, box, i) {
+  const { D, G, reps, clusterOf, linkName } = m;
+  box.textContent = '';
+  if (i < 0) return;
+  const c = clusterOf(i);
+  box.appendChild(TM.el('h2', {}, 'grasp ' + i + (reps.has(i) ? ' (representative)' : '')));
+  const t = TM.el('table');
+  const row = (k, val) => { const r = TM.el('tr'); r.appendChild(TM.el('th', {}, k)); r.appendChild(TM.el('td', {}, val)); t.appendChild(r); };
+  row('cluster', c === null ? 'none' : c < 0 ? 'outlier' : String(c));
+  row('epsilon', TM.fmt(G.eps[i], 5));
+  row('volume', G.vol[i].toExponential(3));
+  row('force closure', G.fc[i] ? 'yes' : 'no');
+  if (D.hold) row('hold (' + D.hold.engine + ')', D.hold.labels[i] + (D.hold.translation[i] >= 0 ? ', moved ' + TM.fmt(D.hold.translation[i] * 1000, 1) + ' mm' : ''));
+  row('position (m)', [0, 1, 2].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
+  row('quaternion', [3, 4, 5, 6].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
+  box.appendChild(t);
+  const J = D.joint_names.length;
+  box.appendChild(TM.el('div', { class: 'tm-note' }, 'joints: ' +
+    D.joint_names.map((name, k) => name + ' ' + TM.fmt(G.joints[i * J + k], 3)).join(', ')));
+  const cs = TM.contactsOf(G, i);
+  box.appendChild(TM.el('h2', {}, cs.length + ' contacts'));
+  const ct = TM.el('table');
+  const head = TM.el('tr');
+  ['link', 'point (m)', 'normal', 'depth (mm)'].forEach((h) => head.appendChild(TM.el('th', {}, h)));
+  ct.appendChild(head);
+  const touching = new Set();
+  cs.forEach((k) => {
+    const r = TM.el('tr');
+    touching.add(linkName(G.cl[k]));
+    r.appendChild(TM.el('td', {}, linkName(G.cl[k])));
+    r.appendChild(TM.el('td', {}, [0, 1, 2].map((a) => TM.fmt(G.cp[3 * k + a], 3)).join(' ')));
+    r.appendChild(TM.el('td', {}, [0, 1, 2].map((a) => TM.fmt(G.cn[3 * k + a], 2)).join(' ')));
+    r.appendChild(TM.el('td', {}, TM.fmt(G.cd[k] * 1000, 2)));
+    ct.appendChild(r);
+  });
+  box.appendChild(ct);
+  box.appendChild(TM.el('div', { class: 'tm-note' }, 'touching: ' + ([...touching].join(', ') || 'none')));
+  return touching;
+};
 TM.run(function () {
   const D = TM.data, G = D.grasps, n = G.n;
   const hand = D.hand ? TM.prepareHand(D.hand) : null;
@@ -97,43 +201,6 @@ TM.run(function () {
     layers[name] = obj;
     if (obj) v.scene.add(obj);
   };
-  // Palm positions as points and approach axes as short lines, one draw call each.
-  const glyphs = (idx) => {
-    const pos = [], col = [], line = [], lcol = [];
-    const len = 0.12 * scale;
-    idx.forEach((i) => {
-      const p = new THREE.Vector3().setFromMatrixPosition(palms[i]);
-      const a = approach.clone().transformDirection(palms[i]);
-      const c = new THREE.Color(TM.clusterColor(clusterOf(i)));
-      pos.push(p.x, p.y, p.z);
-      col.push(c.r, c.g, c.b);
-      line.push(p.x - a.x * len, p.y - a.y * len, p.z - a.z * len, p.x, p.y, p.z);
-      lcol.push(c.r, c.g, c.b, c.r, c.g, c.b);
-    });
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    g.setAttribute('color', new THREE.Float32BufferAttribute(col, 3));
-    const points = new THREE.Points(g, new THREE.PointsMaterial({ size: 5, sizeAttenuation: false, vertexColors: THREE.VertexColors }));
-    points.userData.index = idx;
-    const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', new THREE.Float32BufferAttribute(line, 3));
-    lg.setAttribute('color', new THREE.Float32BufferAttribute(lcol, 3));
-    const group = new THREE.Group();
-    group.add(points, new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors })));
-    group.userData.points = points;
-    return group;
-  };
-  // Representatives: larger dark-rimmed markers.
-  const repMarkers = (idx) => {
-    const pos = [];
-    idx.filter((i) => reps.has(i)).forEach((i) => {
-      const p = new THREE.Vector3().setFromMatrixPosition(palms[i]);
-      pos.push(p.x, p.y, p.z);
-    });
-    const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
-    return new THREE.Points(g, new THREE.PointsMaterial({ size: 11, sizeAttenuation: false, color: 0x111111 }));
-  };
   const placedHand = (i, material) => {
     const g = TM.handGroup(hand, G.joints.slice(i * hand.joint_names.length, (i + 1) * hand.joint_names.length), material);
     g.matrixAutoUpdate = false;
@@ -151,75 +218,15 @@ TM.run(function () {
     });
     return group;
   };
-  const contactsOf = (i) => {
-    const out = [];
-    for (let k = G.off[i]; k < G.off[i + 1]; ++k) out.push(k);
-    return out;
-  };
-  const contactGlyphs = (i) => {
-    const group = new THREE.Group();
-    const ball = new THREE.SphereBufferGeometry(0.025 * scale, 10, 8);
-    const red = new THREE.MeshLambertMaterial({ color: 0xd01010 });
-    const line = [];
-    contactsOf(i).forEach((k) => {
-      const p = new THREE.Vector3(G.cp[3 * k], G.cp[3 * k + 1], G.cp[3 * k + 2]);
-      const m = new THREE.Mesh(ball, red);
-      m.position.copy(p);
-      group.add(m);
-      line.push(p.x, p.y, p.z, p.x + G.cn[3 * k] * 0.25 * scale, p.y + G.cn[3 * k + 1] * 0.25 * scale, p.z + G.cn[3 * k + 2] * 0.25 * scale);
-    });
-    const lg = new THREE.BufferGeometry();
-    lg.setAttribute('position', new THREE.Float32BufferAttribute(line, 3));
-    group.add(new THREE.LineSegments(lg, new THREE.LineBasicMaterial({ color: 0xd01010 })));
-    return group;
-  };
   const linkName = (l) => (l >= 0 && l < D.link_names.length ? D.link_names[l]
     : hand && l >= 0 && l < hand.links.length ? hand.links[l].name : 'link ' + l);
-  const details = (i) => {
-    const box = ui.details;
-    box.textContent = '';
-    if (i < 0) return;
-    const c = clusterOf(i);
-    box.appendChild(TM.el('h2', {}, 'grasp ' + i + (reps.has(i) ? ' (representative)' : '')));
-    const t = TM.el('table');
-    const row = (k, val) => { const r = TM.el('tr'); r.appendChild(TM.el('th', {}, k)); r.appendChild(TM.el('td', {}, val)); t.appendChild(r); };
-    row('cluster', c === null ? 'none' : c < 0 ? 'outlier' : String(c));
-    row('epsilon', TM.fmt(G.eps[i], 5));
-    row('volume', G.vol[i].toExponential(3));
-    row('force closure', G.fc[i] ? 'yes' : 'no');
-    if (D.hold) row('hold (' + D.hold.engine + ')', D.hold.labels[i] + (D.hold.translation[i] >= 0 ? ', moved ' + TM.fmt(D.hold.translation[i] * 1000, 1) + ' mm' : ''));
-    row('position (m)', [0, 1, 2].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
-    row('quaternion', [3, 4, 5, 6].map((k) => TM.fmt(G.pose[7 * i + k], 4)).join(' '));
-    box.appendChild(t);
-    const J = D.joint_names.length;
-    box.appendChild(TM.el('div', { class: 'tm-note' }, 'joints: ' +
-      D.joint_names.map((name, k) => name + ' ' + TM.fmt(G.joints[i * J + k], 3)).join(', ')));
-    const cs = contactsOf(i);
-    box.appendChild(TM.el('h2', {}, cs.length + ' contacts'));
-    const ct = TM.el('table');
-    const head = TM.el('tr');
-    ['link', 'point (m)', 'normal', 'depth (mm)'].forEach((h) => head.appendChild(TM.el('th', {}, h)));
-    ct.appendChild(head);
-    const touching = new Set();
-    cs.forEach((k) => {
-      const r = TM.el('tr');
-      touching.add(linkName(G.cl[k]));
-      r.appendChild(TM.el('td', {}, linkName(G.cl[k])));
-      r.appendChild(TM.el('td', {}, [0, 1, 2].map((a) => TM.fmt(G.cp[3 * k + a], 3)).join(' ')));
-      r.appendChild(TM.el('td', {}, [0, 1, 2].map((a) => TM.fmt(G.cn[3 * k + a], 2)).join(' ')));
-      r.appendChild(TM.el('td', {}, TM.fmt(G.cd[k] * 1000, 2)));
-      ct.appendChild(r);
-    });
-    box.appendChild(ct);
-    box.appendChild(TM.el('div', { class: 'tm-note' }, 'touching: ' + ([...touching].join(', ') || 'none')));
-    return touching;
-  };
+  const m = { D, G, hand, palms, approach, scale, clusterOf, reps, linkName };
   const select = (i) => {
     state.selected = i;
     swap('hand', null);
     swap('contacts', null);
     document.querySelectorAll('.tm-list div').forEach((e) => e.classList.toggle('sel', e.dataset.i === String(i)));
-    const touching = details(i);
+    const touching = TM.mapDetails(m, ui.details, i);
     if (i >= 0) {
       if (hand) {
         const base = TM.handMaterial(TM.clusterColor(clusterOf(i)), false);
@@ -228,7 +235,7 @@ TM.run(function () {
         h.children.forEach((lg) => { if (touching.has(hand.links[lg.userData.link].name)) lg.children.forEach((m) => { m.material = touch; }); });
         swap('hand', h);
       }
-      swap('contacts', contactGlyphs(i));
+      swap('contacts', TM.mapContacts(m, i));
       const p = new THREE.Vector3().setFromMatrixPosition(palms[i]).project(v.camera);
       document.body.setAttribute('data-palm', TM.fmt((p.x + 1) / 2, 4) + ' ' + TM.fmt((1 - p.y) / 2, 4));
     }
@@ -238,8 +245,8 @@ TM.run(function () {
   let listed = [];
   const refresh = () => {
     listed = TM.fillList(ui.side.querySelector('.tm-list'), filtered(), G, reps, clusterOf, select, state.selected);
-    swap('glyphs', glyphs(listed));
-    swap('reps', repMarkers(listed));
+    swap('glyphs', TM.mapGlyphs(m, listed));
+    swap('reps', TM.mapRepMarkers(m, listed));
     swap('ghosts', ghostHands(listed));  // the best epsilon first
     v.render();
     return listed.length;
