@@ -20,6 +20,7 @@ PACKAGES=(
   pybind11-dev python3 python3-dev python3-numpy python3-h5py python3-scipy python3-fastcluster
   libnanoflann-dev libcairo2-dev fonts-dejavu-core openmpi-bin libopenmpi-dev
   liborocos-kdl-dev libfcl-dev libmujoco-dev
+  chromium libjs-three
 )
 
 log() { printf '\n== %s\n' "$*"; }

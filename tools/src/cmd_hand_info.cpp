@@ -17,12 +17,13 @@
 #include "hand_picture.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/viz/hand_page.hpp"
 
 namespace taskmap::cli {
 namespace {
 
 struct HandInfoArgs {
-  std::string hand, png;
+  std::string hand, png, html;
   bool json = false;
 };
 
@@ -204,11 +205,13 @@ void run(const HandInfoArgs& args) {
     if (m.warning) warnings.push_back(m.note);
   const nlohmann::json j = describe(hand, warnings);
   if (!args.png.empty()) writeHandPicture(hand, args.png);
+  if (!args.html.empty()) writeHandPage(hand, args.html);
   if (args.json)
     std::cout << j.dump(2) << "\n";
   else
     printText(j);
   if (!args.png.empty() && !args.json) std::printf("wrote:          %s\n", args.png.c_str());
+  if (!args.html.empty() && !args.json) std::printf("wrote:          %s\n", args.html.c_str());
 }
 
 const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
@@ -222,6 +225,9 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
       ->required();
   cmd->add_option("--png", args->png,
                   "also draw the hand in its preshape and fully closed, three views each");
+  cmd->add_option("--html", args->html,
+                  "also write an interactive 3-D page (self-contained HTML): the hand open and "
+                  "closed, palm frame, approach axis, one slider per joint");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   cmd->callback([args]() { run(*args); });
 });
