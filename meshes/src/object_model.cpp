@@ -15,6 +15,7 @@
 #include "mesh_bvh.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap {
 
@@ -93,7 +94,9 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
     if (extent > options.max_extent) {
       throw Error(what + ": bounding box is " + formatDouble(extent) +
                   " m across, above max_extent " + formatDouble(options.max_extent) +
-                  " m; are the units right? pass a scale (file units to metres)");
+                  " m; " +
+                  scaleAdvice(extent, options.scale, kGraspableMinExtent, kGraspableMaxExtent,
+                              kGraspableTypicalExtent));
     }
   }
   const std::size_t input_vertices = soup.points.size();

@@ -128,7 +128,9 @@ TEST(HandsCli, MillimetreBananaIsRefused) {
   const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") +
                             " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
   EXPECT_EQ(run.code, 1) << run.out;
-  EXPECT_NE(run.out.find("is the mesh in millimetres? pass --scale 0.001"), std::string::npos)
+  // The file is in metres: the scale that fixes it is 1.
+  EXPECT_NE(run.out.find("is the file in metres? scale 1 (--scale 1) makes it 0.194 m across"),
+            std::string::npos)
       << run.out;
   EXPECT_FALSE(fs::exists(out));
 }

@@ -81,6 +81,10 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                   "fingertip grasps: palm-to-object distance where the approach stops, metres "
                   "(default: the hand sidecar's grasp.standoff, else 0)")
       ->check(CLI::Range(0.0, 0.5));
+  cmd->add_flag("--allow-size", args.allow_size,
+                "build an object whose size is implausible for the hand (over 20 times its "
+                "reach, or thinner than its thinnest finger link), refused by default as a "
+                "file in other units");
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
@@ -102,6 +106,7 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  options.check_size = !args.allow_size;
   if (args.grasp == "palm")
     options.simulation.grasp_mode = GraspMode::kPalm;
   else if (args.grasp == "fingertip")

@@ -26,7 +26,8 @@ struct BuildArgs {
   double standoff = -1.0;  ///< metres; negative = the hand sidecar's
   MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
-  bool timestamp = false;  ///< store the current time as created_utc
+  bool timestamp = false;   ///< store the current time as created_utc
+  bool allow_size = false;  ///< build an object whose size is implausible for the hand
 };
 
 /// How to load the object: --scale and the repair options.
@@ -40,7 +41,8 @@ void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
 
 /// Adds the knobs of a build (--sampler, --valid, --trials, --seed, --threads, --friction,
-/// --cone-edges, --keep-invalid, --no-cluster, --timestamp, -q, --progress) to a subcommand.
+/// --cone-edges, --grasp, --standoff, --allow-size, --keep-invalid, --no-cluster, --timestamp,
+/// -q, --progress) to a subcommand.
 void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 
 /// The BuildOptions of the knobs (not validated; no extra_params_json).
