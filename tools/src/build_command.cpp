@@ -7,10 +7,12 @@
 #include <iostream>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "data_dir.hpp"
+#include "hand_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/sampler/sampler.hpp"
 
@@ -128,6 +130,13 @@ void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const
   if (args.standoff >= 0.0 && mode != GraspMode::kFingertip)
     throw Error("--standoff applies to fingertip grasps; add --grasp fingertip (hand '" +
                 hand_path + "' grasps with the palm)");
+}
+
+bool printHandWarnings(const std::string& label, const HandModel& hand) {
+  const std::vector<std::string> warnings = checkHand(hand).warnings;
+  for (const std::string& w : warnings)
+    std::cerr << label << ": warning: hand '" << hand.name() << "': " << w << "\n";
+  return !warnings.empty();
 }
 
 BuildPlan planBuild(const BuildArgs& args) {

@@ -37,6 +37,11 @@ MeshLoadOptions meshLoadOptions(const BuildArgs& args);
 void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
                        const std::string& hand_path);
 
+/// Prints hand-info's warnings about the hand (hand_check.hpp) on stderr, one line each as
+/// "<label>: warning: hand '<name>': ...", before the trials (also with --quiet). Returns true
+/// when it printed any.
+bool printHandWarnings(const std::string& label, const HandModel& hand);
+
 /// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
 

@@ -42,6 +42,7 @@ void runBuild(const BuildArgs& args) {
   const ObjectModel object = ObjectModel::load(args.object, meshLoadOptions(args));
   const HandModel hand = HandModel::load(hand_path);
   checkGraspOptions(args, options, hand, hand_path);
+  const bool hand_warned = printHandWarnings("taskmap build", hand);
 
   g_stop.store(false);
   struct sigaction action {};
@@ -76,8 +77,10 @@ void runBuild(const BuildArgs& args) {
   if (result.status == BuildStatus::kNoGrasps) {
     sigaction(SIGINT, &old_int, nullptr);
     sigaction(SIGTERM, &old_term, nullptr);
-    std::cerr << "taskmap build: error: " << result.message << "; nothing written to '"
-              << args.output << "'\n";
+    std::cerr << "taskmap build: error: " << result.message
+              << (hand_warned ? "; and the hand's warning above: the set-up it names cannot grasp"
+                              : "")
+              << "; nothing written to '" << args.output << "'\n";
     exitCode() = 3;
     return;
   }
