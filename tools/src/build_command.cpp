@@ -87,6 +87,7 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                 "build an object whose size is implausible for the hand (over 20 times its "
                 "reach, or thinner than its thinnest finger link), refused by default as a "
                 "file in other units");
+  addPackagePathOption(cmd);
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");

@@ -15,6 +15,7 @@
 #include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "hand_picture.hpp"
+#include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
@@ -225,6 +226,7 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
   cmd->add_option("--png", args->png,
                   "also draw the hand in its preshape and fully closed, three views each");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  addPackagePathOption(cmd);
   cmd->callback([args]() { run(*args); });
 });
 
