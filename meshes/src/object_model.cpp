@@ -80,8 +80,8 @@ MassProperties computeMass(const TriangleMesh& mesh) {
 std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::string& what,
                                               const MeshLoadOptions& options) {
   if (soup.faces.size() > options.max_faces) {
-    throw Error(what + ": " + std::to_string(soup.faces.size()) + " faces exceed max_faces " +
-                std::to_string(options.max_faces) + "; simplify the mesh first");
+    throw Error(what + ": " + std::to_string(soup.faces.size()) + " faces exceed the limit of " +
+                std::to_string(options.max_faces) + " (max_faces); simplify the mesh first");
   }
   if (!soup.points.empty()) {
     Eigen::Vector3d lo = soup.points.front(), hi = lo;
@@ -93,8 +93,8 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
     const double extent = (hi - lo).maxCoeff();
     if (extent > options.max_extent) {
       throw Error(what + ": bounding box is " + formatDouble(extent) +
-                  " m across, above max_extent " + formatDouble(options.max_extent) +
-                  " m; " +
+                  " m across, above the limit of " + formatDouble(options.max_extent) +
+                  " m for an object (max_extent); " +
                   scaleAdvice(extent, options.scale, kGraspableMinExtent, kGraspableMaxExtent,
                               kGraspableTypicalExtent));
     }

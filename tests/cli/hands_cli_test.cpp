@@ -304,3 +304,37 @@ TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
 
 }  // namespace
 
+namespace {
+
+TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
+  const std::string objects = TASKMAP_OBJECTS_DIR;
+  const std::string out = temp("dym.h5");
+  CliRun run = runCli("build --object " + objects + "/basket.obj --hand pand -o " + out);
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("hand 'pand' is neither a URDF file nor a bundled hand name"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("; did you mean 'panda'"), std::string::npos) << run.out;
+  run = runCli("hand-info Barrett");
+  EXPECT_NE(run.out.find("; did you mean 'barrett'?"), std::string::npos) << run.out;
+  run = runCli("hand-info " + kFranka + "x");
+  EXPECT_NE(run.out.find("; did you mean '" + kFranka + "'?"), std::string::npos) << run.out;
+  run = runCli("hand-info robotiq");
+  EXPECT_EQ(run.out.find("did you mean"), std::string::npos) << run.out;
+  // Objects: a typo in a path, and a bundled object's name.
+  run = runCli("build --object " + objects + "/baskt.obj --hand panda -o " + out);
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("cannot open mesh file '" + objects +
+                         "/baskt.obj': no such file; did "
+                         "you mean '" +
+                         objects + "/basket.obj'"),
+            std::string::npos)
+      << run.out;
+  run = runCli("mesh-info basket");
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("did you mean '"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("objects/basket.obj'"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace

@@ -149,6 +149,7 @@ BuildPlan planBuild(const BuildArgs& args) {
   const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
+  requireObjectFile(args.object);
   plan.hand_urdf = resolveHandUrdf(args.hand);
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
   const MeshLoadOptions load = meshLoadOptions(args);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "data_dir.hpp"
 #include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
@@ -39,6 +40,7 @@ void run(const MeshInfoArgs& args) {
   applyMeshRepairArgs(args.repair, options);
   ObjectModel model;
   try {
+    requireObjectFile(args.file);
     model = ObjectModel::load(args.file, options);
   } catch (const Error& e) {
     if (args.json) {
