@@ -31,10 +31,10 @@ double thinnestFingerLink(const HandModel& hand) {
   return std::isfinite(thinnest) ? thinnest : 0.0;
 }
 
-ObjectSizeCheck checkObjectSize(const ObjectModel& object, const HandModel& hand) {
+ObjectSizeCheck checkObjectSize(const Eigen::Vector3d& size, double scale, const std::string& name,
+                                const HandModel& hand) {
   ObjectSizeCheck c;
-  const MassProperties& mp = object.massProperties();
-  c.size = mp.bounds_max - mp.bounds_min;
+  c.size = size;
   c.extent = c.size.maxCoeff();
   c.reach = hand.reach();
   c.finger = thinnestFingerLink(hand);
@@ -51,8 +51,8 @@ ObjectSizeCheck checkObjectSize(const ObjectModel& object, const HandModel& hand
             " x " + num(c.size.y()) + " x " + num(c.size.z()) + " m), " + ratio_text + " the " +
             num(c.reach) + " m reach of hand '" + hand.name() +
             "' (open, from the palm); its thinnest finger link is " + num(c.finger) + " m";
-  const std::string advice = scaleAdvice(c.extent, object.scale(), lo, hi, c.reach);
-  const std::string what = "object '" + object.name() + "' ";
+  const std::string advice = scaleAdvice(c.extent, scale, lo, hi, c.reach);
+  const std::string what = "object '" + name + "' ";
   if (c.too_large)
     c.problem = what + "is too large for the hand: " + c.sizes +
                 "; a graspable object is at most " + num(kMaxReachRatio) + " times the reach; " +
@@ -63,10 +63,24 @@ ObjectSizeCheck checkObjectSize(const ObjectModel& object, const HandModel& hand
   return c;
 }
 
+ObjectSizeCheck checkObjectSize(const ObjectModel& object, const HandModel& hand) {
+  const MassProperties& mp = object.massProperties();
+  return checkObjectSize(mp.bounds_max - mp.bounds_min, object.scale(), object.name(), hand);
+}
+
 void requirePlausibleSize(const ObjectModel& object, const HandModel& hand) {
   const ObjectSizeCheck size = checkObjectSize(object, hand);
   if (!size.problem.empty())
     throw Error(size.problem + "; to build it as it is: --allow-size (check_size = false)");
+}
+
+std::function<void(const Eigen::Vector3d&)> sizeCheckOnLoad(const HandModel& hand,
+                                                            const std::string& name, double scale) {
+  return [&hand, name, scale](const Eigen::Vector3d& size) {
+    const ObjectSizeCheck c = checkObjectSize(size, scale, name, hand);
+    if (!c.problem.empty())
+      throw Error(c.problem + "; to build it as it is: --allow-size (check_size = false)");
+  };
 }
 
 }  // namespace taskmap

@@ -98,6 +98,8 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
                   scaleAdvice(extent, options.scale, kGraspableMinExtent, kGraspableMaxExtent,
                               kGraspableTypicalExtent));
     }
+    if (const auto* check = ScopedLoadBoundsCheck::current(); check != nullptr && *check)
+      (*check)(hi - lo);
   }
   const std::size_t input_vertices = soup.points.size();
   const std::size_t input_faces = soup.faces.size();

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace taskmap {
 namespace {
@@ -66,6 +67,23 @@ std::string graspableSizeWarning(double extent, double current_scale) {
          " to " + num(kGraspableMaxExtent) + " m); " +
          scaleAdvice(extent, current_scale, kGraspableMinExtent, kGraspableMaxExtent,
                      kGraspableTypicalExtent);
+}
+
+namespace {
+thread_local const std::function<void(const Eigen::Vector3d&)>* g_load_bounds_check = nullptr;
+}  // namespace
+
+ScopedLoadBoundsCheck::ScopedLoadBoundsCheck(std::function<void(const Eigen::Vector3d&)> check)
+    : check_(std::move(check)), previous_(g_load_bounds_check) {
+  g_load_bounds_check = &check_;
+}
+
+ScopedLoadBoundsCheck::~ScopedLoadBoundsCheck() {
+  g_load_bounds_check = previous_;
+}
+
+const std::function<void(const Eigen::Vector3d&)>* ScopedLoadBoundsCheck::current() {
+  return g_load_bounds_check;
 }
 
 }  // namespace taskmap

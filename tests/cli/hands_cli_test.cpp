@@ -198,7 +198,7 @@ TEST(HandsCli, MillimetreBananaIsRefused) {
                             " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
   EXPECT_EQ(run.code, 1) << run.out;
   // The file is in metres: the scale that fixes it is 1.
-  EXPECT_NE(run.out.find("is the file in metres? scale 1 (--scale 1) makes it 0.194 m across"),
+  EXPECT_NE(run.out.find("is the file in metres? scale 1 (--scale 1) makes it 0.178 m across"),
             std::string::npos)
       << run.out;
   EXPECT_FALSE(fs::exists(out));

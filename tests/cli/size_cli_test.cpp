@@ -73,11 +73,11 @@ TEST(SizeCli, CentimetreBananaIsRefusedInUnderASecondWithTheScaleThatFixesIt) {
       timed("build --object " + cm + " --hand " + kFranka + " -o " + out + " -q", &seconds);
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_LT(seconds, 1.0) << run.out;
-  EXPECT_NE(run.out.find("is too large for the hand: the object is 19.4 m across (bounding box "),
+  EXPECT_NE(run.out.find("is too large for the hand: the object is 17.8 m across (bounding box "),
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("times the 0.1"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("is the file in centimetres? scale 0.01 (--scale 0.01) makes it 0.194 m "
+  EXPECT_NE(run.out.find("is the file in centimetres? scale 0.01 (--scale 0.01) makes it 0.178 m "
                          "across"),
             std::string::npos)
       << run.out;
@@ -96,7 +96,7 @@ TEST(SizeCli, CentimetreBananaIsRefusedInUnderASecondWithTheScaleThatFixesIt) {
                                 " -q --allow-size --trials 4 --threads 1");
   EXPECT_EQ(allowed.code, 3) << allowed.out;
   EXPECT_NE(allowed.out.find("no grasp stored after 4 trials: first suspect, the size: the object "
-                             "is 19.4 m across"),
+                             "is 17.8 m across"),
             std::string::npos)
       << allowed.out;
   EXPECT_NE(allowed.out.find("--scale 0.01"), std::string::npos) << allowed.out;
@@ -114,7 +114,7 @@ TEST(SizeCli, MillimetreBananaIsRefusedInUnderASecondWithTheScaleThatFixesIt) {
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_LT(seconds, 1.0) << run.out;
   EXPECT_NE(run.out.find("is the file in millimetres? scale 0.001 (--scale 0.001) makes it "
-                         "0.194 m across"),
+                         "0.178 m across"),
             std::string::npos)
       << run.out;
   EXPECT_FALSE(fs::exists(out));
@@ -122,7 +122,7 @@ TEST(SizeCli, MillimetreBananaIsRefusedInUnderASecondWithTheScaleThatFixesIt) {
   run = runCli("mesh-info " + mm);
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("--scale 0.001"), std::string::npos) << run.out;
-  // Read at --scale 0.1 it is 19.4 m: below the loader's limit, refused by the build's check,
+  // Read at --scale 0.1 it is 17.8 m: below the loader's limit, refused by the build's check,
   // which names the scale of the file's unit.
   run = timed("build --object " + mm + " --scale 0.1 --hand " + kFranka + " -o " + out + " -q",
               &seconds);
@@ -177,7 +177,7 @@ TEST(SizeCli, MeshInfoFlagsSizesImplausibleForAGraspableObject) {
   const std::string cm = scaledBanana(100.0, "cm_info");
   run = runCli("mesh-info " + cm);
   ASSERT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("the object is 19.4 m across: large for a graspable object"),
+  EXPECT_NE(run.out.find("the object is 17.8 m across: large for a graspable object"),
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("is the file in centimetres? scale 0.01 (--scale 0.01)"),

@@ -6,6 +6,7 @@
 /// down), in well under a second, with the measured sizes and the scale that would fix it.
 /// BuildOptions::check_size = false (`--allow-size`) builds it anyway.
 
+#include <functional>
 #include <string>
 
 #include <Eigen/Core>
@@ -45,8 +46,19 @@ struct ObjectSizeCheck {
 /// Measures the object against the hand (no simulation: microseconds).
 ObjectSizeCheck checkObjectSize(const ObjectModel& object, const HandModel& hand);
 
+/// The same from an object's bounding-box sides (metres), the scale it was loaded with and its
+/// name: for a check while the mesh loads (sizeCheckOnLoad).
+ObjectSizeCheck checkObjectSize(const Eigen::Vector3d& size, double scale, const std::string& name,
+                                const HandModel& hand);
+
 /// Throws Error with checkObjectSize's problem (and how to build anyway) when it has one.
 /// buildMap and TrialRunner call it unless BuildOptions::check_size is false.
 void requirePlausibleSize(const ObjectModel& object, const HandModel& hand);
+
+/// A check for ScopedLoadBoundsCheck (object_size.hpp) that throws requirePlausibleSize's error
+/// for an object named `name` (its file stem) and `hand` (which must outlive the check), given
+/// the load's scale: the refusal then comes right after the mesh is read, before its repair.
+std::function<void(const Eigen::Vector3d&)> sizeCheckOnLoad(const HandModel& hand,
+                                                            const std::string& name, double scale);
 
 }  // namespace taskmap

@@ -4,8 +4,11 @@
 /// make it so: the advice behind the size checks of the loader, `taskmap mesh-info` and the
 /// build (builder/size_check.hpp, which knows the hand).
 
+#include <functional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 namespace taskmap {
 
@@ -38,5 +41,25 @@ std::string scaleAdvice(double extent, double current_scale, double lo, double h
 /// "" when `extent` (metres) is within [kGraspableMinExtent, kGraspableMaxExtent]; else one
 /// sentence saying it is large or small for a graspable object, with scaleAdvice.
 std::string graspableSizeWarning(double extent, double current_scale);
+
+/// While alive, every ObjectModel::load and ObjectModel::fromMesh on this thread calls `check`
+/// with the bounding-box sides (metres) of the mesh's vertices right after reading them, before
+/// the repair and the solid (most of a load's time); `check` may throw to refuse the object
+/// early, e.g. a size check that knows the hand (builder/size_check.hpp). Scopes nest (the
+/// innermost applies).
+class ScopedLoadBoundsCheck {
+ public:
+  explicit ScopedLoadBoundsCheck(std::function<void(const Eigen::Vector3d& size)> check);
+  ~ScopedLoadBoundsCheck();
+  ScopedLoadBoundsCheck(const ScopedLoadBoundsCheck&) = delete;
+  ScopedLoadBoundsCheck& operator=(const ScopedLoadBoundsCheck&) = delete;
+
+  /// The innermost check of this thread (nullptr when none).
+  static const std::function<void(const Eigen::Vector3d&)>* current();
+
+ private:
+  std::function<void(const Eigen::Vector3d&)> check_;
+  const std::function<void(const Eigen::Vector3d&)>* previous_;
+};
 
 }  // namespace taskmap
