@@ -80,7 +80,7 @@ HandReport checkHand(const HandModel& hand) {
   }
   const bool protrudes = palm_front > kPalmFrontTolerance;
   if (!(finger_front > palm_front)) {
-    if (protrudes)
+    if (protrudes && finger_front > 0.0)
       std::snprintf(buf, sizeof buf,
                     "link '%s' is fixed to the palm and reaches %.4g m in front of the palm "
                     "frame along the approach axis, as far as or beyond every finger (farthest "
