@@ -66,6 +66,22 @@ std::string findAbove(const std::string& urdf_path, const std::string& pkg) {
   return "";
 }
 
+/// True when `xml` has a <xacro:...> element outside comments (an expanded URDF may keep the
+/// xacro namespace and commented-out macros).
+bool hasXacroElement(const std::string& xml) {
+  std::size_t at = 0;
+  while (at < xml.size()) {
+    const std::size_t comment = xml.find("<!--", at);
+    const std::size_t element = xml.find("<xacro:", at);
+    if (element == std::string::npos) return false;
+    if (comment == std::string::npos || element < comment) return true;
+    const std::size_t end = xml.find("-->", comment + 4);
+    if (end == std::string::npos) return false;
+    at = end + 3;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<std::string> rosPackagePath() {
@@ -110,7 +126,7 @@ std::string resolvePackageUri(const std::string& uri, const std::string& urdf_pa
 void refuseXacro(const std::string& path, const std::string& text, const std::string& what,
                  bool hand) {
   const bool named = path.size() >= 6 && path.compare(path.size() - 6, 6, ".xacro") == 0;
-  if (!named && text.find("<xacro:") == std::string::npos) return;
+  if (!named && !hasXacroElement(text)) return;
   std::string stem = fs::path(path).filename().string();
   for (const char* ext : {".xacro", ".urdf"})
     if (stem.size() > std::string(ext).size() &&

@@ -105,6 +105,11 @@ TEST_F(RosPackageTest, XacroFilesAreRefusedWithWhatToDo) {
     EXPECT_NE(msg.find("hand.hand.json sidecar"), std::string::npos) << msg;
     EXPECT_EQ(msg.find("No link elements"), std::string::npos) << msg;
   }
+  // An expanded URDF may keep the xacro namespace and commented-out macros (the Allegro hand's).
+  EXPECT_NO_THROW(refuseXacro("hand.urdf",
+                              "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\" name=\"h\">"
+                              "<!-- <xacro:thumb finger_num=\"3\"/> --><link name=\"a\"/></robot>",
+                              "hand URDF", true));
   // Xacro content under a .urdf name is recognised too.
   const fs::path named_urdf = root_ / "ws/src/my_desc/urdf/literal.urdf";
   fs::copy_file(xacro, named_urdf);
