@@ -98,10 +98,10 @@ void requireObjectFile(const std::string& path) {
   std::error_code ec;
   if (fs::exists(path, ec)) return;
   const fs::path p(path);
-  std::vector<std::string> folder;
-  for (const std::string& f : filesOf(p.parent_path()))
-    folder.push_back((p.parent_path() / f).string());
-  std::vector<std::string> close = closestNames(path, folder);
+  // Compared by file name (a path's length would loosen the edit distance's limit).
+  std::vector<std::string> close;
+  for (const std::string& f : closestNames(p.filename().string(), filesOf(p.parent_path())))
+    close.push_back((p.parent_path() / f).string());
   // Bundled objects by name ("basket", "mug.ob").
   try {
     const fs::path objects = fs::path(dataDir()) / "objects";
@@ -150,8 +150,10 @@ std::string bundledHandUrdf(const std::string& name) {
     std::vector<std::string> urdfs;
     for (const std::string& f : filesOf(as_path.parent_path()))
       if (fs::path(f).extension() == ".urdf" || fs::path(f).extension() == ".xacro")
-        urdfs.push_back((as_path.parent_path() / f).string());
-    hint = didYouMean(name, urdfs);
+        urdfs.push_back(f);
+    const std::vector<std::string> close = closestNames(as_path.filename().string(), urdfs);
+    if (!close.empty())
+      hint = "; did you mean '" + (as_path.parent_path() / close[0]).string() + "'?";
     if (hint.empty()) hint = didYouMean(as_path.stem().string(), names);
   } else {
     hint = didYouMean(name, names);
