@@ -111,7 +111,12 @@ void requireObjectFile(const std::string& path) {
     for (const std::string& key : {p.filename().string(), p.stem().string()})
       for (const std::string& f : closestNames(key, bundled)) {
         const std::string full = (objects / f).string();
-        if (std::find(close.begin(), close.end(), full) == close.end()) close.push_back(full);
+        if (std::find(close.begin(), close.end(), full) != close.end()) continue;
+        // A bare name ("basket") means a bundled object first; a path its own folder's files.
+        if (p.parent_path().empty())
+          close.insert(close.begin(), full);
+        else
+          close.push_back(full);
       }
   } catch (const Error&) {
     // No data directory: suggest from the folder alone.
