@@ -1,18 +1,15 @@
-// Object size sanity before a build, and what to check when a build stores no grasp.
+// What to check when a build stores no grasp.
 #include "build_diagnosis.hpp"
 
 #include <algorithm>
 #include <cstdio>
 
+#include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap::detail {
 namespace {
-
-double largestExtent(const ObjectModel& object) {
-  const MassProperties& mp = object.massProperties();
-  return (mp.bounds_max - mp.bounds_min).maxCoeff();
-}
 
 std::string num(double v, const char* fmt = "%.3g") {
   char buf[64];
@@ -48,24 +45,6 @@ std::string adviceFor(const std::string& outcome) {
 
 }  // namespace
 
-void checkObjectSize(const ObjectModel& object, const HandModel& hand) {
-  const double extent = largestExtent(object);
-  const double reach = hand.reach();
-  if (!(reach > 0)) return;
-  const std::string what =
-      "object '" + object.name() + "' is " + num(extent, "%.4g") + " m across, ";
-  const std::string of_hand =
-      " the reach of hand '" + hand.name() + "' (" + num(reach) + " m) in its preshape";
-  if (extent > 100.0 * reach) {
-    throw Error(what + num(extent / reach, "%.0f") + " times" + of_hand +
-                ": is the mesh in millimetres? pass --scale 0.001 (MeshLoadOptions::scale)");
-  }
-  if (extent < 0.01 * reach) {
-    throw Error(what + "1/" + num(reach / extent, "%.0f") + " of" + of_hand +
-                ": check --scale (file units to metres)");
-  }
-}
-
 std::string noGraspMessage(const std::map<std::string, std::uint64_t>& outcomes,
                            std::uint64_t trials, const ObjectModel& object, const HandModel& hand) {
   std::string dominant = "none";
@@ -76,9 +55,21 @@ std::string noGraspMessage(const std::map<std::string, std::uint64_t>& outcomes,
       dominant = name;
     }
   const double share = trials > 0 ? 100.0 * static_cast<double>(most) / trials : 0.0;
-  return "no grasp stored after " + std::to_string(trials) + " trials: " + num(share, "%.0f") +
-         "% ended " + dominant + "; " + adviceFor(dominant) + ". Units: the object is " +
-         num(largestExtent(object)) + " m across, the open hand reaches " + num(hand.reach()) +
+  const std::string head = "no grasp stored after " + std::to_string(trials) + " trials: ";
+  const std::string outcome =
+      num(share, "%.0f") + "% ended " + dominant + "; " + adviceFor(dominant);
+  // Suspects ranked by evidence: an object that dwarfs the hand (or is thinner than its
+  // fingers) explains any outcome, so its size comes first; otherwise the outcome's advice.
+  const ObjectSizeCheck size = checkObjectSize(object, hand);
+  const bool size_suspect =
+      size.reach > 0 && (size.extent > kDwarfReachRatio * size.reach || size.too_small);
+  const std::string advice =
+      scaleAdvice(size.extent, object.scale(), std::max(size.finger, kGraspableMinExtent),
+                  kMaxReachRatio * size.reach, size.reach);
+  if (size_suspect)
+    return head + "first suspect, the size: " + size.sizes + "; " + advice + ". Then: " + outcome;
+  return head + outcome + ". Units: the object is " + num(size.extent) +
+         " m across, the open hand reaches " + num(size.reach) +
          " m (--scale converts file units to metres)";
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Checks before a build and the diagnosis of a build that stored nothing (private to builder).
+// The diagnosis of a build that stored nothing (private to builder).
 #include <cstdint>
 #include <map>
 #include <string>
@@ -8,11 +8,6 @@
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap::detail {
-
-/// Throws Error when the object's size against the hand's suggests wrong units: larger than
-/// 100 times the open hand's reach (a millimetre file read as metres) or smaller than a
-/// hundredth of it (a metre file scaled down).
-void checkObjectSize(const ObjectModel& object, const HandModel& hand);
 
 /// One line for a build that stored no grasp: the dominant trial outcome with its share, what
 /// that outcome means, and what to check (units, approach axis, preshape, closing).

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build_diagnosis.hpp"
+#include "taskmap/builder/size_check.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
 #include "trial_pool.hpp"
@@ -68,7 +69,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
                      double progress_interval_seconds) {
   options.validate();
   if (!(progress_interval_seconds > 0.0)) throw Error("progress interval must be positive");
-  detail::checkObjectSize(object, hand);
+  if (options.check_size) requirePlausibleSize(object, hand);
   const auto t_start = detail::Clock::now();
   BuildTiming timing;
   const int threads = detail::threadCount(options.threads);

@@ -5,6 +5,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "trial_pool.hpp"
 
@@ -181,6 +182,7 @@ struct TrialRunner::Impl {
 TrialRunner::TrialRunner(const ObjectModel& object, const HandModel& hand,
                          const BuildOptions& options) {
   options.validate();
+  if (options.check_size) requirePlausibleSize(object, hand);
   const auto t0 = detail::Clock::now();
   impl_ = std::make_unique<Impl>(object, hand, options);
   impl_->timing.setup_seconds = detail::secondsSince(t0);

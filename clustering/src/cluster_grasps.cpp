@@ -245,7 +245,7 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
   result.min_size = resolveMinSize(options, n);
   if (n == 0) {
     if (options.num_clusters) {
-      throw Error("clusterFromLinkage: num_clusters " + std::to_string(*options.num_clusters) +
+      throw Error("number of clusters (--clusters) " + std::to_string(*options.num_clusters) +
                   " exceeds the number of grasps (0)");
     }
     result.threshold = options.threshold.value_or(0.0);
@@ -256,7 +256,7 @@ ClusteringResult clusterFromLinkage(const std::vector<Pose>& poses,
   if (options.num_clusters) {
     const int k = *options.num_clusters;
     if (k > n) {
-      throw Error("clusterFromLinkage: num_clusters " + std::to_string(k) +
+      throw Error("number of clusters (--clusters) " + std::to_string(k) +
                   " exceeds the number of grasps (" + std::to_string(n) + ")");
     }
     raw = cutToCount(linkage, k);

@@ -48,22 +48,22 @@ const std::vector<GraspStatus>& allGraspStatuses() {
 
 void GraspSimOptions::validate() const {
   if (!(contact_tolerance > 0.0 && contact_tolerance <= 0.01))
-    throw Error("GraspSimOptions.contact_tolerance must be in (0, 0.01] metres, got " +
+    throw Error("simulation option contact_tolerance must be in (0, 0.01] metres, got " +
                 std::to_string(contact_tolerance));
   if (!(max_retraction >= 0.0 && std::isfinite(max_retraction)))
-    throw Error("GraspSimOptions.max_retraction must be >= 0 metres (0 = automatic), got " +
+    throw Error("simulation option max_retraction must be >= 0 metres (0 = automatic), got " +
                 std::to_string(max_retraction));
   if (!(squeeze <= 0.01) || std::isnan(squeeze))
-    throw Error("GraspSimOptions.squeeze must be <= 0.01 metres (negative = the hand's), got " +
+    throw Error("simulation option squeeze must be <= 0.01 metres (negative = the hand's), got " +
                 std::to_string(squeeze));
   if (max_closing_steps < 10)
-    throw Error("GraspSimOptions.max_closing_steps must be at least 10, got " +
+    throw Error("simulation option max_closing_steps must be at least 10, got " +
                 std::to_string(max_closing_steps));
   if (!(standoff <= 0.5) || std::isnan(standoff))
-    throw Error("GraspSimOptions.standoff must be <= 0.5 metres (negative = the hand's), got " +
+    throw Error("standoff (--standoff) must be <= 0.5 metres (negative = the hand's), got " +
                 std::to_string(standoff));
   if (max_contacts_per_link < 0)
-    throw Error("GraspSimOptions.max_contacts_per_link must be >= 0 (0 = unlimited), got " +
+    throw Error("simulation option max_contacts_per_link must be >= 0 (0 = unlimited), got " +
                 std::to_string(max_contacts_per_link));
 }
 

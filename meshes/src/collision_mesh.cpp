@@ -20,6 +20,7 @@
 #include "convex_decomposition.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/ros_package.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -178,9 +179,7 @@ std::vector<PartShapes> collisionMeshShapes(const std::string& file, const Eigen
   const std::string L = "URDF '" + urdf_path + "': link '" + link + "'";
   std::string f = file;
   if (f.rfind("file://", 0) == 0) f = f.substr(7);
-  if (f.rfind("package://", 0) == 0)
-    throw Error(L + " mesh '" + file +
-                "' uses package://, which is not supported: use a path relative to the URDF");
+  f = resolvePackageUri(f, urdf_path, L + ": collision mesh ");
   fs::path p(f);
   if (p.is_relative()) p = fs::path(urdf_path).parent_path() / p;
   Assimp::Importer importer;

@@ -18,6 +18,7 @@
 #include "hand_model_build.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
+#include "taskmap/meshes/ros_package.hpp"
 
 namespace taskmap {
 namespace {
@@ -245,6 +246,7 @@ void resolveMimics(const urdf::ModelInterface& model, std::vector<HandJoint>& jo
 urdf::ModelInterfaceSharedPtr HandModelBuilder::parseUrdfFile(HandModel& h,
                                                               const std::string& urdf_path) {
   const std::string xml = readFile(urdf_path, "URDF");
+  refuseXacro(urdf_path, xml, "hand URDF", true);
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
   urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);

@@ -409,7 +409,7 @@ SolidResult makeSolid(MeshSoup soup, const std::string& what, const SolidOptions
   } catch (const OpenSurfaceError& e) {
     if (!options.wrap)
       throw Error(std::string(e.what()) +
-                  "; `--repair wrap` (MeshLoadOptions::wrap) closes it by alpha wrapping");
+                  "; `--repair wrap` (load option wrap) closes it by alpha wrapping");
   }
   return wrapSolid(input, what, options);
 }

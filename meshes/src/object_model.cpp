@@ -15,6 +15,7 @@
 #include "mesh_bvh.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap {
 
@@ -79,8 +80,8 @@ MassProperties computeMass(const TriangleMesh& mesh) {
 std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::string& what,
                                               const MeshLoadOptions& options) {
   if (soup.faces.size() > options.max_faces) {
-    throw Error(what + ": " + std::to_string(soup.faces.size()) + " faces exceed max_faces " +
-                std::to_string(options.max_faces) + "; simplify the mesh first");
+    throw Error(what + ": " + std::to_string(soup.faces.size()) + " faces exceed the limit of " +
+                std::to_string(options.max_faces) + " (max_faces); simplify the mesh first");
   }
   if (!soup.points.empty()) {
     Eigen::Vector3d lo = soup.points.front(), hi = lo;
@@ -92,9 +93,13 @@ std::shared_ptr<ObjectModel::Impl> buildModel(detail::MeshSoup soup, const std::
     const double extent = (hi - lo).maxCoeff();
     if (extent > options.max_extent) {
       throw Error(what + ": bounding box is " + formatDouble(extent) +
-                  " m across, above max_extent " + formatDouble(options.max_extent) +
-                  " m; are the units right? pass a scale (file units to metres)");
+                  " m across, above the limit of " + formatDouble(options.max_extent) +
+                  " m for an object (max_extent); " +
+                  scaleAdvice(extent, options.scale, kGraspableMinExtent, kGraspableMaxExtent,
+                              kGraspableTypicalExtent));
     }
+    if (const auto* check = ScopedLoadBoundsCheck::current(); check != nullptr && *check)
+      (*check)(hi - lo);
   }
   const std::size_t input_vertices = soup.points.size();
   const std::size_t input_faces = soup.faces.size();

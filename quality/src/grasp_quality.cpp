@@ -128,11 +128,11 @@ void checkTorqueScale(double torque_scale) {
 
 void QualityOptions::validate() const {
   if (!std::isfinite(friction) || friction < 0.0) {
-    throw Error("QualityOptions.friction must be finite and >= 0 (Coulomb mu), got " +
+    throw Error("friction (--friction) must be finite and >= 0 (Coulomb mu), got " +
                 std::to_string(friction));
   }
   if (cone_edges < 3 || cone_edges > 1024) {
-    throw Error("QualityOptions.cone_edges must be in [3, 1024] (GraspIt! uses 8), got " +
+    throw Error("cone_edges (--cone-edges) must be in [3, 1024] (GraspIt! uses 8), got " +
                 std::to_string(cone_edges));
   }
   if (!std::isfinite(torsional_friction) || torsional_friction < 0.0) {

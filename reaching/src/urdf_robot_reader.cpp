@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/ros_package.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {
@@ -32,6 +33,7 @@ urdf::ModelInterfaceSharedPtr parseRobotUrdf(const std::string& path) {
   if (!in) throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
   std::stringstream ss;
   ss << in.rdbuf();
+  refuseXacro(path, ss.str(), "robot URDF", false);
   static std::mutex mutex;  // the console_bridge handler is process-global
   std::lock_guard<std::mutex> lock(mutex);
   UrdfMessages messages;

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -115,6 +116,53 @@ TEST_F(DatasetCli, BadListsAreRefused) {
   const testing::CliRun clash = dataset("clash.txt", "a");
   EXPECT_NE(clash.out.find("would both write box__panda.h5"), std::string::npos) << clash.out;
   EXPECT_FALSE(fs::exists(dir_ / "a" / "manifest.json"));
+}
+
+TEST_F(DatasetCli, EachObjectTakesItsOwnScale) {
+  // The box written in centimetres; the list gives its scale, the sphere takes --scale (1).
+  {
+    std::ifstream in(dir_ / "meshes" / "box.obj");
+    std::ofstream out(dir_ / "meshes" / "box_cm.obj");
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind("v ", 0) == 0) {
+        std::istringstream v(line.substr(2));
+        double x = 0, y = 0, z = 0;
+        v >> x >> y >> z;
+        out << "v " << 100 * x << " " << 100 * y << " " << 100 * z << "\n";
+      } else {
+        out << line << "\n";
+      }
+    }
+  }
+  std::ofstream(dir_ / "scaled.txt") << "meshes/box_cm.obj  0.01\nmeshes/sphere.obj\n";
+  const testing::CliRun run = dataset("scaled.txt", "s");
+  EXPECT_EQ(run.code, 0) << run.out;
+  const json m = manifest("s");
+  ASSERT_EQ(m["jobs"].size(), 2u);
+  EXPECT_EQ(m["jobs"][0]["object"], "meshes/box_cm.obj");
+  EXPECT_EQ(m["jobs"][0]["scale"], 0.01);
+  EXPECT_EQ(m["jobs"][0]["status"], "complete") << m["jobs"][0];
+  EXPECT_EQ(m["jobs"][1]["scale"], 1.0);
+  const TaskMapData box = readMap((dir_ / "s" / "box_cm__panda.h5").string());
+  EXPECT_DOUBLE_EQ(box.object.scale, 0.01);
+  EXPECT_NE(box.sampling.params_json.find("\"scale\":0.01"), std::string::npos)
+      << box.sampling.params_json;
+  const TaskMapData sphere = readMap((dir_ / "s" / "sphere__panda.h5").string());
+  EXPECT_DOUBLE_EQ(sphere.object.scale, 1.0);
+  // Without its scale the centimetre box is refused by the size check, naming the fix.
+  std::ofstream(dir_ / "unscaled.txt") << "meshes/box_cm.obj\n";
+  const testing::CliRun unscaled = dataset("unscaled.txt", "u");
+  EXPECT_EQ(unscaled.code, 1) << unscaled.out;
+  const std::string error = manifest("u")["jobs"][0]["error"].get<std::string>();
+  EXPECT_NE(error.find("--scale 0.01"), std::string::npos) << error;
+  // A scale that is not positive names the line.
+  std::ofstream(dir_ / "bad_scale.txt") << "meshes/sphere.obj\nmeshes/box.obj -2\n";
+  const testing::CliRun bad = dataset("bad_scale.txt", "b");
+  EXPECT_EQ(bad.code, 1) << bad.out;
+  EXPECT_NE(bad.out.find("bad_scale.txt' line 2: scale '-2' must be a positive number"),
+            std::string::npos)
+      << bad.out;
 }
 
 }  // namespace

@@ -9,7 +9,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -47,6 +49,32 @@ std::string frankaWith(const std::string& tag, const std::string& key, const nlo
   j[key] = v;
   std::ofstream(dir / "franka_hand.hand.json") << j.dump(2);
   return (dir / "franka_hand.urdf").string();
+}
+
+/// A copy of the real Franka hand as the xacro literal gives it (franka_ros, gazebo=false,
+/// safety_distance=0.03): the self-collision link panda_hand_sc (two capsules inflated by 3 cm)
+/// fixed to the palm, reaching past the fingers.
+std::string frankaWithSelfCollisionLink() {
+  const std::string urdf = frankaWith("sc", "description", "with panda_hand_sc");
+  std::ifstream in(urdf);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  std::string capsules;
+  for (const auto& [z, r] : {std::pair<double, double>{0.04, 0.07}, {0.10, 0.05}}) {
+    const std::string zs = std::to_string(z), rs = std::to_string(r);
+    capsules += "<collision><origin xyz=\"0 0 " + zs +
+                "\" rpy=\"1.5707963 0 0\"/><geometry><cylinder radius=\"" + rs +
+                "\" length=\"0.1\"/></geometry></collision>";
+    for (const char* y : {"0.05", "-0.05"})
+      capsules += "<collision><origin xyz=\"0 " + std::string(y) + " " + zs +
+                  "\"/><geometry><sphere radius=\"" + rs + "\"/></geometry></collision>";
+  }
+  const std::string link = "<link name=\"panda_hand_sc\">" + capsules +
+                           "</link><joint name=\"panda_hand_sc_joint\" type=\"fixed\"><parent "
+                           "link=\"panda_hand\"/><child link=\"panda_hand_sc\"/></joint>";
+  text.insert(text.rfind("</robot>"), link + "\n");
+  std::ofstream(urdf) << text;
+  return urdf;
 }
 
 TEST(HandsCli, HandInfoTextShowsJointsMimicPalmAndApproach) {
@@ -97,14 +125,50 @@ TEST(HandsCli, HandInfoWarnsAboutSetUpsThatCannotGrasp) {
   EXPECT_NE(run.out.find("warning:        no finger link reaches in front of the palm"),
             std::string::npos)
       << run.out;
-  // Palm frame at the flange: the hand body lies 6.6 cm in front of it.
-  run = runCli("hand-info " +
-               frankaWith("flange", "palm_frame", {{"xyz", {0, 0, 0}}, {"rpy", {0, 0, 0}}}));
+  // The inflated self-collision link of the xacro literal reaches past the fingers: warned,
+  // and the build prints the same warning before its trials, which store no grasp.
+  const std::string sc = frankaWithSelfCollisionLink();
+  run = runCli("hand-info " + sc);
   ASSERT_EQ(run.code, 0) << run.out;
-  EXPECT_NE(run.out.find("warning:        link 'panda_hand' is fixed to the palm and reaches "
+  const std::string sc_warning =
+      "link 'panda_hand_sc' is fixed to the palm and reaches 0.0916 m in front of the palm frame "
+      "along the approach axis, as far as or beyond every finger (farthest 0.0545 m while "
+      "closing)";
+  EXPECT_NE(run.out.find("warning:        " + sc_warning), std::string::npos) << run.out;
+  const std::string out = temp("sc.h5");
+  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + sc + " -o " +
+               out + " --trials 20 --threads 1 -q");
+  EXPECT_EQ(run.code, 3) << run.out;
+  const auto warned = run.out.find("taskmap build: warning: hand 'franka_hand': " + sc_warning);
+  EXPECT_NE(warned, std::string::npos) << run.out;
+  EXPECT_LT(warned, run.out.find("no grasp stored")) << run.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(HandsCli, PalmFrameBehindThePalmIsANoteNotAWarning) {
+  // Palm frame at the flange: the hand body lies 6.6 cm in front of it, the fingers 11.3 cm;
+  // the palm touches objects and the hand grasps (a note, no warning; the build is quiet).
+  const std::string flange =
+      frankaWith("flange", "palm_frame", {{"xyz", {0, 0, 0}}, {"rpy", {0, 0, 0}}});
+  CliRun run = runCli("hand-info " + flange);
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("note:           link 'panda_hand' is fixed to the palm and reaches "
                          "0.06596 m in front"),
             std::string::npos)
       << run.out;
+  EXPECT_EQ(run.out.find("warning:"), std::string::npos) << run.out;
+  const std::string out = temp("flange.h5");
+  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + flange +
+               " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
+  fs::remove(out);
+  // The real hand as checked in: no warning from hand-info or build.
+  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + kFranka +
+               " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
+  fs::remove(out);
 }
 
 TEST(HandsCli, BuildThatStoresNoGraspFailsAndSaysWhy) {
@@ -113,6 +177,11 @@ TEST(HandsCli, BuildThatStoresNoGraspFailsAndSaysWhy) {
                             frankaWith("backwards", "approach_axis", {0, 0, -1}) + " -o " + out +
                             " --trials 10 --threads 1 -q");
   EXPECT_EQ(run.code, 3) << run.out;
+  // hand-info's warning first, before the trials.
+  EXPECT_NE(run.out.find("taskmap build: warning: hand 'franka_hand': no finger link reaches in "
+                         "front of the palm"),
+            std::string::npos)
+      << run.out;
   EXPECT_NE(run.out.find("taskmap build: error: no grasp stored after 10 trials: "),
             std::string::npos)
       << run.out;
@@ -128,7 +197,9 @@ TEST(HandsCli, MillimetreBananaIsRefused) {
   const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") +
                             " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
   EXPECT_EQ(run.code, 1) << run.out;
-  EXPECT_NE(run.out.find("is the mesh in millimetres? pass --scale 0.001"), std::string::npos)
+  // The file is in metres: the scale that fixes it is 1.
+  EXPECT_NE(run.out.find("is the file in metres? scale 1 (--scale 1) makes it 0.178 m across"),
+            std::string::npos)
       << run.out;
   EXPECT_FALSE(fs::exists(out));
 }
@@ -216,7 +287,54 @@ TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
       << run.out;
   EXPECT_NE(run.out.find("u_block.obj part 0: 138 faces, 1 convex piece"), std::string::npos)
       << run.out;
+  // build prints it before its trials; the same hand with its closed mesh warns of nothing.
+  const std::string object = std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj";
+  CliRun build =
+      runCli("build --object " + object + " --hand " + (dir / "decomp_finger.urdf").string() +
+             " -o " + (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
+  EXPECT_NE(build.out.find("taskmap build: warning: hand '"), std::string::npos) << build.out;
+  EXPECT_NE(build.out.find("is not closed (it has border edges); its convex hull is used"),
+            std::string::npos)
+      << build.out;
+  build = runCli("build --object " + object + " --hand " + hands("decomp_finger.urdf") + " -o " +
+                 (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
+  EXPECT_EQ(build.out.find("warning"), std::string::npos) << build.out;
   fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
+  const std::string objects = TASKMAP_OBJECTS_DIR;
+  const std::string out = temp("dym.h5");
+  CliRun run = runCli("build --object " + objects + "/basket.obj --hand pand -o " + out);
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("hand 'pand' is neither a URDF file nor a bundled hand name"),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("; did you mean 'panda'"), std::string::npos) << run.out;
+  run = runCli("hand-info Barrett");
+  EXPECT_NE(run.out.find("; did you mean 'barrett'?"), std::string::npos) << run.out;
+  run = runCli("hand-info " + kFranka + "x");
+  EXPECT_NE(run.out.find("; did you mean '" + kFranka + "'?"), std::string::npos) << run.out;
+  run = runCli("hand-info robotiq");
+  EXPECT_EQ(run.out.find("did you mean"), std::string::npos) << run.out;
+  // Objects: a typo in a path, and a bundled object's name.
+  run = runCli("build --object " + objects + "/baskt.obj --hand panda -o " + out);
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("cannot open mesh file '" + objects +
+                         "/baskt.obj': no such file; did "
+                         "you mean '" +
+                         objects + "/basket.obj'"),
+            std::string::npos)
+      << run.out;
+  run = runCli("mesh-info basket");
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("did you mean '"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("objects/basket.obj'"), std::string::npos) << run.out;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 }  // namespace

@@ -101,6 +101,7 @@ bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
         std::make_unique<ObjectModel>(ObjectModel::load(args.object, meshLoadOptions(args)));
     setup.hand = std::make_unique<HandModel>(HandModel::load(setup.plan.hand_urdf));
     checkGraspOptions(args, setup.plan.options, *setup.hand, setup.plan.hand_urdf);
+    if (world.rank == 0) printHandWarnings("taskmap-mpi build", *setup.hand);
     setup.runner = std::make_unique<TrialRunner>(*setup.object, *setup.hand, setup.plan.options);
   } catch (const std::exception& e) {
     error = e.what();

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "data_dir.hpp"
+#include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/meshes/hand_model.hpp"
@@ -19,6 +20,7 @@ void addAcronymFrameOptions(CLI::App* cmd, AcronymFrameArgs& args) {
   cmd->add_option("--hand", args.hand,
                   "take the palm frame in the gripper base frame from this hand (URDF or bundled "
                   "name): its root-to-palm transform, for a URDF whose root is the base frame");
+  addPackagePathOption(cmd);
 }
 
 Eigen::Isometry3d baseToPalm(const AcronymFrameArgs& args) {

@@ -7,10 +7,12 @@
 #include <iostream>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "data_dir.hpp"
+#include "hand_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/sampler/sampler.hpp"
 
@@ -81,6 +83,11 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                   "fingertip grasps: palm-to-object distance where the approach stops, metres "
                   "(default: the hand sidecar's grasp.standoff, else 0)")
       ->check(CLI::Range(0.0, 0.5));
+  cmd->add_flag("--allow-size", args.allow_size,
+                "build an object whose size is implausible for the hand (over 20 times its "
+                "reach, or thinner than its thinnest finger link), refused by default as a "
+                "file in other units");
+  addPackagePathOption(cmd);
   cmd->add_flag("--keep-invalid", args.keep_invalid,
                 "store every simulated grasp (status ok), not only force-closure ones");
   cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
@@ -105,6 +112,7 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  options.check_size = !args.allow_size;
   if (args.grasp == "palm")
     options.simulation.grasp_mode = GraspMode::kPalm;
   else if (args.grasp == "fingertip")
@@ -128,6 +136,13 @@ void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const
                 hand_path + "' grasps with the palm)");
 }
 
+bool printHandWarnings(const std::string& label, const HandModel& hand) {
+  const std::vector<std::string> warnings = checkHand(hand).warnings;
+  for (const std::string& w : warnings)
+    std::cerr << label << ": warning: hand '" << hand.name() << "': " << w << "\n";
+  return !warnings.empty();
+}
+
 BuildPlan planBuild(const BuildArgs& args) {
   BuildPlan plan;
   BuildOptions& options = plan.options;
@@ -137,6 +152,7 @@ BuildPlan planBuild(const BuildArgs& args) {
   const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
+  requireObjectFile(args.object);
   plan.hand_urdf = resolveHandUrdf(args.hand);
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
   const MeshLoadOptions load = meshLoadOptions(args);

@@ -26,8 +26,9 @@ struct BuildArgs {
   double standoff = -1.0;  ///< metres; negative = the hand sidecar's
   MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
-  bool timestamp = false;  ///< store the current time as created_utc
-  bool validate = false;   ///< label the grasps with the physics hold test before writing
+  bool timestamp = false;   ///< store the current time as created_utc
+  bool allow_size = false;  ///< build an object whose size is implausible for the hand
+  bool validate = false;    ///< label the grasps with the physics hold test before writing
 };
 
 /// With --validate: labels the built map's grasps with the physics hold test (validate stage,
@@ -43,11 +44,17 @@ MeshLoadOptions meshLoadOptions(const BuildArgs& args);
 void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
                        const std::string& hand_path);
 
+/// Prints hand-info's warnings about the hand (hand_check.hpp) on stderr, one line each as
+/// "<label>: warning: hand '<name>': ...", before the trials (also with --quiet). Returns true
+/// when it printed any.
+bool printHandWarnings(const std::string& label, const HandModel& hand);
+
 /// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
 
 /// Adds the knobs of a build (--sampler, --valid, --trials, --seed, --threads, --friction,
-/// --cone-edges, --keep-invalid, --no-cluster, --timestamp, -q, --progress) to a subcommand.
+/// --cone-edges, --grasp, --standoff, --allow-size, --keep-invalid, --no-cluster, --timestamp,
+/// -q, --progress) to a subcommand.
 void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 
 /// The BuildOptions of the knobs (not validated; no extra_params_json).

@@ -18,8 +18,10 @@
 #include "build_command.hpp"
 #include "command.hpp"
 #include "taskmap/builder/map_builder.hpp"
+#include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -39,9 +41,17 @@ void runBuild(const BuildArgs& args) {
   const BuildOptions& options = plan.options;
   const std::string& hand_path = plan.hand_urdf;
 
-  const ObjectModel object = ObjectModel::load(args.object, meshLoadOptions(args));
+  // The hand first: its warnings, and the size check while the mesh loads (before its repair).
   const HandModel hand = HandModel::load(hand_path);
   checkGraspOptions(args, options, hand, hand_path);
+  const bool hand_warned = printHandWarnings("taskmap build", hand);
+  const ObjectModel object = [&] {
+    const ScopedLoadBoundsCheck size_check(
+        options.check_size
+            ? sizeCheckOnLoad(hand, std::filesystem::path(args.object).stem().string(), args.scale)
+            : nullptr);
+    return ObjectModel::load(args.object, meshLoadOptions(args));
+  }();
 
   g_stop.store(false);
   struct sigaction action {};
@@ -76,8 +86,10 @@ void runBuild(const BuildArgs& args) {
   if (result.status == BuildStatus::kNoGrasps) {
     sigaction(SIGINT, &old_int, nullptr);
     sigaction(SIGTERM, &old_term, nullptr);
-    std::cerr << "taskmap build: error: " << result.message << "; nothing written to '"
-              << args.output << "'\n";
+    std::cerr << "taskmap build: error: " << result.message
+              << (hand_warned ? "; and the hand's warning above: the set-up it names cannot grasp"
+                              : "")
+              << "; nothing written to '" << args.output << "'\n";
     exitCode() = 3;
     return;
   }

@@ -15,6 +15,7 @@
 #include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "hand_picture.hpp"
+#include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/viz/hand_page.hpp"
@@ -50,7 +51,7 @@ Eigen::Vector3d rpyOf(const Eigen::Matrix3d& r) {
 }
 
 /// Everything hand-info reports, as JSON (the text output prints the same fields).
-nlohmann::json describe(const HandModel& h, const std::vector<std::string>& warnings) {
+nlohmann::json describe(const HandModel& h, const HandReport& report) {
   nlohmann::json j;
   j["name"] = h.name();
   j["robot_name"] = h.robotName();
@@ -119,7 +120,8 @@ nlohmann::json describe(const HandModel& h, const std::vector<std::string>& warn
                                      {"hull_volume", m.hull_volume},
                                      {"pieces_volume", m.pieces_volume},
                                      {"note", m.note}});
-  j["warnings"] = warnings;
+  j["warnings"] = report.warnings;
+  j["notes"] = report.notes;
   return j;
 }
 
@@ -192,6 +194,8 @@ void printText(const nlohmann::json& j) {
     std::printf(" %s (%zu links);", it.key().c_str(), it.value().size());
   std::printf("\n");
   printCollisionMeshes(j);
+  for (const auto& n : j["notes"])
+    std::printf("note:           %s\n", n.get<std::string>().c_str());
   for (const auto& w : j["warnings"])
     std::printf("warning:        %s\n", w.get<std::string>().c_str());
 }
@@ -200,10 +204,8 @@ void run(const HandInfoArgs& args) {
   const std::string urdf =
       std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
   const HandModel hand = HandModel::load(urdf);
-  std::vector<std::string> warnings = handWarnings(hand);
-  for (const CollisionMeshInfo& m : hand.collisionMeshes())
-    if (m.warning) warnings.push_back(m.note);
-  const nlohmann::json j = describe(hand, warnings);
+  const HandReport report = checkHand(hand);
+  const nlohmann::json j = describe(hand, report);
   if (!args.png.empty()) writeHandPicture(hand, args.png);
   if (!args.html.empty()) writeHandPage(hand, args.html);
   if (args.json)
@@ -219,8 +221,9 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "hand-info",
       "Show what taskmap makes of a hand: joints, limits, mimic couplings, preshape and closing, "
-      "palm frame, approach axis, rho; warn about a closing motion no finger can reach past the "
-      "palm with, and geometry fixed to the palm in front of it");
+      "palm frame, approach axis, rho; warn about set-ups that cannot grasp (no finger reaches "
+      "past the front of the palm or of geometry fixed to it; collision meshes that could not "
+      "be decomposed), the warnings `build` prints before its trials");
   cmd->add_option("hand", args->hand, "hand URDF (with its <stem>.hand.json) or bundled name")
       ->required();
   cmd->add_option("--png", args->png,
@@ -229,6 +232,7 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
                   "also write an interactive 3-D page (self-contained HTML): the hand open and "
                   "closed, palm frame, approach axis, one slider per joint");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  addPackagePathOption(cmd);
   cmd->callback([args]() { run(*args); });
 });
 

@@ -8,9 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "data_dir.hpp"
 #include "mesh_options.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
+#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -38,6 +40,7 @@ void run(const MeshInfoArgs& args) {
   applyMeshRepairArgs(args.repair, options);
   ObjectModel model;
   try {
+    requireObjectFile(args.file);
     model = ObjectModel::load(args.file, options);
   } catch (const Error& e) {
     if (args.json) {
@@ -48,6 +51,8 @@ void run(const MeshInfoArgs& args) {
   }
   const MeshLoadReport& report = model.report();
   const MassProperties& mass = model.massProperties();
+  const Eigen::Vector3d size = mass.bounds_max - mass.bounds_min;
+  const std::string size_warning = graspableSizeWarning(size.maxCoeff(), model.scale());
   if (args.json) {
     nlohmann::json j;
     j["path"] = report.path;
@@ -60,6 +65,9 @@ void run(const MeshInfoArgs& args) {
     j["faces"] = model.mesh().faces.size();
     j["repairs"] = report.repairs;
     j["warnings"] = report.warnings;
+    if (!size_warning.empty()) j["warnings"].push_back(size_warning);
+    j["size"] = vec(size);
+    j["graspable_size"] = size_warning.empty();
     j["closed"] = report.closed;
     j["volume"] = mass.volume;
     j["bounds_min"] = vec(mass.bounds_min);
@@ -87,9 +95,11 @@ void run(const MeshInfoArgs& args) {
     }
   }
   for (const auto& w : report.warnings) std::printf("warning:        %s\n", w.c_str());
+  if (!size_warning.empty()) std::printf("warning:        %s\n", size_warning.c_str());
   std::printf("volume:         %.9g m^3\n", mass.volume);
   std::printf("bounds:         %s .. %s m\n", fmt(mass.bounds_min).c_str(),
               fmt(mass.bounds_max).c_str());
+  std::printf("size:           %s m (largest side %.4g m)\n", fmt(size).c_str(), size.maxCoeff());
   std::printf("centre of mass: %s m\n", fmt(mass.center_of_mass).c_str());
   std::printf("inertia (1 kg/m^3, about the centre of mass, kg m^2):\n");
   for (int r = 0; r < 3; ++r) {
@@ -102,7 +112,10 @@ void run(const MeshInfoArgs& args) {
 const CommandRegistrar kRegistrar("mesh-info", [](CLI::App& app) {
   auto args = std::make_shared<MeshInfoArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "mesh-info", "Load an object mesh as a closed solid; print repairs and mass properties");
+      "mesh-info",
+      "Load an object mesh as a closed solid; print repairs, size and mass properties, and "
+      "flag a size implausible for a graspable object (with the --scale that fixes a file in "
+      "millimetres, centimetres or inches)");
   cmd->add_option("file", args->file, "mesh file (any format assimp reads)")->required();
   cmd->add_option("--scale", args->scale, "multiplies coordinates (file units to metres)")
       ->check(CLI::PositiveNumber);

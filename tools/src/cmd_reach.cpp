@@ -15,6 +15,7 @@
 
 #include "command.hpp"
 #include "data_dir.hpp"
+#include "mesh_options.hpp"
 #include "reach_map.hpp"
 #include "reach_picture.hpp"
 #include "taskmap/core/error.hpp"
@@ -223,6 +224,7 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "hand on the flange: a name under meshes/hands, a hand URDF, or 'none'")
       ->capture_default_str();
   cmd->add_option("--flange", args->flange, "link the hand is mounted on (default fer_link8)");
+  addPackagePathOption(cmd);
   cmd->add_option("--mount", args->mount,
                   "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the humanoid "
                   "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");

@@ -1,9 +1,11 @@
 #include "data_dir.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "taskmap/core/error.hpp"
@@ -31,7 +33,100 @@ std::vector<std::string> bundledHands(const fs::path& hands) {
   return names;
 }
 
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+/// Regular files of `dir` (names), "" entries skipped; empty when it is not a folder.
+std::vector<std::string> filesOf(const fs::path& dir) {
+  std::vector<std::string> names;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end;
+       it.increment(ec))
+    if (it->is_regular_file(ec)) names.push_back(it->path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 }  // namespace
+
+std::vector<std::string> closestNames(const std::string& name,
+                                      const std::vector<std::string>& candidates) {
+  const std::string n = lower(name);
+  const std::size_t limit = std::max<std::size_t>(1, n.size() / 3);
+  std::vector<std::pair<std::size_t, std::string>> scored;
+  for (const std::string& c : candidates) {
+    const std::string l = lower(c);
+    std::size_t d = editDistance(n, l);
+    if (d > limit && !n.empty() && l.size() >= 3 &&
+        (l.find(n) != std::string::npos || n.find(l) != std::string::npos))
+      d = limit;  // one contains the other: "pand" and "panda_mimic"
+    if (d <= limit) scored.emplace_back(d, c);
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::string> out;
+  for (const auto& s : scored) out.push_back(s.second);
+  return out;
+}
+
+std::string didYouMean(const std::string& name, const std::vector<std::string>& candidates) {
+  const std::vector<std::string> close = closestNames(name, candidates);
+  if (close.empty()) return "";
+  std::string s = "; did you mean '" + close[0] + "'";
+  if (close.size() > 1) s += " or '" + close[1] + "'";
+  return s + "?";
+}
+
+void requireObjectFile(const std::string& path) {
+  std::error_code ec;
+  if (fs::exists(path, ec)) return;
+  const fs::path p(path);
+  // Compared by file name (a path's length would loosen the edit distance's limit).
+  std::vector<std::string> close;
+  for (const std::string& f : closestNames(p.filename().string(), filesOf(p.parent_path())))
+    close.push_back((p.parent_path() / f).string());
+  // Bundled objects by name ("basket", "mug.ob").
+  try {
+    const fs::path objects = fs::path(dataDir()) / "objects";
+    std::vector<std::string> bundled;
+    for (const std::string& f : filesOf(objects))
+      if (fs::path(f).extension() == ".obj") bundled.push_back(f);
+    for (const std::string& key : {p.filename().string(), p.stem().string()})
+      for (const std::string& f : closestNames(key, bundled)) {
+        const std::string full = (objects / f).string();
+        if (std::find(close.begin(), close.end(), full) != close.end()) continue;
+        // A bare name ("basket") means a bundled object first; a path its own folder's files.
+        if (p.parent_path().empty())
+          close.insert(close.begin(), full);
+        else
+          close.push_back(full);
+      }
+  } catch (const Error&) {
+    // No data directory: suggest from the folder alone.
+  }
+  std::string hint;
+  if (!close.empty()) hint = "; did you mean '" + close[0] + "'";
+  if (close.size() > 1) hint += " or '" + close[1] + "'";
+  if (!hint.empty()) hint += "?";
+  throw Error("cannot open mesh file '" + path + "': no such file" + hint);
+}
 
 std::string dataDir() {
   if (const char* env = std::getenv("TASKMAP_DATA_DIR"); env != nullptr && *env != '\0') {
@@ -52,9 +147,25 @@ std::string bundledHandUrdf(const std::string& name) {
   const fs::path urdf = hands / name / (name + ".urdf");
   if (name.find('/') == std::string::npos && fs::exists(urdf)) return urdf.string();
   std::string list;
-  for (const auto& n : bundledHands(hands)) list += (list.empty() ? "" : ", ") + n;
+  const std::vector<std::string> names = bundledHands(hands);
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  std::string hint;
+  const fs::path as_path(name);
+  if (name.find('/') != std::string::npos) {
+    std::vector<std::string> urdfs;
+    for (const std::string& f : filesOf(as_path.parent_path()))
+      if (fs::path(f).extension() == ".urdf" || fs::path(f).extension() == ".xacro")
+        urdfs.push_back(f);
+    const std::vector<std::string> close = closestNames(as_path.filename().string(), urdfs);
+    if (!close.empty())
+      hint = "; did you mean '" + (as_path.parent_path() / close[0]).string() + "'?";
+    if (hint.empty()) hint = didYouMean(as_path.stem().string(), names);
+  } else {
+    hint = didYouMean(name, names);
+  }
   throw Error("hand '" + name + "' is neither a URDF file nor a bundled hand name (" +
-              (list.empty() ? std::string("none found") : list) + " under " + hands.string() + ")");
+              (list.empty() ? std::string("none found") : list) + " under " + hands.string() + ")" +
+              hint);
 }
 
 }  // namespace taskmap::cli

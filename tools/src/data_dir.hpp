@@ -5,6 +5,7 @@
 /// (regression/cases.json, regression/golden/).
 
 #include <string>
+#include <vector>
 
 namespace taskmap::cli {
 
@@ -14,7 +15,21 @@ namespace taskmap::cli {
 std::string dataDir();
 
 /// The URDF of a bundled hand: `<dataDir()>/hands/<name>/<name>.urdf`. Throws Error listing the
-/// bundled hands when there is none of that name.
+/// bundled hands when there is none of that name, with "did you mean" the closest bundled name
+/// (or, for a path, the closest URDF in its folder).
 std::string bundledHandUrdf(const std::string& name);
+
+/// The candidates closest to `name` (case-insensitive edit distance at most a third of its
+/// length, at least 1; or one contains the other), closest first; empty when none is close.
+std::vector<std::string> closestNames(const std::string& name,
+                                      const std::vector<std::string>& candidates);
+
+/// "; did you mean 'a'?" (or "'a' or 'b'?") for closestNames, "" when none is close.
+std::string didYouMean(const std::string& name, const std::vector<std::string>& candidates);
+
+/// Throws Error("cannot open mesh file '<path>': no such file[; did you mean ...?]") when the
+/// object mesh `path` does not exist: the suggestions are the closest files of its folder and
+/// the closest bundled objects (<dataDir()>/objects) by name.
+void requireObjectFile(const std::string& path);
 
 }  // namespace taskmap::cli

@@ -2,6 +2,8 @@
 #include "dataset.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -22,22 +24,47 @@ using nlohmann::json;
 constexpr const char* kManifestFormat = "taskmap-dataset 1";
 constexpr std::uintmax_t kMaxManifestBytes = std::uintmax_t{256} << 20;
 
-// The meshes of the list file, as written and resolved.
-std::vector<std::pair<std::string, std::string>> readObjectList(const std::string& list) {
+/// One line of the object list: the mesh as written, resolved, and its scale (0: --scale's).
+struct ListedObject {
+  std::string entry, path;
+  double scale = 0.0;
+};
+
+// The meshes of the list file, as written and resolved, each with its scale when the line
+// gives one after the path ("meshes/bunny.ply 0.01").
+std::vector<ListedObject> readObjectList(const std::string& list) {
   std::ifstream in(list);
   if (!in) throw Error("cannot read object list '" + list + "'");
   const fs::path base = fs::absolute(list).parent_path();
-  std::vector<std::pair<std::string, std::string>> objects;
+  std::vector<ListedObject> objects;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const auto begin = line.find_first_not_of(" \t\r");
     if (begin == std::string::npos || line[begin] == '#') continue;
     const auto end = line.find_last_not_of(" \t\r");
-    const std::string entry = line.substr(begin, end - begin + 1);
+    std::string entry = line.substr(begin, end - begin + 1);
+    double scale = 0.0;
+    const auto gap = entry.find_last_of(" \t");
+    if (gap != std::string::npos) {
+      const std::string last = entry.substr(gap + 1);
+      char* stop = nullptr;
+      const double value = std::strtod(last.c_str(), &stop);
+      const bool number_token = !last.empty() && stop == last.c_str() + last.size();
+      if (number_token) {
+        if (!(value > 0.0) || !std::isfinite(value))
+          throw Error("object list '" + list + "' line " + std::to_string(number) + ": scale '" +
+                      last + "' must be a positive number (file units to metres)");
+        scale = value;
+        entry = entry.substr(0, entry.find_last_not_of(" \t", gap) + 1);
+      }
+    }
     const fs::path p(entry);
-    objects.emplace_back(entry, (p.is_absolute() ? p : base / p).lexically_normal().string());
+    objects.push_back({entry, (p.is_absolute() ? p : base / p).lexically_normal().string(), scale});
   }
-  if (objects.empty()) throw Error("object list '" + list + "' names no mesh (one path a line)");
+  if (objects.empty())
+    throw Error("object list '" + list +
+                "' names no mesh (one path a line, optionally followed "
+                "by its scale)");
   return objects;
 }
 
@@ -63,27 +90,31 @@ BuildOptions jobOptions(const DatasetPlan& plan, const DatasetJob& job, std::uin
   BuildOptions options = knobOptions(plan.args.knobs);
   options.seed = seed;
   options.extra_params_json =
-      json{{"object", job.object}, {"scale", plan.args.scale}, {"hand", job.hand}}.dump();
+      json{{"object", job.object}, {"scale", job.scale}, {"hand", job.hand}}.dump();
   options.validate();
   return options;
 }
 
 // What a job's entry starts as.
 json baseEntry(const DatasetJob& job) {
-  return json{{"object", job.object}, {"hand", job.hand}, {"file", job.file}};
+  return json{{"object", job.object}, {"scale", job.scale}, {"hand", job.hand}, {"file", job.file}};
 }
 
 }  // namespace
 
 void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
   cmd.add_option("--objects", args.objects,
-                 "text file naming one mesh a line (relative to the file; # comments)")
+                 "text file naming one mesh a line (relative to the file; # comments), "
+                 "optionally followed by its scale (file units to metres), e.g. "
+                 "\"bunny.ply 0.01\"; without one a mesh takes --scale")
       ->required();
   cmd.add_option("--hands", args.hands, "comma-separated hand URDFs or bundled hand names")
       ->required();
   cmd.add_option("-o,--output", args.output, "directory for the maps and manifest.json")
       ->required();
-  cmd.add_option("--scale", args.scale, "multiplies every mesh's coordinates (file units -> m)")
+  cmd.add_option("--scale", args.scale,
+                 "multiplies the coordinates of every mesh the list gives no scale (file units "
+                 "-> m)")
       ->capture_default_str();
   addBuildKnobs(cmd, args.knobs);
 }
@@ -100,9 +131,17 @@ DatasetPlan planDataset(const DatasetArgs& args) {
     throw Error("cannot create output directory '" + plan.dir + "'" +
                 (ec ? " (" + ec.message() + ")" : ""));
   std::map<std::string, std::string> writers;  // file -> object, hand
-  for (const auto& [object, path] : readObjectList(args.objects)) {
+  for (const ListedObject& listed : readObjectList(args.objects)) {
+    const std::string& object = listed.entry;
+    const std::string& path = listed.path;
     for (const std::string& hand : splitHands(args.hands)) {
-      DatasetJob job{object, path, hand, resolveHandUrdf(hand), "", 0};
+      DatasetJob job{object,
+                     path,
+                     hand,
+                     resolveHandUrdf(hand),
+                     "",
+                     0,
+                     listed.scale > 0.0 ? listed.scale : args.scale};
       job.file =
           fs::path(path).stem().string() + "__" + fs::path(job.hand_urdf).stem().string() + ".h5";
       const auto [it, fresh] = writers.emplace(job.file, object + " with " + hand);
@@ -124,7 +163,7 @@ json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job) {
   json entry = baseEntry(job);
   entry["status"] = "failed";
   try {
-    const ObjectModel object = ObjectModel::load(job.object_path, MeshLoadOptions{plan.args.scale});
+    const ObjectModel object = ObjectModel::load(job.object_path, MeshLoadOptions{job.scale});
     const HandModel hand = HandModel::load(job.hand_urdf);
     const std::uint64_t seed =
         jobSeed(plan.args.knobs.seed, object.sourceSha256(), hand.urdfSha256());
@@ -186,8 +225,7 @@ bool DatasetManifest::finishedEarlier(std::size_t i) const {
   try {
     const std::string path = (fs::path(plan_.dir) / job.file).string();
     if (e.value("file", "") != job.file || !fs::exists(path)) return false;
-    const ObjectModel object =
-        ObjectModel::load(job.object_path, MeshLoadOptions{plan_.args.scale});
+    const ObjectModel object = ObjectModel::load(job.object_path, MeshLoadOptions{job.scale});
     const HandModel hand = HandModel::load(job.hand_urdf);
     const std::uint64_t seed =
         jobSeed(plan_.args.knobs.seed, object.sourceSha256(), hand.urdfSha256());

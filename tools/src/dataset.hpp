@@ -20,11 +20,13 @@ namespace taskmap::cli {
 
 /// The command line of a data set.
 struct DatasetArgs {
-  std::string objects;  ///< text file: one mesh path a line (relative to the file), # comments
-  std::string hands;    ///< comma-separated hand URDFs or bundled hand names
-  std::string output;   ///< directory for the maps and manifest.json (created if missing)
-  double scale = 1.0;   ///< mesh scale for every object
-  BuildArgs knobs;      ///< --valid, --trials, --seed, --threads, ... as for `taskmap build`
+  /// text file: one mesh path a line (relative to the file), optionally followed by the mesh's
+  /// scale ("bunny.ply 0.01"); # comments
+  std::string objects;
+  std::string hands;   ///< comma-separated hand URDFs or bundled hand names
+  std::string output;  ///< directory for the maps and manifest.json (created if missing)
+  double scale = 1.0;  ///< mesh scale of every object the list gives none
+  BuildArgs knobs;     ///< --valid, --trials, --seed, --threads, ... as for `taskmap build`
 };
 
 /// Adds the data-set options to a subcommand.
@@ -38,6 +40,7 @@ struct DatasetJob {
   std::string hand_urdf;      ///< resolved URDF
   std::string file;           ///< map file name in the output directory
   std::uintmax_t mesh_bytes;  ///< size of the mesh file (0 if unreadable); largest runs first
+  double scale = 1.0;         ///< the list's scale for the mesh, else --scale
 };
 
 /// The jobs of a data set, largest mesh first (ties by object, then hand).
@@ -52,8 +55,8 @@ struct DatasetPlan {
 DatasetPlan planDataset(const DatasetArgs& args);
 
 /// Runs one job: loads, builds and writes its map (atomically). Never throws for a bad mesh or
-/// hand: the entry's status is then "failed" with the error. Entry fields: object, hand, seed,
-/// status (complete, trial_budget_exhausted, failed), trials, valid, file, file_sha256,
+/// hand: the entry's status is then "failed" with the error. Entry fields: object, scale, hand,
+/// seed, status (complete, trial_budget_exhausted, failed), trials, valid, file, file_sha256,
 /// build_sha256, error.
 nlohmann::json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job);
 

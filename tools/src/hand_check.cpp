@@ -54,9 +54,9 @@ double frontOf(const HandModel& hand, const Eigen::VectorXd& q, int link) {
   return front;
 }
 
-std::vector<std::string> handWarnings(const HandModel& hand) {
-  std::vector<std::string> out;
-  char buf[512];
+HandReport checkHand(const HandModel& hand) {
+  HandReport out;
+  char buf[640];
   // Finger reach along the closing motion (21 samples from preshape to closed).
   const Eigen::VectorXd open = hand.preshape(), closed = closedConfiguration(hand);
   double finger_front = -std::numeric_limits<double>::infinity();
@@ -66,29 +66,48 @@ std::vector<std::string> handWarnings(const HandModel& hand) {
       if (hand.links()[li].finger >= 0)
         finger_front = std::max(finger_front, frontOf(hand, q, static_cast<int>(li)));
   }
-  if (!(finger_front > 0.0)) {
-    std::snprintf(buf, sizeof buf,
-                  "no finger link reaches in front of the palm along the approach axis while "
-                  "closing (farthest %.4g m): fingers cannot touch an object the palm touches; "
-                  "check approach_axis, palm_frame and the closing directions",
-                  finger_front);
-    out.push_back(buf);
-  }
-  // Geometry fixed to the palm in front of the palm frame.
+  // The front of the geometry fixed to the palm: where the palm touches the object.
+  double palm_front = -std::numeric_limits<double>::infinity();
+  std::string palm_front_link;
   for (std::size_t li = 0; li < hand.links().size(); ++li) {
     const HandLink& l = hand.links()[li];
     if (!l.palm || l.shapes.empty()) continue;
     const double front = frontOf(hand, open, static_cast<int>(li));
-    if (front > 0.01) {
-      std::snprintf(buf, sizeof buf,
-                    "link '%s' is fixed to the palm and reaches %.4g m in front of the palm frame "
-                    "along the approach axis: the palm surface cannot touch the object (trials end "
-                    "not_retractable or no_palm_contact); move palm_frame to the front of the "
-                    "palm or drop that geometry (e.g. self-collision capsules)",
-                    l.name.c_str(), front);
-      out.push_back(buf);
+    if (front > palm_front) {
+      palm_front = front;
+      palm_front_link = l.name;
     }
   }
+  const bool protrudes = palm_front > kPalmFrontTolerance;
+  if (!(finger_front > palm_front)) {
+    if (protrudes && finger_front > 0.0)
+      std::snprintf(buf, sizeof buf,
+                    "link '%s' is fixed to the palm and reaches %.4g m in front of the palm "
+                    "frame along the approach axis, as far as or beyond every finger (farthest "
+                    "%.4g m while closing): it touches the object first and the fingers cannot "
+                    "reach it (trials end not_retractable, no_palm_contact or no_finger_contact); "
+                    "drop that geometry (e.g. inflated self-collision capsules) or check "
+                    "approach_axis and the closing directions",
+                    palm_front_link.c_str(), palm_front, finger_front);
+    else
+      std::snprintf(buf, sizeof buf,
+                    "no finger link reaches in front of the palm along the approach axis while "
+                    "closing (farthest %.4g m, the palm's front %.4g m): fingers cannot touch an "
+                    "object the palm touches; check approach_axis, palm_frame and the closing "
+                    "directions",
+                    finger_front, palm_front);
+    out.warnings.push_back(buf);
+  } else if (protrudes) {
+    std::snprintf(buf, sizeof buf,
+                  "link '%s' is fixed to the palm and reaches %.4g m in front of the palm frame "
+                  "along the approach axis (the fingers reach %.4g m): the hand touches objects "
+                  "there, and map poses are those of the palm frame behind it; move palm_frame "
+                  "to the front of the palm to have poses at the contact face",
+                  palm_front_link.c_str(), palm_front, finger_front);
+    out.notes.push_back(buf);
+  }
+  for (const CollisionMeshInfo& m : hand.collisionMeshes())
+    if (m.warning) out.warnings.push_back(m.note);
   return out;
 }
 

@@ -24,9 +24,24 @@ std::vector<Eigen::Vector3d> shapePoints(const CollisionShape& shape);
 /// palm frame (-infinity for a link without geometry).
 double frontOf(const HandModel& hand, const Eigen::VectorXd& q, int link);
 
-/// Warnings: no finger link reaches in front of the palm (approach coordinate > 0) anywhere on
-/// the closing motion from the preshape to the closed configuration; palm-rigid geometry more
-/// than 1 cm in front of the palm frame (the palm cannot touch what it grasps).
-std::vector<std::string> handWarnings(const HandModel& hand);
+/// Palm-fixed geometry more than this far (metres) in front of the palm frame "protrudes".
+constexpr double kPalmFrontTolerance = 0.01;
+
+/// What `hand-info` and `build` say about a hand before any trial.
+struct HandReport {
+  /// Set-ups that cannot grasp, each true of the hand: no finger reaches past the front of the
+  /// palm-fixed geometry anywhere on the closing motion from the preshape to the closed
+  /// configuration (the palm, or a link fixed to it such as an inflated self-collision
+  /// capsule, touches the object first and the fingers never do); a collision mesh part whose
+  /// convex decomposition failed (its hull is used).
+  std::vector<std::string> warnings;
+  /// Facts worth knowing that do not stop a grasp: palm-fixed geometry more than
+  /// kPalmFrontTolerance in front of the palm frame while the fingers reach past it (the hand
+  /// touches objects there; map poses are the palm frame's).
+  std::vector<std::string> notes;
+};
+
+/// Checks a hand (a few forward-kinematics passes: milliseconds).
+HandReport checkHand(const HandModel& hand);
 
 }  // namespace taskmap::cli

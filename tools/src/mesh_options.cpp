@@ -1,6 +1,10 @@
 // Mesh repair options of `mesh-info` and `build` (see mesh_options.hpp).
 #include "mesh_options.hpp"
 
+#include <cstdlib>
+#include <string>
+#include <vector>
+
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {
@@ -19,6 +23,24 @@ void addMeshRepairOptions(CLI::App* cmd, MeshRepairArgs& args) {
                   "with --repair wrap: distance of the wrap outside the input surface (m) "
                   "(default: bounding-box diagonal / 3000)")
       ->check(CLI::PositiveNumber);
+}
+
+void addPackagePathOption(CLI::App* cmd) {
+  cmd->add_option_function<std::vector<std::string>>(
+         "--package-path",
+         [](const std::vector<std::string>& dirs) {
+           std::string value;
+           for (const std::string& d : dirs) value += (value.empty() ? "" : ":") + d;
+           if (const char* old = std::getenv("ROS_PACKAGE_PATH"); old != nullptr && *old != '\0')
+             value += ":" + std::string(old);
+           ::setenv("ROS_PACKAGE_PATH", value.c_str(), 1);
+         },
+         "folder of a ROS package, or a folder holding packages, where package://PKG/... mesh "
+         "paths of the hand's URDF are looked up before ROS_PACKAGE_PATH and the package that "
+         "holds the URDF (repeatable)")
+      ->check(CLI::ExistingDirectory)
+      ->type_size(1)
+      ->allow_extra_args(false);
 }
 
 void applyMeshRepairArgs(const MeshRepairArgs& args, MeshLoadOptions& options) {

@@ -22,6 +22,11 @@ struct MeshRepairArgs {
 /// Adds the repair options to `cmd`.
 void addMeshRepairOptions(CLI::App* cmd, MeshRepairArgs& args);
 
+/// Adds --package-path DIR (repeatable) to a command that takes a hand: each DIR is put before
+/// the entries of ROS_PACKAGE_PATH, where package:// mesh paths of URDFs are looked up
+/// (taskmap/meshes/ros_package.hpp), in the order given.
+void addPackagePathOption(CLI::App* cmd);
+
 /// Sets repair and wrap fields of `options`; throws Error on contradicting options.
 void applyMeshRepairArgs(const MeshRepairArgs& args, MeshLoadOptions& options);
 

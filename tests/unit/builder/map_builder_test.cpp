@@ -15,6 +15,7 @@
 
 #include "build_fixtures.hpp"
 #include "map_compare.hpp"
+#include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -171,18 +172,69 @@ TEST(MapBuilderTest, MillimetreObjectIsRefusedBeforeTheBuild) {
     FAIL() << "expected an error";
   } catch (const Error& e) {
     const std::string msg = e.what();
-    EXPECT_NE(msg.find("object 'box_mm' is 90 m across, 752 times the reach of hand"),
+    EXPECT_NE(msg.find("object 'box_mm' is too large for the hand: the object is 90 m across "
+                       "(bounding box 40 x 50 x 90 m), 752 times the 0.12 m reach of hand"),
               std::string::npos)
         << msg;
-    EXPECT_NE(msg.find("is the mesh in millimetres? pass --scale 0.001"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("is the file in millimetres? scale 0.001 (--scale 0.001) makes it 0.09 m "
+                       "across (in centimetres: --scale 0.01, 0.9 m; in inches: --scale 0.0254, "
+                       "2.29 m)"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("--allow-size"), std::string::npos) << msg;
   }
   const ObjectModel tiny = ObjectModel::fromMesh(testing::makeBox(4e-5, 5e-5, 1.2e-4), "box_um");
   try {
     buildMap(tiny, panda(), smallBuild(1));
     FAIL() << "expected an error";
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("check --scale"), std::string::npos) << e.what();
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("object 'box_um' is too small for the hand: the object is 0.00012 m across"),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("its thinnest finger link is 0.012 m"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("check the scale (--scale"), std::string::npos) << msg;
   }
+  // --allow-size (check_size = false) builds them anyway: here the tiny box, 20 trials.
+  BuildOptions allow = smallBuild(1);
+  allow.check_size = false;
+  allow.max_trials = 20;
+  EXPECT_NO_THROW(buildMap(tiny, panda(), allow));
+}
+
+TEST(MapBuilderTest, SizeCheckKnowsTheHand) {
+  // 20 times the reach is the limit; the thinnest finger link the lower one.
+  const HandModel hand = panda();
+  const double reach = hand.reach();
+  EXPECT_NEAR(thinnestFingerLink(hand), 0.012, 1e-12);
+  const double big = 19.0 * reach, bigger = 21.0 * reach;
+  EXPECT_TRUE(checkObjectSize(ObjectModel::fromMesh(testing::makeBox(big, 0.05, 0.05), "b"), hand)
+                  .problem.empty());
+  EXPECT_TRUE(
+      checkObjectSize(ObjectModel::fromMesh(testing::makeBox(bigger, 0.05, 0.05), "b"), hand)
+          .too_large);
+  EXPECT_TRUE(
+      checkObjectSize(ObjectModel::fromMesh(testing::makeBox(0.013, 0.013, 0.013), "s"), hand)
+          .problem.empty());
+  EXPECT_TRUE(
+      checkObjectSize(ObjectModel::fromMesh(testing::makeBox(0.011, 0.011, 0.011), "s"), hand)
+          .too_small);
+}
+
+TEST(MapBuilderTest, NoGraspMessageNamesTheSizeFirstWhenTheObjectDwarfsTheHand) {
+  // A 1.2 m box: 10 times the panda's reach, allowed by the size check, no grasp in 5 trials.
+  const ObjectModel big = ObjectModel::fromMesh(testing::makeBox(1.2, 1.2, 1.2), "big");
+  BuildOptions o = smallBuild(1);
+  o.max_trials = 5;
+  o.cluster = false;
+  const BuildResult r = buildMap(big, panda(), o);
+  ASSERT_EQ(r.status, BuildStatus::kNoGrasps) << r.message;
+  EXPECT_NE(r.message.find("no grasp stored after 5 trials: first suspect, the size: the object "
+                           "is 1.2 m across"),
+            std::string::npos)
+      << r.message;
+  EXPECT_NE(r.message.find("is the file in "), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find(". Then: "), std::string::npos) << r.message;
 }
 
 TEST(MapBuilderTest, StopFlagInterrupts) {

@@ -182,7 +182,7 @@ TEST(ClusterGrasps, FromLinkageReproducesAndRecuts) {
       "with computeLinkage");
   options.num_clusters = 124;
   EXPECT_EQ(errorMessage([&] { clusterFromLinkage(g.poses, g.epsilon, a.linkage, options); }),
-            "clusterFromLinkage: num_clusters 124 exceeds the number of grasps (123)");
+            "number of clusters (--clusters) 124 exceeds the number of grasps (123)");
 }
 
 TEST(ClusterGrasps, TinyInputs) {

@@ -318,7 +318,8 @@ TEST(MeshLoadTest, FlatMeshIsRefused) {
 TEST(MeshLoadTest, AbsurdlyLargeMeshIsRefused) {
   const std::string msg =
       errorMessage([] { ObjectModel::load(object("box"), MeshLoadOptions{10000.0}); });
-  EXPECT_NE(msg.find("box.obj': bounding box is 1200 m across, above max_extent 100 m"),
+  EXPECT_NE(msg.find("box.obj': bounding box is 1200 m across, above the limit of 100 m for an "
+                     "object (max_extent)"),
             std::string::npos)
       << msg;
 }

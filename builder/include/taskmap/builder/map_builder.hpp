@@ -36,6 +36,9 @@ struct BuildOptions {
   int threads = 0;                    ///< worker threads; 0 = all cores
   bool keep_invalid = false;          ///< store every completed (status ok) trial, not only FC
   bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)
+  /// Refuse an object whose size is implausible for the hand (size_check.hpp) before any
+  /// trial; false (`--allow-size`) builds it anyway. Not stored: it does not change a map.
+  bool check_size = true;
   /// Trials per work block (>= 1): a worker simulates a block, then scores it. Does not change
   /// results.
   std::uint64_t block_size = 64;
@@ -93,8 +96,10 @@ struct BuildResult {
   BuildTiming timing;
 };
 
-/// Runs the pipeline. Throws Error on invalid options and on an object whose size against the
-/// hand's reach suggests wrong units (over 100 times the reach, or under a hundredth). Returns
+/// Runs the pipeline. Throws Error on invalid options and, unless options.check_size is false,
+/// on an object whose size is implausible for the hand (size_check.hpp: over kMaxReachRatio
+/// times its reach, or thinner than its thinnest finger link), naming the scale that fixes a
+/// file in other units. Returns
 /// kInterrupted soon after *stop becomes true (workers finish their current trial).
 /// progress_interval_seconds > 0.
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
