@@ -174,6 +174,16 @@ void linkGeoms(const HandLink& link, int link_index, double patch, std::ostrings
   }
 }
 
+/// True when a prismatic actuated joint moves link l (a parallel jaw's pad).
+bool jawLink(const HandModel& hand, int l) {
+  const std::vector<std::string> names = hand.jointNames();
+  for (int a : hand.linkDrivers()[static_cast<std::size_t>(l)])
+    for (const auto& j : hand.joints())
+      if (j.name == names[static_cast<std::size_t>(a)] && j.type == JointType::kPrismatic)
+        return true;
+  return false;
+}
+
 /// Extra force of a driver that drags mimic jaws along: 1 + sum of |multiplier| of the prismatic
 /// joints it drives besides its own.
 double jawShare(const HandModel& hand, int actuated) {
@@ -218,7 +228,7 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
       }
     }
     int geoms = 0;
-    linkGeoms(link, l, o.contact_patch, assets, bodies, &geoms);
+    linkGeoms(link, l, jawLink(hand, l) ? o.contact_patch : 0.0, assets, bodies, &geoms);
     scene->hand_geoms += geoms;
     ++scene->hand_bodies;
     stack.emplace_back(l, 0);

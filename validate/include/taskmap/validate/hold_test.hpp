@@ -50,12 +50,12 @@ struct HoldTestOptions {
   double max_translation = 0.05;   ///< m: the grasp fails when the object moves this far
   double max_rotation = 0.2617993877991494;  ///< rad (15 deg): or turns this far
   double max_penetration = 0.01;             ///< m: a hand starting deeper inside the object fails
-  /// Contact patches: MuJoCo 2.2.2 gives one contact point per pair of geoms, so a finger pad
-  /// pressed flat on a face touches at one point and resists twisting only by torsional
-  /// friction. With a size > 0, hand boxes are split across their two largest extents into
-  /// cells of about this size (metres, at most 4 per axis) and cylinders into segments along
-  /// their axis, each its own geom: the union is the same
-  /// solid, and a pad touches at several points. 0: the shapes as they are, one point each.
+  /// Contact patches of parallel jaws: MuJoCo 2.2.2 gives one contact point per pair of geoms,
+  /// so a jaw pad pressed flat on a face touches at one point and resists twisting only by
+  /// torsional friction. With a size > 0, the boxes of links moved by prismatic joints are split
+  /// across their two largest extents into cells of about this size (metres, at most 4 per
+  /// axis) and their cylinders into segments, each its own geom: the same solid, touching at
+  /// several points. Links of revolute fingers keep their shapes (as in DexGraspBench). 0: off.
   double contact_patch = 0.01;
   /// Convex pieces of a non-convex object (MuJoCo collides each mesh geom as its hull).
   int object_max_pieces = 64;
