@@ -27,6 +27,7 @@ struct BuildArgs {
   MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
   bool timestamp = false;  ///< store the current time as created_utc
+  bool force = false;      ///< replace an existing output that is not a task map
 };
 
 /// How to load the object: --scale and the repair options.
@@ -49,6 +50,9 @@ BuildOptions knobOptions(const BuildArgs& args);
 /// A --hand argument as a URDF path: the path itself if it exists, else the bundled hand of
 /// that name. Throws Error listing the bundled hands.
 std::string resolveHandUrdf(const std::string& hand);
+
+/// The sidecar a hand URDF is read with: <dir>/<stem>.hand.json.
+std::string handSidecarPath(const std::string& urdf);
 
 /// A build ready to run: validated options and the resolved hand URDF.
 struct BuildPlan {

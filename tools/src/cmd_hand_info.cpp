@@ -11,10 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_command.hpp"
 #include "command.hpp"
 #include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "hand_picture.hpp"
+#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
@@ -24,6 +26,7 @@ namespace {
 struct HandInfoArgs {
   std::string hand, png;
   bool json = false;
+  bool force = false;
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -198,6 +201,7 @@ void printText(const nlohmann::json& j) {
 void run(const HandInfoArgs& args) {
   const std::string urdf =
       std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
+  checkOutputPath(args.png, {urdf, handSidecarPath(urdf)}, OutputKind::kPng, args.force, "--png");
   const HandModel hand = HandModel::load(urdf);
   std::vector<std::string> warnings = handWarnings(hand);
   for (const CollisionMeshInfo& m : hand.collisionMeshes())
@@ -223,6 +227,7 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
   cmd->add_option("--png", args->png,
                   "also draw the hand in its preshape and fully closed, three views each");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
+  cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
   cmd->callback([args]() { run(*args); });
 });
 

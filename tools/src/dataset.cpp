@@ -8,6 +8,7 @@
 #include <map>
 #include <sstream>
 
+#include "output_guard.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
@@ -73,6 +74,24 @@ json baseEntry(const DatasetJob& job) {
   return json{{"object", job.object}, {"hand", job.hand}, {"file", job.file}};
 }
 
+// An existing manifest.json that is not a taskmap data-set manifest (a user's file) is not
+// replaced without --force; a damaged manifest of ours is (the note says so).
+void checkManifestPath(const std::string& path, bool force) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  if (!fs::is_regular_file(path, ec))
+    throw Error("'" + path + "' exists and is not a regular file; choose another directory");
+  if (force || fs::file_size(path, ec) == 0) return;
+  std::ifstream in(path, std::ios::binary);
+  std::string headBytes(4096, '\0');
+  in.read(headBytes.data(), static_cast<std::streamsize>(headBytes.size()));
+  headBytes.resize(static_cast<std::size_t>(in.gcount()));
+  if (headBytes.find(kManifestFormat) == std::string::npos)
+    throw Error("'" + path +
+                "' exists and is not a taskmap data-set manifest; refusing to "
+                "replace it (add --force to overwrite it)");
+}
+
 }  // namespace
 
 void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
@@ -86,6 +105,9 @@ void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
   cmd.add_option("--scale", args.scale, "multiplies every mesh's coordinates (file units -> m)")
       ->capture_default_str();
   addBuildKnobs(cmd, args.knobs);
+  cmd.add_flag("--force", args.knobs.force,
+               "replace existing map files (and manifest.json) in the directory that are not "
+               "taskmap files (never an input)");
 }
 
 DatasetPlan planDataset(const DatasetArgs& args) {
@@ -99,6 +121,7 @@ DatasetPlan planDataset(const DatasetArgs& args) {
   if (!fs::is_directory(plan.dir))
     throw Error("cannot create output directory '" + plan.dir + "'" +
                 (ec ? " (" + ec.message() + ")" : ""));
+  checkManifestPath((fs::path(plan.dir) / "manifest.json").string(), args.knobs.force);
   std::map<std::string, std::string> writers;  // file -> object, hand
   for (const auto& [object, path] : readObjectList(args.objects)) {
     for (const std::string& hand : splitHands(args.hands)) {
@@ -110,6 +133,9 @@ DatasetPlan planDataset(const DatasetArgs& args) {
         throw Error("'" + object + "' with " + hand + " and " + it->second + " would both write " +
                     job.file + "; rename one mesh");
       job.mesh_bytes = fs::is_regular_file(path, ec) ? fs::file_size(path, ec) : 0;
+      checkOutputPath((fs::path(plan.dir) / job.file).string(),
+                      {path, job.hand_urdf, handSidecarPath(job.hand_urdf), args.objects},
+                      OutputKind::kTaskMap, args.knobs.force);
       plan.jobs.push_back(std::move(job));
     }
   }

@@ -1,0 +1,179 @@
+// Hostile inputs (issue 32, label cli): outputs that would destroy an input or a user's file are
+// refused, FIFOs and other non-regular inputs are refused without hanging, numeric options
+// that wrap or are absurd are refused.
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cli_run.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string readAll(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class HostileInputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("taskmap_hostile_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(std::string(TASKMAP_OBJECTS_DIR) + "/box.obj", dir_ / "mybox.obj");
+    box_ = readAll(dir_ / "mybox.obj");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // `taskmap <args>` under a 20 s timeout (a hang fails the test instead of blocking it).
+  static testing::CliRun taskmap(const std::string& args) {
+    return testing::runShell("timeout 20 " + std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap " +
+                             args);
+  }
+  std::string build(const std::string& output, const std::string& more = "") const {
+    return "build --object " + (dir_ / "mybox.obj").string() + " --hand panda --valid 5 " +
+           "--seed 3 --threads 2 -q -o " + output + more;
+  }
+  // A small map at dir_/map.h5 (built once per test that needs it).
+  void makeMap() const {
+    const testing::CliRun r = taskmap(build((dir_ / "map.h5").string()));
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+
+  fs::path dir_;
+  std::string box_;
+};
+
+TEST_F(HostileInputs, BuildRefusesToWriteOverItsObject) {
+  const std::string mesh = (dir_ / "mybox.obj").string();
+  const testing::CliRun r = taskmap(build(mesh));
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("is the input '" + mesh + "'"), std::string::npos) << r.out;
+  EXPECT_EQ(readAll(mesh), box_) << "the user's mesh was replaced";
+  // --force never allows it.
+  EXPECT_NE(taskmap(build(mesh, " --force")).code, 0);
+  EXPECT_EQ(readAll(mesh), box_);
+}
+
+TEST_F(HostileInputs, BuildRefusesHardAndSymbolicLinksToItsInputs) {
+  fs::create_hard_link(dir_ / "mybox.obj", dir_ / "hard.h5");
+  fs::create_symlink(dir_ / "mybox.obj", dir_ / "soft.h5");
+  for (const char* name : {"hard.h5", "soft.h5"}) {
+    const testing::CliRun r = taskmap(build((dir_ / name).string(), " --force"));
+    EXPECT_NE(r.code, 0) << name << ": " << r.out;
+    EXPECT_NE(r.out.find("is the input"), std::string::npos) << r.out;
+    EXPECT_EQ(readAll(dir_ / name), box_);
+  }
+  EXPECT_EQ(readAll(dir_ / "mybox.obj"), box_);
+  // The hand's URDF and sidecar are inputs too.
+  fs::copy(std::string(TASKMAP_HANDS_DIR) + "/panda", dir_ / "hand");
+  const std::string urdf = (dir_ / "hand" / "panda.urdf").string();
+  const std::string sidecar = (dir_ / "hand" / "panda.hand.json").string();
+  const std::string before = readAll(sidecar);
+  const testing::CliRun r = taskmap("build --object " + (dir_ / "mybox.obj").string() + " --hand " +
+                                    urdf + " --valid 5 -q --force -o " + sidecar);
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_EQ(readAll(sidecar), before);
+}
+
+TEST_F(HostileInputs, AnExistingFileThatIsNotAMapNeedsForce) {
+  const fs::path notes = dir_ / "notes.h5";
+  std::ofstream(notes) << "my notes, not a map\n";
+  const testing::CliRun r = taskmap(build(notes.string()));
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("is not a taskmap file"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--force"), std::string::npos) << r.out;
+  EXPECT_EQ(readAll(notes), "my notes, not a map\n");
+  // An existing map is replaced as before; --force replaces the notes.
+  makeMap();
+  EXPECT_EQ(taskmap(build((dir_ / "map.h5").string())).code, 0);
+  const testing::CliRun forced = taskmap(build(notes.string(), " --force"));
+  EXPECT_EQ(forced.code, 0) << forced.out;
+  EXPECT_EQ(readAll(notes).rfind("TASKMAP-SEAL ", 0), 0u);
+  // A directory is never replaced.
+  fs::create_directories(dir_ / "adir");
+  EXPECT_NE(taskmap(build((dir_ / "adir").string(), " --force")).code, 0);
+}
+
+TEST_F(HostileInputs, ExportImportAndPicturesGuardTheirOutputs) {
+  makeMap();
+  const std::string map = (dir_ / "map.h5").string();
+  const std::string bytes = readAll(map);
+  // export onto its own map, in every format.
+  for (const char* format : {"ply", "glb", "acronym"}) {
+    const testing::CliRun r =
+        taskmap("export " + map + " --format " + format + " --force -o " + map);
+    EXPECT_NE(r.code, 0) << format << ": " << r.out;
+    EXPECT_NE(r.out.find("is the input"), std::string::npos) << r.out;
+  }
+  EXPECT_EQ(readAll(map), bytes);
+  // export over a file of another kind.
+  std::ofstream(dir_ / "mesh.ply") << "solid not a ply\n";
+  const testing::CliRun ply =
+      taskmap("export " + map + " --format ply -o " + (dir_ / "mesh.ply").string());
+  EXPECT_NE(ply.code, 0) << ply.out;
+  EXPECT_NE(ply.out.find("is not a PLY file"), std::string::npos) << ply.out;
+  EXPECT_EQ(
+      taskmap("export " + map + " --format ply --force -o " + (dir_ / "mesh.ply").string()).code,
+      0);
+  // A PLY written by export is replaced without --force.
+  EXPECT_EQ(taskmap("export " + map + " --format ply -o " + (dir_ / "mesh.ply").string()).code, 0);
+  // import onto its object mesh.
+  const testing::CliRun acr =
+      taskmap("export " + map + " --format acronym -o " + (dir_ / "grasps.h5").string());
+  ASSERT_EQ(acr.code, 0) << acr.out;
+  const std::string mesh = (dir_ / "mybox.obj").string();
+  const testing::CliRun imp = taskmap("import --acronym " + (dir_ / "grasps.h5").string() +
+                                      " --object " + mesh + " --scale 1 --force -o " + mesh);
+  EXPECT_NE(imp.code, 0) << imp.out;
+  EXPECT_NE(imp.out.find("is the input"), std::string::npos) << imp.out;
+  EXPECT_EQ(readAll(mesh), box_);
+  // inspect --png over the map itself and over a text file.
+  const testing::CliRun png = taskmap("inspect " + map + " --png " + map);
+  EXPECT_NE(png.code, 0) << png.out;
+  EXPECT_EQ(readAll(map), bytes);
+  std::ofstream(dir_ / "pic.png") << "text\n";
+  const testing::CliRun text = taskmap("inspect " + map + " --png " + (dir_ / "pic.png").string());
+  EXPECT_NE(text.code, 0) << text.out;
+  EXPECT_NE(text.out.find("is not a PNG picture"), std::string::npos) << text.out;
+}
+
+TEST_F(HostileInputs, DatasetDoesNotReplaceUserFilesInItsDirectory) {
+  std::ofstream(dir_ / "list.txt") << "mybox.obj\n";
+  fs::create_directories(dir_ / "out");
+  std::ofstream(dir_ / "out" / "manifest.json") << "{\"mine\": true}\n";
+  const std::string cmd = "dataset --objects " + (dir_ / "list.txt").string() +
+                          " --hands panda --valid 5 --seed 1 -q -o " + (dir_ / "out").string();
+  const testing::CliRun r = taskmap(cmd);
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("not a taskmap data-set manifest"), std::string::npos) << r.out;
+  EXPECT_EQ(readAll(dir_ / "out" / "manifest.json"), "{\"mine\": true}\n");
+  fs::remove(dir_ / "out" / "manifest.json");
+  std::ofstream(dir_ / "out" / "mybox__panda.h5") << "mine\n";
+  const testing::CliRun m = taskmap(cmd);
+  EXPECT_NE(m.code, 0) << m.out;
+  EXPECT_NE(m.out.find("is not a taskmap file"), std::string::npos) << m.out;
+  EXPECT_EQ(readAll(dir_ / "out" / "mybox__panda.h5"), "mine\n");
+  EXPECT_EQ(taskmap(cmd + " --force").code, 0);
+}
+
+}  // namespace
+}  // namespace taskmap
