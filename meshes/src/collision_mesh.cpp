@@ -20,6 +20,7 @@
 #include "convex_decomposition.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -184,6 +185,7 @@ std::vector<PartShapes> collisionMeshShapes(const std::string& file, const Eigen
                 "' uses package://, which is not supported: use a path relative to the URDF");
   fs::path p(f);
   if (p.is_relative()) p = fs::path(urdf_path).parent_path() / p;
+  requireRegularFile(p.string(), L + ": collision mesh");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(p.string(), aiProcess_Triangulate);
   if (!scene || scene->mNumMeshes == 0)

@@ -17,6 +17,7 @@
 #include "collision_mesh.hpp"
 #include "hand_model_build.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
@@ -27,11 +28,10 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 std::string readFile(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(std::string("cannot read ") + what + " '" + path + "': check the path");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw Error(std::string("cannot read ") + what + " '" + path + "': check the path");
+  return readRegularFile(path, what);
 }
 
 /// Collects console_bridge messages of urdfdom while parsing (the parser reports the element).

@@ -17,6 +17,7 @@
 #include "mesh_bounds.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -122,6 +123,7 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   if (fs::is_directory(path, ec)) {
     throw Error("cannot open mesh file '" + path + "': it is a directory");
   }
+  requireRegularFile(path, "mesh file");  // a FIFO would block the open below
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot open mesh file '" + path + "': permission denied or unreadable");

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {
@@ -28,10 +29,11 @@ class UrdfMessages : public console_bridge::OutputHandler {
 };
 
 urdf::ModelInterfaceSharedPtr parseRobotUrdf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
   std::stringstream ss;
-  ss << in.rdbuf();
+  ss << readRegularFile(path, "robot URDF");
   static std::mutex mutex;  // the console_bridge handler is process-global
   std::lock_guard<std::mutex> lock(mutex);
   UrdfMessages messages;
@@ -152,9 +154,9 @@ struct UrdfRobotReader {
 
   void readCapsules(const std::string& file) {
     nlohmann::json j;
+    const std::string text = readRegularFile(file, "capsule model");
     try {
-      std::ifstream in(file);
-      j = nlohmann::json::parse(in);
+      j = nlohmann::json::parse(text);
     } catch (const std::exception& e) {
       throw Error("capsule model '" + file + "': not valid JSON (" + e.what() + ")");
     }

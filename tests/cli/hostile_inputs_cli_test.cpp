@@ -175,5 +175,57 @@ TEST_F(HostileInputs, DatasetDoesNotReplaceUserFilesInItsDirectory) {
   EXPECT_EQ(taskmap(cmd + " --force").code, 0);
 }
 
+// Every input path that is a FIFO is refused at once, naming the file (none of them may block).
+TEST_F(HostileInputs, FifosAreRefusedWithoutHanging) {
+  const fs::path fifo_obj = dir_ / "pipe.obj";
+  const fs::path fifo_h5 = dir_ / "pipe.h5";
+  ASSERT_EQ(::mkfifo(fifo_obj.c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(fifo_h5.c_str(), 0600), 0);
+  fs::copy(std::string(TASKMAP_HANDS_DIR) + "/panda", dir_ / "hand");
+  const fs::path urdf_fifo = dir_ / "pipehand.urdf";
+  ASSERT_EQ(::mkfifo(urdf_fifo.c_str(), 0600), 0);
+  fs::remove(dir_ / "hand" / "panda.hand.json");
+  ASSERT_EQ(::mkfifo((dir_ / "hand" / "panda.hand.json").c_str(), 0600), 0);
+  std::ofstream(dir_ / "list.txt") << "pipe.obj\n";
+  const std::string hand = (dir_ / "hand" / "panda.urdf").string();
+  const struct {
+    std::string args, file;
+  } cases[] = {
+      {"mesh-info " + fifo_obj.string(), fifo_obj.string()},
+      {"build --object " + fifo_obj.string() + " --hand panda --valid 5 -q -o " +
+           (dir_ / "x.h5").string(),
+       fifo_obj.string()},
+      {"hand-info " + urdf_fifo.string(), urdf_fifo.string()},
+      {"hand-info " + hand, (dir_ / "hand" / "panda.hand.json").string()},
+      {"inspect " + fifo_h5.string(), fifo_h5.string()},
+      {"export " + fifo_h5.string() + " --format ply -o " + (dir_ / "o.ply").string(),
+       fifo_h5.string()},
+      {"import --acronym " + fifo_h5.string() + " --object " + (dir_ / "mybox.obj").string() +
+           " -o " + (dir_ / "i.h5").string(),
+       fifo_h5.string()},
+      {"dataset --objects " + (dir_ / "list.txt").string() + " --hands panda --valid 5 -o " +
+           (dir_ / "ds").string(),
+       fifo_obj.string()},
+  };
+  for (const auto& c : cases) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const testing::CliRun r = taskmap(c.args);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(r.code, 0) << c.args << "\n" << r.out;
+    EXPECT_NE(r.code, 124) << "timed out (blocked on the FIFO): " << c.args;
+    EXPECT_LT(s, 10.0) << c.args;
+    EXPECT_NE(r.out.find("FIFO"), std::string::npos) << c.args << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.file), std::string::npos) << c.args << "\n" << r.out;
+  }
+  // The data-set list itself.
+  const fs::path list_fifo = dir_ / "pipe.txt";
+  ASSERT_EQ(::mkfifo(list_fifo.c_str(), 0600), 0);
+  const testing::CliRun list = taskmap("dataset --objects " + list_fifo.string() +
+                                       " --hands panda --valid 5 -q -o " + (dir_ / "ds2").string());
+  EXPECT_NE(list.code, 0);
+  EXPECT_NE(list.code, 124);
+  EXPECT_NE(list.out.find("FIFO"), std::string::npos) << list.out;
+}
+
 }  // namespace
 }  // namespace taskmap

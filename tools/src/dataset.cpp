@@ -12,6 +12,7 @@
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {
@@ -25,6 +26,8 @@ constexpr std::uintmax_t kMaxManifestBytes = std::uintmax_t{256} << 20;
 
 // The meshes of the list file, as written and resolved.
 std::vector<std::pair<std::string, std::string>> readObjectList(const std::string& list) {
+  std::error_code ec;
+  if (fs::exists(list, ec)) requireRegularFile(list, "object list");  // a FIFO blocks ifstream
   std::ifstream in(list);
   if (!in) throw Error("cannot read object list '" + list + "'");
   const fs::path base = fs::absolute(list).parent_path();
