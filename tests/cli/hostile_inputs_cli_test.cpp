@@ -227,5 +227,41 @@ TEST_F(HostileInputs, FifosAreRefusedWithoutHanging) {
   EXPECT_NE(list.out.find("FIFO"), std::string::npos) << list.out;
 }
 
+// --trials, --valid, --threads (and taskmap-mpi's --block-trials, same checks in BuildOptions)
+// that wrap around or are absurd are refused before any work; a huge budget that is accepted
+// costs memory only for the trials that ran.
+TEST_F(HostileInputs, NumericOptionsAreCheckedForOverflow) {
+  const std::string mesh = (dir_ / "mybox.obj").string();
+  const std::string base =
+      "build --object " + mesh + " --hand panda -q -o " + (dir_ / "n.h5").string() + " ";
+  const struct {
+    std::string options, expect;
+  } refused[] = {
+      {"--trials 18446744073709551615 --valid 5", "at most 10^15"},
+      {"--trials 1000000000000001 --valid 5", "at most 10^15"},
+      {"--valid 18446744073709551615", "at most 10^15"},
+      {"--trials -1 --valid 5", "--trials"},
+      {"--valid -5", "--valid"},
+      {"--trials 0 --valid 5", "--trials"},
+      {"--threads 4294967296 --valid 5", "--threads"},
+      {"--threads -1 --valid 5", "--threads"},
+      {"--threads 1025 --valid 5", "--threads"},
+      {"--trials 99999999999999999999999 --valid 5", "--trials"},
+  };
+  for (const auto& c : refused) {
+    const testing::CliRun r = taskmap(base + c.options);
+    EXPECT_NE(r.code, 0) << c.options << "\n" << r.out;
+    EXPECT_NE(r.out.find(c.expect), std::string::npos) << c.options << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(dir_ / "n.h5")) << c.options;
+  }
+  // 2^34 trials: accepted, and under a 1.5 GiB address-space limit (the block table alone once
+  // took 2 GiB up front).
+  const testing::CliRun big =
+      testing::runShell("ulimit -v 1572864; timeout 60 " + std::string(TASKMAP_BINARY_DIR) +
+                        "/bin/taskmap " + base + "--trials 17179869184 --valid 5 --threads 2");
+  EXPECT_EQ(big.code, 0) << big.out;
+  EXPECT_TRUE(fs::exists(dir_ / "n.h5"));
+}
+
 }  // namespace
 }  // namespace taskmap
