@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "cli_run.hpp"
+#include "hostile_meshes.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap {
@@ -261,6 +262,33 @@ TEST_F(HostileInputs, NumericOptionsAreCheckedForOverflow) {
                         "/bin/taskmap " + base + "--trials 17179869184 --valid 5 --threads 2");
   EXPECT_EQ(big.code, 0) << big.out;
   EXPECT_TRUE(fs::exists(dir_ / "n.h5"));
+}
+
+// A 3MF that makes assimp abort, and a tiny .x declaring 250M vertices: every entry point
+// refuses them with the file named; dataset records them as failed objects and goes on.
+TEST_F(HostileInputs, MeshesThatCrashOrExhaustTheParserAreRefused) {
+  const std::string bad3mf = (dir_ / "missing.3mf").string();
+  ASSERT_TRUE(testing::writeMissingPart3mf(bad3mf));
+  const std::string x = (dir_ / "huge.x").string();
+  testing::writeHugeDeclarationX(x);
+  for (const std::string& mesh : {bad3mf, x}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const testing::CliRun info = taskmap("mesh-info " + mesh);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_EQ(info.code, 1) << info.out;  // an error, not a signal (-1) or a timeout (124)
+    EXPECT_NE(info.out.find(mesh), std::string::npos) << info.out;
+    std::printf("mesh-info %s: %.2f s: %s", mesh.c_str(), s, info.out.c_str());
+    const testing::CliRun b = taskmap("build --object " + mesh + " --hand panda --valid 5 -q -o " +
+                                      (dir_ / "b.h5").string());
+    EXPECT_EQ(b.code, 1) << b.out;
+  }
+  std::ofstream(dir_ / "list.txt") << "mybox.obj\nmissing.3mf\nhuge.x\n";
+  const testing::CliRun d =
+      taskmap("dataset --objects " + (dir_ / "list.txt").string() +
+              " --hands panda --valid 5 --seed 1 -o " + (dir_ / "ds").string());
+  EXPECT_EQ(d.code, 1) << d.out;
+  EXPECT_NE(d.out.find("2 of 3 jobs failed"), std::string::npos) << d.out;
+  EXPECT_NE(d.out.find("mybox.obj x panda: complete"), std::string::npos) << d.out;
 }
 
 }  // namespace
