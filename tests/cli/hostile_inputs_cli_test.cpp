@@ -291,5 +291,42 @@ TEST_F(HostileInputs, MeshesThatCrashOrExhaustTheParserAreRefused) {
   EXPECT_NE(d.out.find("mybox.obj x panda: complete"), std::string::npos) << d.out;
 }
 
+// A second run on a data-set directory (or a build output) in use refuses, naming the holder.
+TEST_F(HostileInputs, SecondRunOnALockedDirectoryRefusesWithTheHolderPid) {
+  std::ofstream(dir_ / "list.txt") << "mybox.obj\n";
+  fs::create_directories(dir_ / "ds");
+  const std::string lock_path = (dir_ / "ds" / ".taskmap-dataset.lock").string();
+  const int fd = ::open(lock_path.c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  const std::string pid = std::to_string(::getpid());
+  ASSERT_EQ(::write(fd, pid.data(), pid.size()), static_cast<ssize_t>(pid.size()));
+  const std::string cmd = "dataset --objects " + (dir_ / "list.txt").string() +
+                          " --hands panda --seed 1 -q -o " + (dir_ / "ds").string();
+  const testing::CliRun r = taskmap(cmd + " --valid 5");
+  EXPECT_NE(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("in use by another taskmap run (PID " + pid), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "ds" / "manifest.json"));
+  const std::string out = (dir_ / "locked.h5").string();
+  const int bfd = ::open((out + ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_EQ(::flock(bfd, LOCK_EX | LOCK_NB), 0);
+  const testing::CliRun b = taskmap(build(out));
+  EXPECT_NE(b.code, 0) << b.out;
+  EXPECT_NE(b.out.find("in use by another taskmap run"), std::string::npos) << b.out;
+  ::close(bfd);
+  ::close(fd);
+  // Free again: two runs with different --valid one after the other; the manifest always
+  // describes the files beside it.
+  ASSERT_EQ(taskmap(cmd + " --valid 5").code, 0);
+  ASSERT_EQ(taskmap(cmd + " --valid 7").code, 0);
+  std::ifstream in(dir_ / "ds" / "manifest.json");
+  const std::string manifest((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
+  EXPECT_NE(manifest.find("\"valid\": 7"), std::string::npos) << manifest;
+  const TaskMapData map = readMap((dir_ / "ds" / "mybox__panda.h5").string());
+  EXPECT_EQ(std::count(map.grasps.force_closure.begin(), map.grasps.force_closure.end(), 1), 7);
+  EXPECT_FALSE(fs::exists(lock_path)) << "the lock file is removed after the run";
+}
+
 }  // namespace
 }  // namespace taskmap

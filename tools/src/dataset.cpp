@@ -231,6 +231,23 @@ void DatasetManifest::set(std::size_t i, json entry) {
   entries_[i] = std::move(entry);
 }
 
+std::vector<std::size_t> DatasetManifest::startRun() {
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < plan_.jobs.size(); ++i) {
+    if (finishedEarlier(i)) continue;
+    todo.push_back(i);
+    json e = baseEntry(plan_.jobs[i]);
+    e["status"] = "pending";
+    entries_[i] = std::move(e);
+  }
+  write();
+  return todo;
+}
+
+std::string datasetLockPath(const DatasetPlan& plan) {
+  return (fs::path(plan.dir) / ".taskmap-dataset.lock").string();
+}
+
 void DatasetManifest::write() const {
   std::vector<const json*> sorted;
   for (const json& e : entries_) sorted.push_back(&e);
