@@ -71,15 +71,16 @@ XmlShape scanXml(const std::string& xml, int stop_depth) {
   return shape;
 }
 
-void checkUrdfShape(const std::string& xml, const std::string& what, const std::string& path) {
+void checkUrdfShape(const std::string& xml, const std::string& what, const std::string& path,
+                    std::size_t max_links) {
   const XmlShape s = scanXml(xml, kMaxUrdfDepth);
   const std::string W = what + " '" + path + "': ";
   if (s.max_depth > kMaxUrdfDepth)
     throw Error(W + "XML elements nested more than " + std::to_string(kMaxUrdfDepth) +
                 " deep; refused before parsing (a URDF is a few levels deep)");
-  if (s.links > kMaxUrdfLinks || s.joints > kMaxUrdfLinks)
+  if (s.links > max_links || s.joints > max_links)
     throw Error(W + std::to_string(s.links) + " links and " + std::to_string(s.joints) +
-                " joints, more than the limit of " + std::to_string(kMaxUrdfLinks) +
+                " joints, more than the limit of " + std::to_string(max_links) +
                 "; refused before parsing");
 }
 

@@ -280,7 +280,7 @@ urdf::ModelInterfaceSharedPtr HandModelBuilder::parseUrdfFile(HandModel& h,
   const std::string xml = readFile(urdf_path, "URDF");
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
-  checkUrdfShape(xml, "URDF", urdf_path);  // before TinyXML recurses into it
+  checkUrdfShape(xml, "URDF", urdf_path, kMaxHandLinks);  // before TinyXML recurses into it
   urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
   h.robot_name_ = model->getName();
   if (!model->getRoot()) throw Error("URDF '" + urdf_path + "': has no root link");

@@ -30,7 +30,7 @@ inline std::string chainUrdf(std::size_t n) {
 inline std::string chainSidecar() {
   return "{\"palm_link\": \"base\", \"approach_axis\": [0, 0, 1], \"preshape\": {\"j1\": 0.0},"
          " \"closing\": [{\"joint\": \"j1\", \"toward\": \"lower\", \"speed\": 1}],"
-         " \"fingers\": {\"a\": [\"l1\"]}}";
+         " \"squeeze\": 0.001, \"fingers\": {\"a\": [\"l1\"]}}";
 }
 
 /// A valid robot whose XML nests depth elements inside one link (TinyXML recurses per level).

@@ -26,9 +26,14 @@ constexpr int kMaxUrdfDepth = 64;
 /// Most links (and most joints) a URDF may have: far more than any hand or arm, few enough that
 /// loading stays well under a second.
 constexpr std::size_t kMaxUrdfLinks = 4096;
+/// Most links (and joints) a hand URDF may have: a hand model's derived data (link chains,
+/// self-collision pairs) grows faster than linearly with its links (a 4096-link chain took
+/// minutes); real hands have at most a few dozen.
+constexpr std::size_t kMaxHandLinks = 256;
 
 /// Throws Error("<what> '<path>': ...") naming the limit when xml nests deeper than
-/// kMaxUrdfDepth or has more than kMaxUrdfLinks links or joints.
-void checkUrdfShape(const std::string& xml, const std::string& what, const std::string& path);
+/// kMaxUrdfDepth or has more than max_links links or joints.
+void checkUrdfShape(const std::string& xml, const std::string& what, const std::string& path,
+                    std::size_t max_links = kMaxUrdfLinks);
 
 }  // namespace taskmap
