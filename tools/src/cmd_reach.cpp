@@ -42,10 +42,12 @@ void checkReachOutputs(const ReachArgs& args) {
   checkOutputPath(args.map.output, inputs, OutputKind::kTaskMap, args.force, "-o");
   checkOutputPath(args.map.glb, inputs, OutputKind::kGlb, args.force, "--glb");
   checkOutputPath(args.png, inputs, OutputKind::kPng, args.force, "--png");
-  for (const std::string& a : {args.map.output, args.map.glb, args.png})
-    for (const std::string& b : {args.map.output, args.map.glb, args.png})
-      if (&a != &b && !a.empty() && a == b)
-        throw Error("'" + a + "' is named by two of -o, --glb and --png; give each its own file");
+  const std::string outputs[] = {args.map.output, args.map.glb, args.png};
+  for (std::size_t a = 0; a < 3; ++a)
+    for (std::size_t b = a + 1; b < 3; ++b)
+      if (!outputs[a].empty() && outputs[a] == outputs[b])
+        throw Error("'" + outputs[a] +
+                    "' is named by two of -o, --glb and --png; give each its own file");
 }
 
 Eigen::VectorXd parseNumbers(const std::string& text, int n, const std::string& option) {
