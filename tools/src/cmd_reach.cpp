@@ -38,7 +38,14 @@ struct ReachArgs {
 /// -o, --glb and --png against the inputs (output_guard.hpp), before any work.
 void checkReachOutputs(const ReachArgs& args) {
   std::vector<std::string> inputs = {args.scene, args.robot, args.hand};
-  if (!args.map.map.empty()) inputs.push_back(resolveMapPath(args.map.map));
+  if (!args.map.map.empty()) {
+    inputs.push_back(args.map.map);
+    try {
+      inputs.push_back(resolveMapPath(args.map.map));  // a bundled map name
+    } catch (const Error&) {
+      // not a map: reported with the other options' checks
+    }
+  }
   checkOutputPath(args.map.output, inputs, OutputKind::kTaskMap, args.force, "-o");
   checkOutputPath(args.map.glb, inputs, OutputKind::kGlb, args.force, "--glb");
   checkOutputPath(args.png, inputs, OutputKind::kPng, args.force, "--png");
