@@ -21,6 +21,12 @@ void BuildOptions::validate() const {
   quality.validate();
   if (valid_target < 1) throw Error("valid must be at least 1");
   if (max_trials < 1) throw Error("trials must be at least 1");
+  if (valid_target > kMaxBuildCount)
+    throw Error("valid must be at most 10^15 (got " + std::to_string(valid_target) + ")");
+  if (max_trials > kMaxBuildCount)
+    throw Error("trials must be at most 10^15 (got " + std::to_string(max_trials) + ")");
+  if (block_size > kMaxBuildCount)
+    throw Error("block_size must be at most 10^15 (got " + std::to_string(block_size) + ")");
   if (threads < 0) throw Error("threads must be 0 (all cores) or positive");
   if (threads > 1024) throw Error("threads must be at most 1024");
   if (block_size < 1) throw Error("block_size must be at least 1");

@@ -1,6 +1,7 @@
 // Blocks of trial outcomes: byte encoding, and running [first, last) on the trial pool.
 #include "taskmap/builder/trial_block.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <type_traits>
@@ -214,7 +215,7 @@ bool TrialRunner::run(std::uint64_t first, std::uint64_t last, TrialBlock* block
   if (scheduler.prefix() < scheduler.blockCount()) return false;
   block->first = first;
   block->trials.clear();
-  block->trials.reserve(last - first);
+  block->trials.reserve(std::min<std::uint64_t>(last - first, 4096));  // grows past that
   for (TrialBlock& part : scheduler.takePrefixBlocks())
     for (TrialOutcome& t : part.trials) block->trials.push_back(std::move(t));
   return true;

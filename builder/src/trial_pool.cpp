@@ -2,6 +2,7 @@
 
 #include <sched.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <ctime>
 #include <thread>
@@ -43,7 +44,7 @@ void Worker::run() {
     const std::uint64_t first = scheduler.blockFirst(b);
     const std::uint64_t last = scheduler.blockLast(b);
     block->first = first;
-    block->trials.reserve(last - first);
+    block->trials.reserve(std::min<std::uint64_t>(last - first, 4096));  // grows past that
     simulated.clear();
     for (std::uint64_t i = first; i < last; ++i) {
       // An incomplete block is dropped.

@@ -53,20 +53,21 @@ class Scheduler {
         last_(last),
         block_size_(block_size),
         valid_target_(valid_target),
-        blocks_((last - first + block_size - 1) / block_size) {}
+        // Without wrap-around for any range (last - first + block_size - 1 could overflow).
+        count_((last - first) / block_size + ((last - first) % block_size != 0 ? 1 : 0)) {}
 
-  std::uint64_t blockCount() const { return blocks_.size(); }
+  std::uint64_t blockCount() const { return count_; }
   // Trial range of block b.
   std::uint64_t blockFirst(std::uint64_t b) const { return first_ + b * block_size_; }
   std::uint64_t blockLast(std::uint64_t b) const {
-    return std::min(blockFirst(b) + block_size_, last_);
+    return blockFirst(b) + std::min(block_size_, last_ - blockFirst(b));  // no wrap-around
   }
 
   // Next block index to run, or false when there is no more work wanted.
   bool claim(std::uint64_t* block) {
     if (done_.load() || aborted_.load()) return false;
     const std::uint64_t b = next_.fetch_add(1);
-    if (b >= blocks_.size()) return false;
+    if (b >= count_) return false;
     *block = b;
     return true;
   }
@@ -77,12 +78,15 @@ class Scheduler {
     trials_done_ += block->trials.size();
     valid_done_ += valid;
     ++blocks_done_;
+    // The table grows with the blocks finished, not with the trial budget: a budget of 2^64
+    // trials costs nothing until its blocks run.
+    if (b >= blocks_.size()) blocks_.resize(b + 1);
     blocks_[b] = std::move(block);
     while (prefix_ < blocks_.size() && blocks_[prefix_]) {
       prefix_valid_ += blocks_[prefix_]->valid();
       ++prefix_;
     }
-    if (prefix_valid_ >= valid_target_ || prefix_ == blocks_.size()) done_.store(true);
+    if (prefix_valid_ >= valid_target_ || prefix_ == count_) done_.store(true);
   }
 
   bool done() const { return done_.load(); }
@@ -99,7 +103,7 @@ class Scheduler {
     p->trials_done = trials_done_;
     p->valid_found = valid_done_;
     p->blocks_done = blocks_done_;
-    p->blocks_total = blocks_.size();
+    p->blocks_total = count_;
   }
   // Completed blocks 0..prefix-1 (only call after the workers joined).
   std::uint64_t prefix() const { return prefix_; }
@@ -112,7 +116,7 @@ class Scheduler {
   }
 
  private:
-  const std::uint64_t first_, last_, block_size_, valid_target_;
+  const std::uint64_t first_, last_, block_size_, valid_target_, count_;
   std::vector<std::unique_ptr<TrialBlock>> blocks_;
   std::atomic<std::uint64_t> next_{0};
   std::atomic<bool> done_{false};

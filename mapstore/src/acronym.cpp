@@ -20,6 +20,7 @@
 #include "map_seal.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -343,6 +344,7 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
 
 AcronymGrasps readAcronym(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::exists(path, ec)) requireRegularFile(path, "ACRONYM file");
   if (!std::filesystem::is_regular_file(path, ec)) {
     throw Error("ACRONYM file '" + path + "' does not exist; give the path of a grasp file (.h5)");
   }

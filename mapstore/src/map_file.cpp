@@ -14,6 +14,7 @@
 #include "hdf5_io.hpp"
 #include "map_seal.hpp"
 #include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/bounded_child.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
@@ -419,12 +420,18 @@ TaskMapData readMap(const std::string& path) {
 void sealMap(const std::string& path) {
   try {
     const std::string bytes = seal::resealed(seal::readWhole(path, kMaxSealBytes));
-    {
-      std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
-      h5::silenceErrors();
-      Id file = h5::openImage(bytes, "cannot open the file as HDF5 (damaged?)");
-      readFile(file);  // validates every dataset; throws on the first violation
-    }
+    // The unverified file is validated in a child with memory and CPU limits
+    // (taskmap/core/bounded_child.hpp): a 21 KB file declaring a sparse 100M x 7 dataset is
+    // refused instead of exhausting the caller (taskmap.seal in Python).
+    runBounded(
+        [&bytes]() {
+          std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
+          h5::silenceErrors();
+          Id file = h5::openImage(bytes, "cannot open the file as HDF5 (damaged?)");
+          readFile(file);  // validates every dataset; throws on the first violation
+          return std::string();
+        },
+        bytes.size(), "validating it");
     writeFileAtomically(path, bytes, "cannot write the sealed file");
   } catch (const Error& e) {
     throw Error("cannot seal task map '" + path + "': " + e.what());

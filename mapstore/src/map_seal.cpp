@@ -69,11 +69,13 @@ bool readAt(int fd, char* out, std::size_t size, off_t offset) {
 }
 
 Fd openForReading(const std::string& path, std::size_t* size) {
-  Fd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  // O_NONBLOCK: opening a FIFO does not wait for a writer; fstat then refuses it.
+  Fd f(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
   if (f.fd < 0) throw Error(std::string("cannot open the file (") + std::strerror(errno) + ")");
   struct stat st {};
   if (::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode))
-    throw Error("not a regular file (a directory or a device?)");
+    throw Error(S_ISFIFO(st.st_mode) ? "is a FIFO (named pipe), not a regular file"
+                                     : "not a regular file (a directory or a device?)");
   *size = static_cast<std::size_t>(st.st_size);
   return Fd(std::exchange(f.fd, -1));
 }

@@ -4,6 +4,7 @@
 // pieces of an exact convex decomposition (of its alpha wrap when the part is not a clean
 // solid); a failed decomposition falls back to the hull and says why.
 #include "collision_mesh.hpp"
+#include "bounded_load.hpp"
 
 #include <array>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/ros_package.hpp"
+#include "taskmap/core/input_file.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -182,6 +184,21 @@ std::vector<PartShapes> collisionMeshShapes(const std::string& file, const Eigen
   f = resolvePackageUri(f, urdf_path, L + ": collision mesh ");
   fs::path p(f);
   if (p.is_relative()) p = fs::path(urdf_path).parent_path() / p;
+  requireRegularFile(p.string(), L + ": collision mesh");
+  {
+    // A trial parse in a child with memory and CPU limits first (bounded_load.hpp): a file
+    // that crashes or exhausts assimp is refused; one that passed is read here the same way.
+    std::error_code ec;
+    const auto bytes = fs::file_size(p, ec);
+    runBounded(
+        [&p]() {
+          Assimp::Importer trial;
+          if (trial.ReadFile(p.string(), aiProcess_Triangulate) == nullptr)
+            throw Error(std::string("unreadable: ") + trial.GetErrorString());
+          return std::string();
+        },
+        ec ? 0 : bytes, L + ": collision mesh '" + p.string() + "'");
+  }
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(p.string(), aiProcess_Triangulate);
   if (!scene || scene->mNumMeshes == 0)

@@ -17,6 +17,8 @@
 #include "collision_mesh.hpp"
 #include "hand_model_build.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
+#include "taskmap/core/xml_scan.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/meshes/ros_package.hpp"
 
@@ -28,11 +30,10 @@ namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 std::string readFile(const std::string& path, const char* what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(std::string("cannot read ") + what + " '" + path + "': check the path");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw Error(std::string("cannot read ") + what + " '" + path + "': check the path");
+  return readRegularFile(path, what);
 }
 
 /// Collects console_bridge messages of urdfdom while parsing (the parser reports the element).
@@ -189,9 +190,11 @@ struct TreeWalk {
   const detail::CollisionOptions& options;
   std::vector<CollisionMeshInfo>& infos;
 
-  /// Appends `link` (reached through joint `parent_joint`, -1 for the root) and its subtree;
-  /// returns its index.
-  int add(const urdf::LinkConstSharedPtr& link, int parent_joint) {
+  /// Appends `link` (reached through joint `parent_joint`, -1 for the root); returns its index.
+  int addLink(const urdf::LinkConstSharedPtr& link, int parent_joint) {
+    if (!link || !seen.insert(link->name).second)
+      throw Error(U + "link '" + (link ? link->name : std::string("?")) +
+                  "' is reached twice from the root: the joints do not form a tree");
     HandLink hl;
     hl.name = link->name;
     hl.parent_joint = parent_joint;
@@ -202,14 +205,44 @@ struct TreeWalk {
           hl.shapes.push_back(std::move(s));
     const int li = static_cast<int>(links.size());
     links.push_back(std::move(hl));
-    for (const auto& child_joint : link->child_joints) {
-      const int ji = static_cast<int>(joints.size());
-      joints.push_back(jointOf(*child_joint, li, U));
-      const int child = add(model.getLink(child_joint->child_link_name), ji);
-      joints[static_cast<std::size_t>(ji)].child_link = child;
-    }
     return li;
   }
+
+  /// Appends the root and its subtree depth-first (children in URDF order: link, first child
+  /// joint, that child's subtree, next child joint, ...), with an explicit stack: a chain of
+  /// any length costs linear time and no call depth.
+  void add(const urdf::LinkConstSharedPtr& root) {
+    struct Frame {
+      urdf::LinkConstSharedPtr link;
+      int index;
+      std::size_t next;  // next child joint to walk
+    };
+    std::vector<Frame> stack{{root, addLink(root, -1), 0}};
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (f.next == f.link->child_joints.size()) {
+        stack.pop_back();
+        continue;
+      }
+      const urdf::JointSharedPtr& child_joint = f.link->child_joints[f.next++];
+      const int parent = f.index;
+      const int ji = static_cast<int>(joints.size());
+      joints.push_back(jointOf(*child_joint, parent, U));
+      const urdf::LinkConstSharedPtr child = model.getLink(child_joint->child_link_name);
+      const int ci = addLink(child, ji);  // invalidates f
+      joints[static_cast<std::size_t>(ji)].child_link = ci;
+      stack.push_back({child, ci, 0});
+    }
+    if (links.size() != model.links_.size()) {
+      std::string detached;
+      for (const auto& [name, link] : model.links_)
+        if (seen.count(name) == 0) detached += (detached.empty() ? "'" : ", '") + name + "'";
+      throw Error(U + "link(s) " + detached + " not reachable from the root link '" + root->name +
+                  "' (a cycle of joints, or a part not attached to the tree)");
+    }
+  }
+
+  std::set<std::string> seen;
 };
 
 /// Maps every mimic joint to its (transitive) driver: q_j = multiplier * q_driver + offset.
@@ -249,6 +282,7 @@ urdf::ModelInterfaceSharedPtr HandModelBuilder::parseUrdfFile(HandModel& h,
   refuseXacro(urdf_path, xml, "hand URDF", true);
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
+  checkUrdfShape(xml, "URDF", urdf_path, kMaxHandLinks);  // before TinyXML recurses into it
   urdf::ModelInterfaceSharedPtr model = parseUrdf(xml, urdf_path);
   h.robot_name_ = model->getName();
   if (!model->getRoot()) throw Error("URDF '" + urdf_path + "': has no root link");
@@ -259,8 +293,8 @@ void HandModelBuilder::readUrdfTree(HandModel& h, const urdf::ModelInterface& mo
                                     const detail::CollisionOptions& options) {
   const std::string& urdf_path = h.urdf_path_;
   const std::string U = "URDF '" + urdf_path + "': ";
-  TreeWalk{model, urdf_path, U, h.links_, h.joints_, options, h.collision_meshes_}.add(
-      model.getRoot(), -1);
+  TreeWalk{model, urdf_path, U, h.links_, h.joints_, options, h.collision_meshes_, {}}.add(
+      model.getRoot());
 
   // Actuated joints: movable, not mimic; mimic joints resolve to their (transitive) driver.
   for (HandJoint& j : h.joints_) {

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string>
 #include <system_error>
 #include <unordered_map>
@@ -17,6 +18,7 @@
 #include "mesh_bounds.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -122,6 +124,7 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   if (fs::is_directory(path, ec)) {
     throw Error("cannot open mesh file '" + path + "': it is a directory");
   }
+  requireRegularFile(path, "mesh file");  // a FIFO would block the open below
   {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error("cannot open mesh file '" + path + "': permission denied or unreadable");
@@ -176,6 +179,8 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
     }
   } catch (const Error&) {
     throw;
+  } catch (const std::bad_alloc&) {
+    throw;  // the bounded child names the memory limit
   } catch (const std::exception& e) {
     throw Error("cannot read mesh file '" + path + "': " + e.what());
   } catch (...) {
@@ -183,6 +188,8 @@ MeshSoup importMeshFile(const std::string& path, double scale, std::string* form
   }
   if (scene == nullptr) {
     std::string why = importer.GetErrorString();
+    // assimp turns a failed allocation into an error string; the bounded child names the limit.
+    if (why.find("bad_alloc") != std::string::npos) throw std::bad_alloc();
     if (why.empty()) why = "unknown format or malformed content";
     throw Error("cannot read mesh file '" + path + "': " + why);
   }

@@ -12,6 +12,7 @@
 
 #include <openssl/evp.h>
 
+#include "bounded_load.hpp"
 #include "mesh_bvh.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
@@ -160,7 +161,8 @@ void MeshLoadOptions::validate() const {
 ObjectModel ObjectModel::load(const std::string& path, const MeshLoadOptions& options) {
   options.validate();
   std::string format;
-  detail::MeshSoup soup = detail::importMeshFile(path, options.scale, &format);
+  // In a child process with memory and CPU limits: no file can crash or exhaust this process.
+  detail::MeshSoup soup = detail::importMeshFileBounded(path, options.scale, &format);
   auto impl = buildModel(std::move(soup), "mesh file '" + path + "'", options);
   impl->name = std::filesystem::path(path).stem().string();
   impl->sha256 = sha256File(path);

@@ -2,12 +2,14 @@
 #include "taskmap/reaching/reach_scene.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/core/pose.hpp"
 
 namespace taskmap {
@@ -81,11 +83,13 @@ struct SceneReader {
 }  // namespace
 
 ReachScene loadReachScene(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read scene '" + path + "': no such file or not readable");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw Error("cannot read scene '" + path + "': no such file or not readable");
+  const std::string text = readRegularFile(path, "scene");
   json j;
   try {
-    j = json::parse(in);
+    j = json::parse(text);
   } catch (const std::exception& e) {
     throw Error("scene '" + path + "': not valid JSON (" + e.what() + ")");
   }

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <mutex>
+#include <set>
 #include <sstream>
 
 #include <console_bridge/console.h>
@@ -13,6 +14,8 @@
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/ros_package.hpp"
+#include "taskmap/core/input_file.hpp"
+#include "taskmap/core/xml_scan.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {
@@ -29,11 +32,14 @@ class UrdfMessages : public console_bridge::OutputHandler {
 };
 
 urdf::ModelInterfaceSharedPtr parseRobotUrdf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec))
+    throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
   std::stringstream ss;
-  ss << in.rdbuf();
-  refuseXacro(path, ss.str(), "robot URDF", false);
+  const std::string text = readRegularFile(path, "robot URDF");
+  refuseXacro(path, text, "robot URDF", false);
+  checkUrdfShape(text, "robot URDF", path);  // before TinyXML recurses into it
+  ss << text;
   static std::mutex mutex;  // the console_bridge handler is process-global
   std::lock_guard<std::mutex> lock(mutex);
   UrdfMessages messages;
@@ -135,7 +141,32 @@ struct UrdfRobotReader {
     velocity.push_back(vel);
   }
 
-  void addLink(const urdf::LinkConstSharedPtr& link, int parent) {
+  /// The tree depth-first from root (children in URDF order) with an explicit stack: the same
+  /// body order as a recursive walk, linear time and no call depth for any chain.
+  void addTree(const urdf::ModelInterface& model) {
+    std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{model.getRoot(), -1}};
+    std::set<std::string> seen;
+    while (!stack.empty()) {
+      const auto [link, parent] = stack.back();
+      stack.pop_back();
+      if (!link || !seen.insert(link->name).second)
+        fail("link '" + (link ? link->name : std::string("?")) +
+             "' is reached twice from the root: the joints do not form a tree");
+      const int index = addLink(link, parent);
+      for (auto it = link->child_links.rbegin(); it != link->child_links.rend(); ++it)
+        stack.emplace_back(*it, index);
+    }
+    if (seen.size() != model.links_.size()) {
+      std::string detached;
+      for (const auto& [name, link] : model.links_)
+        if (seen.count(name) == 0) detached += (detached.empty() ? "'" : ", '") + name + "'";
+      fail("link(s) " + detached + " not reachable from the root link '" + model.getRoot()->name +
+           "' (a cycle of joints, or a part not attached to the tree)");
+    }
+  }
+
+  /// Appends one body (its joint, shapes, inertia); returns its index.
+  int addLink(const urdf::LinkConstSharedPtr& link, int parent) {
     RobotBody body;
     body.name = link->name;
     body.parent = parent;
@@ -148,15 +179,19 @@ struct UrdfRobotReader {
       if (!(body.mass >= 0.0) || !std::isfinite(body.mass) || !body.com.allFinite())
         fail("link '" + link->name + "' has a negative or non-finite mass or centre of mass");
     }
-    const int index = robot.addBody(std::move(body));
-    for (const auto& child : link->child_links) addLink(child, index);
+    // RobotModel::addBody's work, once per body (its name check and path rebuild would make
+    // a long chain quadratic; urdfdom's names are unique, the paths are rebuilt after the walk).
+    body.chain_depth = (body.parent >= 0 ? robot.bodies_[body.parent].chain_depth : 0) +
+                       (body.joint == JointType::kFixed ? 0 : 1);
+    robot.bodies_.push_back(std::move(body));
+    return static_cast<int>(robot.bodies_.size()) - 1;
   }
 
   void readCapsules(const std::string& file) {
     nlohmann::json j;
+    const std::string text = readRegularFile(file, "capsule model");
     try {
-      std::ifstream in(file);
-      j = nlohmann::json::parse(in);
+      j = nlohmann::json::parse(text);
     } catch (const std::exception& e) {
       throw Error("capsule model '" + file + "': not valid JSON (" + e.what() + ")");
     }
@@ -189,7 +224,8 @@ RobotModel RobotModel::load(const std::string& urdf_path) {
   UrdfRobotReader reader{urdf_path, {}, {}, {}, {}};
   reader.robot.name_ = model->getName();
   if (!model->getRoot()) reader.fail("no root link");
-  reader.addLink(model->getRoot(), -1);
+  reader.addTree(*model);
+  reader.robot.rebuildPaths();
   if (reader.robot.dofs() == 0) reader.fail("no movable joint");
   const auto to_vec = [](const std::vector<double>& v) {
     return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));

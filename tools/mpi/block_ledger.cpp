@@ -10,21 +10,23 @@ BlockLedger::BlockLedger(std::uint64_t max_trials, std::uint64_t block_trials,
     : max_trials_(max_trials),
       block_trials_(block_trials),
       valid_target_(valid_target),
-      blocks_((max_trials + block_trials - 1) / block_trials) {}
+      // Without wrap-around for any budget; the table itself grows with the work recorded.
+      count_(max_trials / block_trials + (max_trials % block_trials != 0 ? 1 : 0)) {}
 
 std::uint64_t BlockLedger::blockLast(std::uint64_t b) const {
-  return std::min(blockFirst(b) + block_trials_, max_trials_);
+  return blockFirst(b) + std::min(block_trials_, max_trials_ - blockFirst(b));
 }
 
 bool BlockLedger::fits(const TrialBlock& block) const {
   if (block.first % block_trials_ != 0) return false;
   const std::uint64_t b = block.first / block_trials_;
-  return b < blocks_.size() && block.end() == blockLast(b);
+  return b < count_ && block.end() == blockLast(b);
 }
 
 bool BlockLedger::record(TrialBlock block) {
   if (!fits(block)) return false;
   const std::uint64_t b = block.first / block_trials_;
+  if (b >= blocks_.size()) blocks_.resize(b + 1);
   if (blocks_[b]) return true;
   ++blocks_done_;
   trials_done_ += block.trials.size();
@@ -35,13 +37,13 @@ bool BlockLedger::record(TrialBlock block) {
 }
 
 bool BlockLedger::done() const {
-  return prefix_valid_ >= valid_target_ || prefix_ == blocks_.size();
+  return prefix_valid_ >= valid_target_ || prefix_ == count_;
 }
 
 bool BlockLedger::next(std::uint64_t* b) {
   if (done()) return false;
   while (next_ < blocks_.size() && blocks_[next_]) ++next_;
-  if (next_ >= blocks_.size()) return false;
+  if (next_ >= count_) return false;
   *b = next_++;
   return true;
 }

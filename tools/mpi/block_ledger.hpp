@@ -21,7 +21,7 @@ class BlockLedger {
   /// Trials [first, last) of block b.
   std::uint64_t blockFirst(std::uint64_t b) const { return b * block_trials_; }
   std::uint64_t blockLast(std::uint64_t b) const;
-  std::uint64_t blockCount() const { return blocks_.size(); }
+  std::uint64_t blockCount() const { return count_; }
 
   /// True when the block is one of this build's blocks (right start and length).
   bool fits(const TrialBlock& block) const;
@@ -42,8 +42,8 @@ class BlockLedger {
   std::uint64_t validFound() const { return valid_found_; }  ///< force closure in them
 
  private:
-  const std::uint64_t max_trials_, block_trials_, valid_target_;
-  std::vector<std::optional<TrialBlock>> blocks_;
+  const std::uint64_t max_trials_, block_trials_, valid_target_, count_;
+  std::vector<std::optional<TrialBlock>> blocks_;  // grows with the blocks recorded
   std::uint64_t next_ = 0, prefix_ = 0, prefix_valid_ = 0;
   std::uint64_t blocks_done_ = 0, trials_done_ = 0, valid_found_ = 0;
 };

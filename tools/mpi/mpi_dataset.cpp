@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "build_command.hpp"
+#include "run_lock.hpp"
 #include "task_farm.hpp"
 
 namespace taskmap::cli {
@@ -14,10 +15,12 @@ namespace taskmap::cli {
 int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
   // Every rank plans (the same list, the same order); rank 0 alone creates the directory first.
   std::optional<DatasetPlan> plan;
+  std::optional<RunLock> lock;  // rank 0's, on the directory
   std::string error;
   if (world.rank == 0) {
     try {
       plan = planDataset(args);
+      lock.emplace(datasetLockPath(*plan), "data set directory '" + plan->dir + "'");
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -41,10 +44,8 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
   DatasetManifest manifest(*plan);
   if (!manifest.note().empty()) std::cerr << "taskmap-mpi dataset: " << manifest.note() << "\n";
   std::vector<std::uint64_t> todo;  // largest first
-  for (std::size_t i = 0; i < plan->jobs.size(); ++i)
-    if (!manifest.finishedEarlier(i)) todo.push_back(i);
+  for (std::size_t i : manifest.startRun()) todo.push_back(i);
   const std::size_t skipped = plan->jobs.size() - todo.size();
-  manifest.write();
   std::size_t next = 0, done = 0;
   const bool quiet = args.knobs.quiet;
   const auto t0 = std::chrono::steady_clock::now();

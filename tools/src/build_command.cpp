@@ -13,6 +13,7 @@
 
 #include "data_dir.hpp"
 #include "hand_check.hpp"
+#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/sampler/sampler.hpp"
 
@@ -26,6 +27,11 @@ std::string percent(double part, double whole) {
 }
 
 }  // namespace
+
+std::string handSidecarPath(const std::string& urdf) {
+  const std::filesystem::path p(urdf);
+  return (p.parent_path() / (p.stem().string() + ".hand.json")).string();
+}
 
 std::string resolveHandUrdf(const std::string& hand) {
   if (std::filesystem::exists(hand)) return hand;
@@ -44,6 +50,9 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
       ->capture_default_str();
   addMeshRepairOptions(cmd, args.repair);
   addBuildKnobs(*cmd, args);
+  cmd->add_flag("--force", args.force,
+                "replace an existing output file that is not a task map (never one of the "
+                "inputs)");
 }
 
 void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
@@ -154,6 +163,10 @@ BuildPlan planBuild(const BuildArgs& args) {
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
   requireObjectFile(args.object);
   plan.hand_urdf = resolveHandUrdf(args.hand);
+  checkOutputPath(args.output, {args.object, plan.hand_urdf, handSidecarPath(plan.hand_urdf)},
+                  OutputKind::kTaskMap, args.force);
+  checkOutputPath(args.output + ".ckpt", {args.object, plan.hand_urdf}, OutputKind::kTaskMap, true,
+                  "the checkpoint");
   nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
   const MeshLoadOptions load = meshLoadOptions(args);
   if (load.wrap)

@@ -29,6 +29,7 @@ struct BuildArgs {
   bool timestamp = false;   ///< store the current time as created_utc
   bool allow_size = false;  ///< build an object whose size is implausible for the hand
   bool validate = false;    ///< label the grasps with the physics hold test before writing
+  bool force = false;       ///< replace an existing output that is not a task map
 };
 
 /// With --validate: labels the built map's grasps with the physics hold test (validate stage,
@@ -63,6 +64,9 @@ BuildOptions knobOptions(const BuildArgs& args);
 /// A --hand argument as a URDF path: the path itself if it exists, else the bundled hand of
 /// that name. Throws Error listing the bundled hands.
 std::string resolveHandUrdf(const std::string& hand);
+
+/// The sidecar a hand URDF is read with: <dir>/<stem>.hand.json.
+std::string handSidecarPath(const std::string& urdf);
 
 /// A build ready to run: validated options and the resolved hand URDF.
 struct BuildPlan {

@@ -17,6 +17,7 @@
 
 #include "build_command.hpp"
 #include "command.hpp"
+#include "run_lock.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
@@ -38,6 +39,8 @@ extern "C" void onStopSignal(int sig) {
 
 void runBuild(const BuildArgs& args) {
   const BuildPlan plan = planBuild(args);
+  // One build at a time per output: a second one refuses with the holder's PID.
+  const RunLock lock(args.output + ".lock", "output '" + args.output + "'");
   const BuildOptions& options = plan.options;
   const std::string& hand_path = plan.hand_urdf;
 

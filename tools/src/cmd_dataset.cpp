@@ -7,18 +7,18 @@
 
 #include "command.hpp"
 #include "dataset.hpp"
+#include "run_lock.hpp"
 
 namespace taskmap::cli {
 namespace {
 
 void runDataset(const DatasetArgs& args) {
   const DatasetPlan plan = planDataset(args);
+  const RunLock lock(datasetLockPath(plan), "data set directory '" + plan.dir + "'");
   DatasetManifest manifest(plan);
   const bool quiet = args.knobs.quiet;
   if (!manifest.note().empty()) std::cerr << "taskmap dataset: " << manifest.note() << "\n";
-  std::vector<std::size_t> todo;  // largest first
-  for (std::size_t i = 0; i < plan.jobs.size(); ++i)
-    if (!manifest.finishedEarlier(i)) todo.push_back(i);
+  const std::vector<std::size_t> todo = manifest.startRun();  // largest first
   const std::size_t skipped = plan.jobs.size() - todo.size();
   const auto t0 = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < todo.size(); ++k) {

@@ -8,6 +8,7 @@
 #include "acronym_frame.hpp"
 #include "command.hpp"
 #include "map_summary.hpp"
+#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/map_file.hpp"
@@ -24,6 +25,7 @@ struct ExportArgs {
   double density = 1000.0;
   std::string object_file;
   AcronymFrameArgs frame;
+  bool force = false;
 };
 
 Rgba rgba(int cluster) {
@@ -81,6 +83,11 @@ void runExport(const ExportArgs& args) {
     throw Error("map file '" + args.map + "' does not exist; give the path of a task map (.h5)");
   }
   if (args.glyph_size < 0) throw Error("--glyph-size must be a positive length in metres");
+  checkOutputPath(args.output, {args.map},
+                  args.format == "ply"   ? OutputKind::kPly
+                  : args.format == "glb" ? OutputKind::kGlb
+                                         : OutputKind::kHdf5,
+                  args.force);
   const TaskMapData map = readMap(args.map);
   if (args.format == "acronym") {
     AcronymExportOptions options;
@@ -116,6 +123,8 @@ const CommandRegistrar kRegistrar("export", [](CLI::App& app) {
   cmd->add_option("--object-file", args->object_file,
                   "acronym: mesh file name for object/file (default <object name>.obj)");
   addAcronymFrameOptions(cmd, args->frame);
+  cmd->add_flag("--force", args->force,
+                "replace an existing output file that is not of the format written");
   cmd->callback([args]() { runExport(*args); });
 });
 

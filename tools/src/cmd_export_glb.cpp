@@ -7,6 +7,7 @@
 
 #include "command.hpp"
 #include "glb_export.hpp"
+#include "output_guard.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
 
 namespace taskmap::cli {
@@ -15,9 +16,11 @@ namespace {
 struct ExportGlbArgs {
   std::string trajectory, output;
   bool quiet = false;
+  bool force = false;
 };
 
 void runExportGlb(const ExportGlbArgs& args) {
+  checkOutputPath(args.output, {args.trajectory}, OutputKind::kGlb, args.force);
   const TrajectoryRecord r = readTrajectory(args.trajectory);
   writeGlb(r, args.output);
   if (!args.quiet)
@@ -36,6 +39,7 @@ const CommandRegistrar kRegistrar("export-glb", [](CLI::App& app) {
   cmd->add_option("trajectory", args->trajectory, "trajectory file (.h5)")->required();
   cmd->add_option("-o,--output", args->output, "GLB file to write (atomically)")->required();
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
+  cmd->add_flag("--force", args->force, "replace an existing output that is not a GLB file");
   cmd->callback([args] { runExportGlb(*args); });
 });
 

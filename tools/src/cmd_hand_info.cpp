@@ -11,11 +11,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "build_command.hpp"
 #include "command.hpp"
 #include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "hand_picture.hpp"
 #include "mesh_options.hpp"
+#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/viz/hand_page.hpp"
@@ -26,6 +28,7 @@ namespace {
 struct HandInfoArgs {
   std::string hand, png, html;
   bool json = false;
+  bool force = false;
 };
 
 nlohmann::json vec(const Eigen::Vector3d& v) {
@@ -203,6 +206,7 @@ void printText(const nlohmann::json& j) {
 void run(const HandInfoArgs& args) {
   const std::string urdf =
       std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
+  checkOutputPath(args.png, {urdf, handSidecarPath(urdf)}, OutputKind::kPng, args.force, "--png");
   const HandModel hand = HandModel::load(urdf);
   const HandReport report = checkHand(hand);
   const nlohmann::json j = describe(hand, report);
@@ -233,6 +237,7 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
                   "closed, palm frame, approach axis, one slider per joint");
   cmd->add_flag("--json", args->json, "print JSON instead of text");
   addPackagePathOption(cmd);
+  cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
   cmd->callback([args]() { run(*args); });
 });
 

@@ -10,6 +10,7 @@
 #include "acronym_frame.hpp"
 #include "command.hpp"
 #include "isolated.hpp"
+#include "output_guard.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
@@ -35,6 +36,7 @@ struct ImportArgs {
   std::optional<int> clusters;
   double min_size_fraction = 0.02;
   AcronymFrameArgs frame;
+  bool force = false;
 };
 
 void runImport(const ImportArgs& args) {
@@ -108,7 +110,10 @@ const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
   cmd->add_option("--memory-gib", args->limits.memory_gib, "address-space limit of the import")
       ->check(CLI::Range(0.25, 1024.0))
       ->capture_default_str();
+  cmd->add_flag("--force", args->force,
+                "replace an existing output file that is not a task map (never an input)");
   cmd->callback([args]() {
+    checkOutputPath(args->output, {args->acronym, args->object}, OutputKind::kTaskMap, args->force);
     runIsolated([&args] { runImport(*args); }, args->limits,
                 "cannot import ACRONYM file '" + args->acronym + "'");
   });

@@ -7,6 +7,7 @@
 #include "command.hpp"
 #include "map_picture.hpp"
 #include "map_summary.hpp"
+#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -18,6 +19,7 @@ struct InspectArgs {
   bool json = false;
   std::string png;
   PictureOptions picture;
+  bool force = false;
 };
 
 void runInspect(const InspectArgs& args) {
@@ -25,6 +27,7 @@ void runInspect(const InspectArgs& args) {
     throw Error("map file '" + args.map + "' does not exist; give the path of a task map (.h5)");
   }
   if (!args.png.empty()) args.picture.validate();
+  checkOutputPath(args.png, {args.map}, OutputKind::kPng, args.force, "--png");
   const TaskMapData map = readMap(args.map);
   const MapSummary summary = summarizeMap(map, args.map);
   if (args.json) {
@@ -59,6 +62,7 @@ const CommandRegistrar kRegistrar("inspect", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--height", args->picture.height, "picture height in pixels (>= 600)")
       ->capture_default_str();
+  cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
   cmd->callback([args]() { runInspect(*args); });
 });
 

@@ -16,6 +16,7 @@
 #include "command.hpp"
 #include "data_dir.hpp"
 #include "mesh_options.hpp"
+#include "output_guard.hpp"
 #include "reach_map.hpp"
 #include "reach_picture.hpp"
 #include "taskmap/core/error.hpp"
@@ -32,7 +33,30 @@ struct ReachArgs {
   ReachOptions options;
   MapReachArgs map;
   bool json = false;
+  bool force = false;
 };
+
+/// -o, --glb and --png against the inputs (output_guard.hpp), before any work.
+void checkReachOutputs(const ReachArgs& args) {
+  std::vector<std::string> inputs = {args.scene, args.robot, args.hand};
+  if (!args.map.map.empty()) {
+    inputs.push_back(args.map.map);
+    try {
+      inputs.push_back(resolveMapPath(args.map.map));  // a bundled map name
+    } catch (const Error&) {
+      // not a map: reported with the other options' checks
+    }
+  }
+  checkOutputPath(args.map.output, inputs, OutputKind::kTaskMap, args.force, "-o");
+  checkOutputPath(args.map.glb, inputs, OutputKind::kGlb, args.force, "--glb");
+  checkOutputPath(args.png, inputs, OutputKind::kPng, args.force, "--png");
+  const std::string outputs[] = {args.map.output, args.map.glb, args.png};
+  for (std::size_t a = 0; a < 3; ++a)
+    for (std::size_t b = a + 1; b < 3; ++b)
+      if (!outputs[a].empty() && outputs[a] == outputs[b])
+        throw Error("'" + outputs[a] +
+                    "' is named by two of -o, --glb and --png; give each its own file");
+}
 
 Eigen::VectorXd parseNumbers(const std::string& text, int n, const std::string& option) {
   std::istringstream in(text);
@@ -168,6 +192,7 @@ void runReachWithMap(const ReachArgs& args) {
 
 void runReach(const ReachArgs& args) {
   args.options.validate();
+  checkReachOutputs(args);
   if (!args.map.map.empty()) return runReachWithMap(args);
   if (!args.map.output.empty() || !args.map.glb.empty())
     throw Error("-o/--output and --glb write the trajectory of a plan with --map MAP");
@@ -282,6 +307,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                 "cost_history, proximity_over_movement, quality_over_movement, plans (per "
                 "cluster), ranking, resimulated {outcome, force_closure, epsilon, contacts}");
   cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
+  cmd->add_flag("--force", args->force,
+                "replace existing -o/--glb/--png files that are not of their kind");
   cmd->callback([args] { runReach(*args); });
 });
 

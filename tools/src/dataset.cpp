@@ -10,9 +10,11 @@
 #include <map>
 #include <sstream>
 
+#include "output_guard.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/input_file.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {
@@ -33,6 +35,8 @@ struct ListedObject {
 // The meshes of the list file, as written and resolved, each with its scale when the line
 // gives one after the path ("meshes/bunny.ply 0.01").
 std::vector<ListedObject> readObjectList(const std::string& list) {
+  std::error_code ec;
+  if (fs::exists(list, ec)) requireRegularFile(list, "object list");  // a FIFO blocks ifstream
   std::ifstream in(list);
   if (!in) throw Error("cannot read object list '" + list + "'");
   const fs::path base = fs::absolute(list).parent_path();
@@ -100,6 +104,24 @@ json baseEntry(const DatasetJob& job) {
   return json{{"object", job.object}, {"scale", job.scale}, {"hand", job.hand}, {"file", job.file}};
 }
 
+// An existing manifest.json that is not a taskmap data-set manifest (a user's file) is not
+// replaced without --force; a damaged manifest of ours is (the note says so).
+void checkManifestPath(const std::string& path, bool force) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return;
+  if (!fs::is_regular_file(path, ec))
+    throw Error("'" + path + "' exists and is not a regular file; choose another directory");
+  if (force || fs::file_size(path, ec) == 0) return;
+  std::ifstream in(path, std::ios::binary);
+  std::string headBytes(4096, '\0');
+  in.read(headBytes.data(), static_cast<std::streamsize>(headBytes.size()));
+  headBytes.resize(static_cast<std::size_t>(in.gcount()));
+  if (headBytes.find(kManifestFormat) == std::string::npos)
+    throw Error("'" + path +
+                "' exists and is not a taskmap data-set manifest; refusing to "
+                "replace it (add --force to overwrite it)");
+}
+
 }  // namespace
 
 void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
@@ -117,6 +139,9 @@ void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
                  "-> m)")
       ->capture_default_str();
   addBuildKnobs(cmd, args.knobs);
+  cmd.add_flag("--force", args.knobs.force,
+               "replace existing map files (and manifest.json) in the directory that are not "
+               "taskmap files (never an input)");
 }
 
 DatasetPlan planDataset(const DatasetArgs& args) {
@@ -130,6 +155,7 @@ DatasetPlan planDataset(const DatasetArgs& args) {
   if (!fs::is_directory(plan.dir))
     throw Error("cannot create output directory '" + plan.dir + "'" +
                 (ec ? " (" + ec.message() + ")" : ""));
+  checkManifestPath((fs::path(plan.dir) / "manifest.json").string(), args.knobs.force);
   std::map<std::string, std::string> writers;  // file -> object, hand
   for (const ListedObject& listed : readObjectList(args.objects)) {
     const std::string& object = listed.entry;
@@ -149,6 +175,9 @@ DatasetPlan planDataset(const DatasetArgs& args) {
         throw Error("'" + object + "' with " + hand + " and " + it->second + " would both write " +
                     job.file + "; rename one mesh");
       job.mesh_bytes = fs::is_regular_file(path, ec) ? fs::file_size(path, ec) : 0;
+      checkOutputPath((fs::path(plan.dir) / job.file).string(),
+                      {path, job.hand_urdf, handSidecarPath(job.hand_urdf), args.objects},
+                      OutputKind::kTaskMap, args.knobs.force);
       plan.jobs.push_back(std::move(job));
     }
   }
@@ -239,6 +268,23 @@ bool DatasetManifest::finishedEarlier(std::size_t i) const {
 
 void DatasetManifest::set(std::size_t i, json entry) {
   entries_[i] = std::move(entry);
+}
+
+std::vector<std::size_t> DatasetManifest::startRun() {
+  std::vector<std::size_t> todo;
+  for (std::size_t i = 0; i < plan_.jobs.size(); ++i) {
+    if (finishedEarlier(i)) continue;
+    todo.push_back(i);
+    json e = baseEntry(plan_.jobs[i]);
+    e["status"] = "pending";
+    entries_[i] = std::move(e);
+  }
+  write();
+  return todo;
+}
+
+std::string datasetLockPath(const DatasetPlan& plan) {
+  return (fs::path(plan.dir) / ".taskmap-dataset.lock").string();
 }
 
 void DatasetManifest::write() const {

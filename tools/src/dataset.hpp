@@ -71,6 +71,10 @@ class DatasetManifest {
   bool finishedEarlier(std::size_t i) const;
   /// Sets job i's entry.
   void set(std::size_t i, nlohmann::json entry);
+  /// The jobs to build (not finishedEarlier), in plan order; their earlier entries become
+  /// "pending" and the manifest is written, so that it never pairs this run's parameters with
+  /// a map of an earlier run's (another --valid, say) while the jobs run.
+  std::vector<std::size_t> startRun();
   /// Writes the manifest atomically. Throws Error naming the file.
   void write() const;
   /// Jobs with status "failed".
@@ -83,6 +87,10 @@ class DatasetManifest {
   std::vector<nlohmann::json> entries_;  // by job index
   std::string note_;
 };
+
+/// The lock of a data-set directory (DIR/.taskmap-dataset.lock) for one run; a second run on the
+/// same directory refuses with the holder's PID (run_lock.hpp).
+std::string datasetLockPath(const DatasetPlan& plan);
 
 /// One line for a finished job: "[done/total, ETA hh:mm:ss] object x hand: status, V valid in
 /// T trials -> file" (or the error). @param elapsed_seconds since the first job started.

@@ -320,7 +320,34 @@ TEST(MapBuilderTest, InvalidOptionsAreRefused) {
   o = BuildOptions{};
   o.quality.friction = -1;
   EXPECT_THROW(o.validate(), Error);
+  // Wrapped negatives and absurd budgets (issue 32).
+  for (std::uint64_t n : {~std::uint64_t{0}, kMaxBuildCount + 1}) {
+    o = BuildOptions{};
+    o.max_trials = n;
+    EXPECT_THROW(o.validate(), Error);
+    o = BuildOptions{};
+    o.valid_target = n;
+    EXPECT_THROW(o.validate(), Error);
+    o = BuildOptions{};
+    o.block_size = n;
+    EXPECT_THROW(o.validate(), Error);
+  }
   EXPECT_NO_THROW(BuildOptions{}.validate());
+}
+
+// A budget far beyond what a build runs costs memory only for the blocks that ran (the block
+// table once took 8 bytes per 64 trials of the budget up front: 2 GB for 2^34 trials), and the
+// largest budget neither wraps to zero blocks nor changes the map.
+TEST(MapBuilderTest, HugeTrialBudgetCostsOnlyTheWorkDone) {
+  BuildOptions o = smallBuild(2);
+  const BuildResult small = buildMap(box(), panda(), o);
+  o.max_trials = kMaxBuildCount;
+  const BuildResult huge = buildMap(box(), panda(), o);
+  ASSERT_EQ(huge.status, BuildStatus::kComplete) << huge.message;
+  EXPECT_EQ(huge.map.sampling.trials, small.map.sampling.trials);
+  ASSERT_EQ(huge.map.grasps.size(), small.map.grasps.size());
+  EXPECT_TRUE((huge.map.grasps.pose.array() == small.map.grasps.pose.array()).all());
+  EXPECT_EQ(huge.map.grasps.force_closure, small.map.grasps.force_closure);
 }
 
 }  // namespace

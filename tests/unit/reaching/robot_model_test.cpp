@@ -2,10 +2,18 @@
 // and error messages.
 #include "taskmap/reaching/robot_model.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+
 #include <gtest/gtest.h>
 
+#include "hostile_urdf.hpp"
 #include "reaching_fixtures.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/xml_scan.hpp"
 
 namespace taskmap {
 namespace {
@@ -166,6 +174,47 @@ TEST(RobotModel, BadCapsuleModelIsRejectedWithTheFileName) {
   test::writeTempFile("caps.capsules.json",
                       R"({"links": {"a": [{"p0": [0, 0], "p1": [0, 0, 1], "radius": 0.1}]}})");
   EXPECT_NE(errorOf([&] { RobotModel::load(urdf); }).find("expected [x, y, z]"), std::string::npos);
+}
+
+// Robot URDFs of hostile size or shape (issue 32): the walk is iterative and linear, the size and
+// the XML depth are checked before TinyXML, detached cycles and FIFOs are refused.
+TEST(RobotModel, HostileUrdfsAreLoadedFastOrRefused) {
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("taskmap_robot_urdf_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const auto timed = [](const std::string& path, double* seconds) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string e = errorOf([&] { RobotModel::load(path); });
+    *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return e;
+  };
+  double s = 0;
+  const std::string chain = (dir / "chain.urdf").string();
+  testing::writeText(chain, testing::chainUrdf(kMaxUrdfLinks - 1));
+  EXPECT_EQ(timed(chain, &s), "no error");
+  EXPECT_LT(s, 1.0);
+  EXPECT_EQ(RobotModel::load(chain).dofs(), static_cast<int>(kMaxUrdfLinks - 1));
+  const std::string huge = (dir / "huge.urdf").string();
+  testing::writeText(huge, testing::chainUrdf(100000));
+  std::string e = timed(huge, &s);
+  EXPECT_NE(e.find("limit of 4096"), std::string::npos) << e;
+  EXPECT_NE(e.find(huge), std::string::npos) << e;
+  EXPECT_LT(s, 1.0);
+  const std::string deep = (dir / "deep.urdf").string();
+  testing::writeText(deep, testing::deepUrdf(100000));
+  e = timed(deep, &s);
+  EXPECT_NE(e.find("nested more than 64"), std::string::npos) << e;
+  const std::string cycle = (dir / "cycle.urdf").string();
+  testing::writeText(cycle, testing::detachedCycleUrdf());
+  e = timed(cycle, &s);
+  EXPECT_NE(e.find(cycle), std::string::npos) << e;
+  EXPECT_NE(e.find("c1"), std::string::npos) << e;
+  const std::string fifo = (dir / "pipe.urdf").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  e = timed(fifo, &s);
+  EXPECT_NE(e.find("FIFO"), std::string::npos) << e;
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -25,6 +25,10 @@
 namespace taskmap {
 
 /// Options of a build. The sampler's approach axis is taken from the hand.
+/// Largest trial budget and valid target validate() accepts (10^15: three thousand CPU-years at
+/// 100 us a trial); larger numbers are typing errors or wrapped negatives.
+constexpr std::uint64_t kMaxBuildCount = 1000000000000000ULL;
+
 struct BuildOptions {
   SamplerOptions sampler;             ///< sampler kind and standoff (approach_axis is overridden)
   GraspSimOptions simulation;         ///< simulator knobs
@@ -32,7 +36,7 @@ struct BuildOptions {
   ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
   std::uint64_t seed = 1;             ///< run seed
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
-  std::uint64_t max_trials = 200000;  ///< trial budget (>= 1)
+  std::uint64_t max_trials = 200000;  ///< trial budget (>= 1, <= kMaxBuildCount)
   int threads = 0;                    ///< worker threads; 0 = all cores
   bool keep_invalid = false;          ///< store every completed (status ok) trial, not only FC
   bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)

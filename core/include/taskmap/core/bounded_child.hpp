@@ -1,0 +1,31 @@
+#pragma once
+/// @file bounded_child.hpp
+/// Parsing an untrusted file in a forked child process with an address-space limit (RLIMIT_AS:
+/// the caller's current address space plus max(256 MiB, 20 x the file's size)) and a CPU-time
+/// limit, so that no file can crash or exhaust the calling process (C++ API, Python module and
+/// tool alike). The meshes stage parses every mesh this way (assimp), mapstore the HDF5 of a file
+/// it is asked to seal.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace taskmap {
+
+/// Limits of one bounded parse of a file of file_bytes bytes.
+struct ParseBudget {
+  std::uint64_t memory_bytes;  ///< extra address space: max(256 MiB, 20 x file_bytes)
+  int cpu_seconds;             ///< 20 s + 1 s per MiB of file (at most an hour)
+};
+ParseBudget parseBudget(std::uint64_t file_bytes);
+
+/// Runs work in a forked child under the budget of a file of file_bytes and returns what work
+/// returned. work's exceptions come back as Error with their message; a crash, the CPU or
+/// wall-time limit (2 x CPU + 10 s), or exhausted memory become Error("<what>: ...") naming the
+/// limits. Set TASKMAP_NO_PARSE_CHILD=1 to run work in the calling process (debugging). In a
+/// multi-threaded caller, work must not need a lock another thread may hold (the wall-time
+/// limit ends such a child).
+std::string runBounded(const std::function<std::string()>& work, std::uint64_t file_bytes,
+                       const std::string& what);
+
+}  // namespace taskmap
