@@ -95,6 +95,7 @@ test_all() {
     -DTASKMAP_BUILD_BENCHMARKS=OFF -DTASKMAP_BUILD_PYTHON=OFF -DTASKMAP_BUILD_TOOLS=OFF
   cmake --build "$ASAN_BUILD" -j "$JOBS"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    LSAN_OPTIONS=suppressions="$ROOT/tests/lsan.supp" \
     ctest --test-dir "$ASAN_BUILD" -L unit -j "$JOBS" --output-on-failure --timeout 1800
 }
 
