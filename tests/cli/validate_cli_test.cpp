@@ -73,6 +73,15 @@ TEST_F(ValidateCliTest, RefusesWhatIsNotAMapAndAnotherHand) {
                                         std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
   EXPECT_NE(hand.code, 0);
   EXPECT_NE(hand.out.find("actuated joints"), std::string::npos) << hand.out;
+  // -o never replaces a file that is not a task map (nor the hand) without --force.
+  std::ofstream(path("notes.txt")) << "my notes";
+  const auto guard = testing::runTaskmap("validate " + map + " -o " + path("notes.txt"));
+  EXPECT_NE(guard.code, 0);
+  EXPECT_NE(guard.out.find("notes.txt"), std::string::npos) << guard.out;
+  std::ifstream in(path("notes.txt"));
+  std::string text;
+  std::getline(in, text);
+  EXPECT_EQ(text, "my notes");
 }
 
 }  // namespace

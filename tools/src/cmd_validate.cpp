@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "output_guard.hpp"
 #include "reach_resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
@@ -31,7 +32,7 @@ extern "C" void onValidateStop(int sig) {
 struct ValidateArgs {
   std::string map, output, hand;
   ValidateOptions options;
-  bool json = false, quiet = false;
+  bool json = false, quiet = false, force = false;
 };
 
 nlohmann::ordered_json summaryJson(const ValidationSummary& s, const ValidateArgs& a) {
@@ -89,6 +90,8 @@ void printSummary(const ValidationSummary& s, const ValidateArgs& a) {
 }
 
 void runValidate(const ValidateArgs& args) {
+  if (!args.output.empty())
+    checkOutputPath(args.output, {args.map, args.hand}, OutputKind::kTaskMap, args.force);
   TaskMapData map = readMap(args.map);
   const std::string urdf = args.hand.empty() ? mapHandUrdf(map) : args.hand;
   const HandModel hand = HandModel::load(urdf);
@@ -160,6 +163,7 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
   cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "print the summary as JSON");
+  cmd->add_flag("--force", a->force, "replace an existing -o file that is not a task map");
   cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
   cmd->callback([a]() { runValidate(*a); });
 });
