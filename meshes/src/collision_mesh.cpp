@@ -21,8 +21,8 @@
 #include "convex_decomposition.hpp"
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/ros_package.hpp"
 #include "taskmap/core/input_file.hpp"
+#include "taskmap/meshes/ros_package.hpp"
 
 namespace taskmap::detail {
 namespace {

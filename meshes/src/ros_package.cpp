@@ -4,7 +4,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <system_error>
 
@@ -23,10 +22,19 @@ std::string packageXmlName(const fs::path& dir) {
   std::ifstream in(xml);
   std::stringstream ss;
   ss << in.rdbuf();
-  static const std::regex kName(R"(<name>\s*([^<\s]+)\s*</name>)");
-  std::smatch m;
   const std::string text = ss.str();
-  return std::regex_search(text, m, kName) ? m[1].str() : "";
+  // The first <name>...</name>, trimmed; a name with blanks inside is none.
+  const auto open = text.find("<name>");
+  if (open == std::string::npos) return "";
+  const auto begin = open + 6;
+  const auto close = text.find("</name>", begin);
+  if (close == std::string::npos) return "";
+  const std::string blanks = " \t\r\n";
+  const auto first = text.find_first_not_of(blanks, begin);
+  if (first == std::string::npos || first >= close) return "";
+  const auto last = text.find_last_not_of(blanks, close - 1);
+  const std::string name = text.substr(first, last - first + 1);
+  return name.find_first_of(blanks + "<") == std::string::npos ? name : "";
 }
 
 /// True when `dir` is package `pkg`: its package.xml names it, or it has no package.xml naming

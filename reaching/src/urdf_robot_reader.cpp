@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/ros_package.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
+#include "taskmap/meshes/ros_package.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {
