@@ -3,22 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/text.hpp"
 #include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap {
-namespace {
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 double thinnestFingerLink(const HandModel& hand) {
   double thinnest = std::numeric_limits<double>::infinity();
@@ -42,21 +34,22 @@ ObjectSizeCheck checkObjectSize(const Eigen::Vector3d& size, double scale, const
   c.too_large = c.extent > kMaxReachRatio * c.reach;
   c.too_small = c.extent < c.finger;
   const double ratio = c.extent / c.reach;
-  const std::string ratio_text = ratio >= 1.5   ? num(ratio) + " times"
+  const std::string ratio_text = ratio >= 1.5   ? shortNumber(ratio) + " times"
                                  : ratio >= 0.5 ? "about"
-                                                : "1/" + num(1.0 / ratio) + " of";
+                                                : "1/" + shortNumber(1.0 / ratio) + " of";
   const double lo = std::max(c.finger, kGraspableMinExtent);
   const double hi = kMaxReachRatio * c.reach;
-  c.sizes = "the object is " + num(c.extent) + " m across (bounding box " + num(c.size.x()) +
-            " x " + num(c.size.y()) + " x " + num(c.size.z()) + " m), " + ratio_text + " the " +
-            num(c.reach) + " m reach of hand '" + hand.name() +
-            "' (open, from the palm); its thinnest finger link is " + num(c.finger) + " m";
+  c.sizes = "the object is " + shortNumber(c.extent) + " m across (bounding box " +
+            shortNumber(c.size.x()) + " x " + shortNumber(c.size.y()) + " x " +
+            shortNumber(c.size.z()) + " m), " + ratio_text + " the " + shortNumber(c.reach) +
+            " m reach of hand '" + hand.name() +
+            "' (open, from the palm); its thinnest finger link is " + shortNumber(c.finger) + " m";
   const std::string advice = scaleAdvice(c.extent, scale, lo, hi, c.reach);
   const std::string what = "object '" + name + "' ";
   if (c.too_large)
     c.problem = what + "is too large for the hand: " + c.sizes +
-                "; a graspable object is at most " + num(kMaxReachRatio) + " times the reach; " +
-                advice;
+                "; a graspable object is at most " + shortNumber(kMaxReachRatio) +
+                " times the reach; " + advice;
   else if (c.too_small)
     c.problem = what + "is too small for the hand: " + c.sizes +
                 "; a graspable object is at least as large as the thinnest finger link; " + advice;

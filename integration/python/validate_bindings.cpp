@@ -14,19 +14,7 @@ namespace taskmap {
 namespace {
 
 py::dict summaryDict(const ValidationSummary& s) {
-  py::dict d;
-  d["tested"] = s.tested;
-  d["holding"] = s.holding;
-  d["hold_rate"] = s.tested ? static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0;
-  d["force_closure_tested"] = s.fc_tested;
-  d["force_closure_holding"] = s.fc_holding;
-  d["statuses"] = s.statuses;
-  d["slipped_by_direction"] = s.failed_by_direction;
-  d["object_pieces"] = s.model.object_pieces;
-  d["object_volume_error"] = s.model.object_volume_error;
-  d["cpu_seconds"] = s.cpu_seconds;
-  d["wall_seconds"] = s.wall_seconds;
-  return d;
+  return py::module_::import("json").attr("loads")(summaryJson(s)).cast<py::dict>();
 }
 
 py::dict validatePath(const std::string& map_path, const std::string& hand,
@@ -67,8 +55,10 @@ void bindValidate(py::module_& m) {
         "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
         "was built with); threads: 0 all cores; grasps: test only the first N (0 all); "
         "jaw_force: N per parallel jaw; contact_patch: metres (0: one contact per shape). "
-        "Returns a dict: tested, holding, hold_rate, statuses, slipped_by_direction (-x +x -y +y "
-        "-z +z), object_pieces, object_volume_error, cpu_seconds, wall_seconds.");
+        "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
+        "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
+        "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
+        "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps.");
 }
 
 }  // namespace taskmap

@@ -18,6 +18,7 @@
 
 #include "mesh_soup.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/text.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -182,10 +183,8 @@ EdgeStats closeBorders(SolidBuild& b) {
     const double tol = 1e-6 * b.diagonal;
     const std::size_t welded = weldBorderVertices(&b.soup, stats.border_vertices, tol);
     if (welded > 0) {
-      char buf[64];
-      std::snprintf(buf, sizeof buf, "%.3g", tol);
       b.result.repairs.push_back("stitched borders: welded " + plural(welded, "border vertex") +
-                                 " closer than " + buf + " m");
+                                 " closer than " + shortNumber(tol) + " m");
       const DroppedFaces d = dropBadFaces(&b.soup);
       if (d.degenerate + d.duplicate + 2 * d.opposite > 0) {
         b.result.repairs.push_back("dropped " +
@@ -366,9 +365,7 @@ SolidResult guardedMakeSolid(MeshSoup soup, const std::string& what, bool repair
 }
 
 std::string metres(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g m", v);
-  return buf;
+  return shortNumber(v) + " m";
 }
 
 /// Replaces an open surface by its alpha wrap and validates that; reports the volume change.

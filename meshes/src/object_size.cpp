@@ -6,14 +6,10 @@
 #include <cstdio>
 #include <utility>
 
+#include "taskmap/core/text.hpp"
+
 namespace taskmap {
 namespace {
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
 
 std::string scaleText(double s) {
   char buf[64];
@@ -46,15 +42,16 @@ std::string scaleAdvice(double extent, double current_scale, double lo, double h
   const std::vector<UnitGuess> guesses =
       unitGuesses(extent / current_scale, current_scale, lo, hi, typical);
   if (guesses.empty())
-    return "no unit (metres, centimetres, millimetres, inches) gives it a size between " + num(lo) +
-           " and " + num(hi) + " m; check the scale (--scale, file units to metres)";
+    return "no unit (metres, centimetres, millimetres, inches) gives it a size between " +
+           shortNumber(lo) + " and " + shortNumber(hi) +
+           " m; check the scale (--scale, file units to metres)";
   const UnitGuess& best = guesses.front();
   std::string s = "is the file in " + best.unit + "? scale " + scaleText(best.scale) +
-                  " (--scale " + scaleText(best.scale) + ") makes it " + num(best.extent) +
+                  " (--scale " + scaleText(best.scale) + ") makes it " + shortNumber(best.extent) +
                   " m across";
   for (std::size_t i = 1; i < guesses.size(); ++i)
     s += std::string(i == 1 ? " (" : "; ") + "in " + guesses[i].unit + ": --scale " +
-         scaleText(guesses[i].scale) + ", " + num(guesses[i].extent) + " m";
+         scaleText(guesses[i].scale) + ", " + shortNumber(guesses[i].extent) + " m";
   if (guesses.size() > 1) s += ")";
   return s;
 }
@@ -62,9 +59,9 @@ std::string scaleAdvice(double extent, double current_scale, double lo, double h
 std::string graspableSizeWarning(double extent, double current_scale) {
   if (extent >= kGraspableMinExtent && extent <= kGraspableMaxExtent) return "";
   const bool large = extent > kGraspableMaxExtent;
-  return "the object is " + num(extent) + " m across: " + (large ? "large" : "small") +
-         " for a graspable object (hand-held objects are about " + num(kGraspableMinExtent) +
-         " to " + num(kGraspableMaxExtent) + " m); " +
+  return "the object is " + shortNumber(extent) + " m across: " + (large ? "large" : "small") +
+         " for a graspable object (hand-held objects are about " +
+         shortNumber(kGraspableMinExtent) + " to " + shortNumber(kGraspableMaxExtent) + " m); " +
          scaleAdvice(extent, current_scale, kGraspableMinExtent, kGraspableMaxExtent,
                      kGraspableTypicalExtent);
 }

@@ -4,13 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
 
+#include "taskmap/core/text.hpp"
 #include "taskmap/meshes/qhull_run.hpp"
 
 namespace taskmap {
@@ -84,9 +84,8 @@ QualityStatus screenWrenches(const WrenchMatrix& wrenches, bool check_rank, doub
     rank += eig.eigenvalues()(i) > kDegenerateSpread * kDegenerateSpread * lmax;
   }
   if (!(lmax > 0.0)) rank = 0;
-  char thickness[32];
-  std::snprintf(thickness, sizeof thickness, "%.3g",
-                lmax > 0.0 ? std::sqrt(std::max(lmin, 0.0) / lmax) : 0.0);
+  const std::string thickness =
+      shortNumber(lmax > 0.0 ? std::sqrt(std::max(lmin, 0.0) / lmax) : 0.0);
   message = "wrenches span an affine subspace of dimension " + std::to_string(rank) +
             " < 6 (relative thickness " + thickness + ")";
   return QualityStatus::kDegenerate;

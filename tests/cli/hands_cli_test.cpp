@@ -17,35 +17,28 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "scratch_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 using taskmap::testing::CliRun;
+using taskmap::testing::realInput;
+using taskmap::testing::runTaskmap;
+const taskmap::testing::ScratchDir kScratch("hands_cli");
 
-CliRun runCli(const std::string& args) {
-  return taskmap::testing::runTaskmap(args);
-}
-
-std::string real(const std::string& name) {
-  return std::string(TEST_DATA_DIR) + "/real/" + name;
-}
-const std::string kFranka = real("hands/franka_hand/franka_hand.urdf");
-
-std::string temp(const std::string& name) {
-  return ::testing::TempDir() + "/hands_cli_" + std::to_string(::getpid()) + "_" + name;
-}
+const std::string kFranka = realInput("hands/franka_hand/franka_hand.urdf");
 
 /// A copy of the real Franka hand with a changed sidecar, in its own folder.
 std::string frankaWith(const std::string& tag, const std::string& key, const nlohmann::json& v) {
-  const fs::path dir = temp(tag);
+  const fs::path dir = kScratch.path(tag);
   fs::create_directories(dir / "meshes" / "collision");
   fs::copy_file(kFranka, dir / "franka_hand.urdf", fs::copy_options::overwrite_existing);
-  fs::copy_file(real("hands/franka_hand/meshes/collision/hand.stl"),
+  fs::copy_file(realInput("hands/franka_hand/meshes/collision/hand.stl"),
                 dir / "meshes" / "collision" / "hand.stl", fs::copy_options::overwrite_existing);
   nlohmann::json j =
-      nlohmann::json::parse(std::ifstream(real("hands/franka_hand/franka_hand.hand.json")));
+      nlohmann::json::parse(std::ifstream(realInput("hands/franka_hand/franka_hand.hand.json")));
   j[key] = v;
   std::ofstream(dir / "franka_hand.hand.json") << j.dump(2);
   return (dir / "franka_hand.urdf").string();
@@ -78,7 +71,7 @@ std::string frankaWithSelfCollisionLink() {
 }
 
 TEST(HandsCli, HandInfoTextShowsJointsMimicPalmAndApproach) {
-  const CliRun run = runCli("hand-info " + kFranka);
+  const CliRun run = runTaskmap("hand-info " + kFranka);
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("hand:           franka_hand (URDF robot 'hand')"), std::string::npos)
       << run.out;
@@ -94,10 +87,10 @@ TEST(HandsCli, HandInfoTextShowsJointsMimicPalmAndApproach) {
 }
 
 TEST(HandsCli, HandInfoJsonAndPicture) {
-  const std::string png = temp("allegro.png");
-  const CliRun run =
-      runCli("hand-info " + real("hands/allegro_right/allegro_hand_description_right.urdf") +
-             " --json --png " + png);
+  const std::string png = kScratch.path("allegro.png");
+  const CliRun run = runTaskmap(
+      "hand-info " + realInput("hands/allegro_right/allegro_hand_description_right.urdf") +
+      " --json --png " + png);
   ASSERT_EQ(run.code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j.at("name"), "allegro_hand_right");
@@ -120,7 +113,7 @@ TEST(HandsCli, HandInfoJsonAndPicture) {
 
 TEST(HandsCli, HandInfoWarnsAboutSetUpsThatCannotGrasp) {
   // Approach axis reversed: the fingers close behind the palm.
-  CliRun run = runCli("hand-info " + frankaWith("reversed", "approach_axis", {0, 0, -1}));
+  CliRun run = runTaskmap("hand-info " + frankaWith("reversed", "approach_axis", {0, 0, -1}));
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("warning:        no finger link reaches in front of the palm"),
             std::string::npos)
@@ -128,16 +121,16 @@ TEST(HandsCli, HandInfoWarnsAboutSetUpsThatCannotGrasp) {
   // The inflated self-collision link of the xacro literal reaches past the fingers: warned,
   // and the build prints the same warning before its trials, which store no grasp.
   const std::string sc = frankaWithSelfCollisionLink();
-  run = runCli("hand-info " + sc);
+  run = runTaskmap("hand-info " + sc);
   ASSERT_EQ(run.code, 0) << run.out;
   const std::string sc_warning =
       "link 'panda_hand_sc' is fixed to the palm and reaches 0.0916 m in front of the palm frame "
       "along the approach axis, as far as or beyond every finger (farthest 0.0545 m while "
       "closing)";
   EXPECT_NE(run.out.find("warning:        " + sc_warning), std::string::npos) << run.out;
-  const std::string out = temp("sc.h5");
-  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + sc + " -o " +
-               out + " --trials 20 --threads 1 -q");
+  const std::string out = kScratch.path("sc.h5");
+  run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + sc +
+                   " -o " + out + " --trials 20 --threads 1 -q");
   EXPECT_EQ(run.code, 3) << run.out;
   const auto warned = run.out.find("taskmap build: warning: hand 'franka_hand': " + sc_warning);
   EXPECT_NE(warned, std::string::npos) << run.out;
@@ -150,32 +143,32 @@ TEST(HandsCli, PalmFrameBehindThePalmIsANoteNotAWarning) {
   // the palm touches objects and the hand grasps (a note, no warning; the build is quiet).
   const std::string flange =
       frankaWith("flange", "palm_frame", {{"xyz", {0, 0, 0}}, {"rpy", {0, 0, 0}}});
-  CliRun run = runCli("hand-info " + flange);
+  CliRun run = runTaskmap("hand-info " + flange);
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("note:           link 'panda_hand' is fixed to the palm and reaches "
                          "0.06596 m in front"),
             std::string::npos)
       << run.out;
   EXPECT_EQ(run.out.find("warning:"), std::string::npos) << run.out;
-  const std::string out = temp("flange.h5");
-  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + flange +
-               " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  const std::string out = kScratch.path("flange.h5");
+  run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " +
+                   flange + " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
   fs::remove(out);
   // The real hand as checked in: no warning from hand-info or build.
-  run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + kFranka +
-               " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " +
+                   kFranka + " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
   fs::remove(out);
 }
 
 TEST(HandsCli, BuildThatStoresNoGraspFailsAndSaysWhy) {
-  const std::string out = temp("none.h5");
-  const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") + " --hand " +
-                            frankaWith("backwards", "approach_axis", {0, 0, -1}) + " -o " + out +
-                            " --trials 10 --threads 1 -q");
+  const std::string out = kScratch.path("none.h5");
+  const CliRun run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") +
+                                " --hand " + frankaWith("backwards", "approach_axis", {0, 0, -1}) +
+                                " -o " + out + " --trials 10 --threads 1 -q");
   EXPECT_EQ(run.code, 3) << run.out;
   // hand-info's warning first, before the trials.
   EXPECT_NE(run.out.find("taskmap build: warning: hand 'franka_hand': no finger link reaches in "
@@ -193,9 +186,9 @@ TEST(HandsCli, BuildThatStoresNoGraspFailsAndSaysWhy) {
 TEST(HandsCli, MillimetreBananaIsRefused) {
   // A 9 cm object in millimetres read as metres is 90 m across: below the loader's absolute
   // limit (100 m), 700 times the hand. The banana at --scale 500 stands in for such a file.
-  const std::string out = temp("mm.h5");
-  const CliRun run = runCli("build --object " + real("objects/ycb_011_banana.obj") +
-                            " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
+  const std::string out = kScratch.path("mm.h5");
+  const CliRun run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") +
+                                " --scale 500 --hand " + kFranka + " -o " + out + " --trials 10");
   EXPECT_EQ(run.code, 1) << run.out;
   // The file is in metres: the scale that fixes it is 1.
   EXPECT_NE(run.out.find("is the file in metres? scale 1 (--scale 1) makes it 0.178 m across"),
@@ -206,9 +199,9 @@ TEST(HandsCli, MillimetreBananaIsRefused) {
 
 TEST(HandsCli, MeshInfoWrapsAnOpenScan) {
   // The banana with a hole: 40 faces dropped from the OBJ.
-  const std::string open = temp("banana_open.obj");
+  const std::string open = kScratch.path("banana_open.obj");
   {
-    std::ifstream in(real("objects/ycb_011_banana.obj"));
+    std::ifstream in(realInput("objects/ycb_011_banana.obj"));
     std::ofstream o(open);
     std::string line;
     int face = 0;
@@ -218,16 +211,16 @@ TEST(HandsCli, MeshInfoWrapsAnOpenScan) {
       o << line << "\n";
     }
   }
-  CliRun run = runCli("mesh-info " + open);
+  CliRun run = runTaskmap("mesh-info " + open);
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("`--repair wrap`"), std::string::npos) << run.out;
-  run = runCli("mesh-info " + open + " --repair wrap --json");
+  run = runTaskmap("mesh-info " + open + " --repair wrap --json");
   ASSERT_EQ(run.code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
   EXPECT_EQ(j.at("closed"), true);
   EXPECT_NE(j.at("repairs")[0].get<std::string>().find("alpha wrapping"), std::string::npos);
   EXPECT_NEAR(j.at("volume").get<double>(), 1.715e-4, 0.05e-4);
-  run = runCli("mesh-info " + open + " --repair wrap --no-repair");
+  run = runTaskmap("mesh-info " + open + " --repair wrap --no-repair");
   EXPECT_NE(run.out.find("contradict"), std::string::npos) << run.out;
   fs::remove(open);
 }
@@ -237,7 +230,7 @@ std::string hands(const std::string& name) {
 }
 
 TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
-  CliRun run = runCli("hand-info " + hands("decomp_finger.urdf") + " --json");
+  CliRun run = runTaskmap("hand-info " + hands("decomp_finger.urdf") + " --json");
   ASSERT_EQ(run.code, 0) << run.out;
   const auto j = nlohmann::json::parse(run.out);
   ASSERT_EQ(j.at("collision_meshes").size(), 2u);
@@ -252,7 +245,7 @@ TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
     if (l.at("name") == "finger_u") {
       EXPECT_EQ(l.at("shapes").get<int>(), 3);
     }
-  run = runCli("hand-info " + hands("decomp_finger.urdf"));
+  run = runTaskmap("hand-info " + hands("decomp_finger.urdf"));
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("u_block.obj part 0: 140 faces, 3 convex pieces, 22 / 40 / 22 "
                          "(decomposed)"),
@@ -263,7 +256,7 @@ TEST(HandsCli, HandInfoReportsConvexPiecesOfNonConvexMeshes) {
 TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
   // The U-shaped block with its last two faces removed: open, and not to be wrapped, so its
   // hull is kept.
-  const fs::path dir = temp("open_u");
+  const fs::path dir = kScratch.path("open_u");
   fs::create_directories(dir);
   fs::copy_file(hands("decomp_finger.urdf"), dir / "decomp_finger.urdf",
                 fs::copy_options::overwrite_existing);
@@ -278,7 +271,7 @@ TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
   std::ofstream out(dir / "u_block.obj");
   for (const auto& line : lines) out << line << "\n";
   out.close();
-  const CliRun run = runCli("hand-info " + (dir / "decomp_finger.urdf").string());
+  const CliRun run = runTaskmap("hand-info " + (dir / "decomp_finger.urdf").string());
   ASSERT_EQ(run.code, 0) << run.out;
   EXPECT_NE(run.out.find("warning:        URDF '" + (dir / "decomp_finger.urdf").string() +
                          "': link 'finger_u': collision mesh 'u_block.obj' (a connected part) "
@@ -290,14 +283,14 @@ TEST(HandsCli, HandInfoWarnsWhenAMeshCannotBeDecomposed) {
   // build prints it before its trials; the same hand with its closed mesh warns of nothing.
   const std::string object = std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj";
   CliRun build =
-      runCli("build --object " + object + " --hand " + (dir / "decomp_finger.urdf").string() +
-             " -o " + (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
+      runTaskmap("build --object " + object + " --hand " + (dir / "decomp_finger.urdf").string() +
+                 " -o " + (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
   EXPECT_NE(build.out.find("taskmap build: warning: hand '"), std::string::npos) << build.out;
   EXPECT_NE(build.out.find("is not closed (it has border edges); its convex hull is used"),
             std::string::npos)
       << build.out;
-  build = runCli("build --object " + object + " --hand " + hands("decomp_finger.urdf") + " -o " +
-                 (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
+  build = runTaskmap("build --object " + object + " --hand " + hands("decomp_finger.urdf") +
+                     " -o " + (dir / "m.h5").string() + " --trials 2 --threads 1 -q");
   EXPECT_EQ(build.out.find("warning"), std::string::npos) << build.out;
   fs::remove_all(dir);
 }
@@ -308,21 +301,21 @@ namespace {
 
 TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
   const std::string objects = TASKMAP_OBJECTS_DIR;
-  const std::string out = temp("dym.h5");
-  CliRun run = runCli("build --object " + objects + "/basket.obj --hand pand -o " + out);
+  const std::string out = kScratch.path("dym.h5");
+  CliRun run = runTaskmap("build --object " + objects + "/basket.obj --hand pand -o " + out);
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("hand 'pand' is neither a URDF file nor a bundled hand name"),
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("; did you mean 'panda'"), std::string::npos) << run.out;
-  run = runCli("hand-info Barrett");
+  run = runTaskmap("hand-info Barrett");
   EXPECT_NE(run.out.find("; did you mean 'barrett'?"), std::string::npos) << run.out;
-  run = runCli("hand-info " + kFranka + "x");
+  run = runTaskmap("hand-info " + kFranka + "x");
   EXPECT_NE(run.out.find("; did you mean '" + kFranka + "'?"), std::string::npos) << run.out;
-  run = runCli("hand-info robotiq");
+  run = runTaskmap("hand-info robotiq");
   EXPECT_EQ(run.out.find("did you mean"), std::string::npos) << run.out;
   // Objects: a typo in a path, and a bundled object's name.
-  run = runCli("build --object " + objects + "/baskt.obj --hand panda -o " + out);
+  run = runTaskmap("build --object " + objects + "/baskt.obj --hand panda -o " + out);
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("cannot open mesh file '" + objects +
                          "/baskt.obj': no such file; did "
@@ -330,7 +323,7 @@ TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
                          objects + "/basket.obj'"),
             std::string::npos)
       << run.out;
-  run = runCli("mesh-info basket");
+  run = runTaskmap("mesh-info basket");
   EXPECT_EQ(run.code, 1) << run.out;
   EXPECT_NE(run.out.find("did you mean '"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("objects/basket.obj'"), std::string::npos) << run.out;

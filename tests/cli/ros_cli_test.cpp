@@ -12,30 +12,28 @@
 #include <string>
 
 #include "cli_run.hpp"
+#include "scratch_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
 using taskmap::testing::CliRun;
-
-std::string real(const std::string& name) {
-  return std::string(TEST_DATA_DIR) + "/real/" + name;
-}
+using taskmap::testing::realInput;
+using taskmap::testing::runTaskmap;
 
 class RosCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::path(::testing::TempDir()) / ("ros_cli_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
+    root_ = scratch_.root();
     // src/franka_description: package.xml, meshes/collision/hand.stl.
     const fs::path pkg = root_ / "src" / "franka_description";
     fs::create_directories(pkg / "meshes" / "collision");
     std::ofstream(pkg / "package.xml")
         << "<package format=\"3\"><name>franka_description</name></package>\n";
-    fs::copy_file(real("hands/franka_hand/meshes/collision/hand.stl"),
+    fs::copy_file(realInput("hands/franka_hand/meshes/collision/hand.stl"),
                   pkg / "meshes" / "collision" / "hand.stl");
-    std::ifstream in(real("hands/franka_hand/franka_hand.urdf"));
+    std::ifstream in(realInput("hands/franka_hand/franka_hand.urdf"));
     urdf_text_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     const std::string from = "filename=\"meshes/collision/hand.stl\"";
     const auto at = urdf_text_.find(from);
@@ -43,14 +41,13 @@ class RosCli : public ::testing::Test {
     urdf_text_.replace(at, from.size(),
                        "filename=\"package://franka_description/meshes/collision/hand.stl\"");
   }
-  void TearDown() override { fs::remove_all(root_); }
 
   /// The URDF with its package:// path and the real sidecar, written into `dir`.
   std::string writeHand(const fs::path& dir) const {
     fs::create_directories(dir);
     std::ofstream(dir / "franka_hand.urdf") << urdf_text_;
-    fs::copy_file(real("hands/franka_hand/franka_hand.hand.json"), dir / "franka_hand.hand.json",
-                  fs::copy_options::overwrite_existing);
+    fs::copy_file(realInput("hands/franka_hand/franka_hand.hand.json"),
+                  dir / "franka_hand.hand.json", fs::copy_options::overwrite_existing);
     return (dir / "franka_hand.urdf").string();
   }
   static CliRun run(const std::string& args, const std::string& env = "env -u ROS_PACKAGE_PATH") {
@@ -58,6 +55,7 @@ class RosCli : public ::testing::Test {
                                       "/bin/taskmap " + args);
   }
 
+  taskmap::testing::ScratchDir scratch_{"ros_cli"};  // removed with the fixture
   fs::path root_;
   std::string urdf_text_;
 };
@@ -94,7 +92,7 @@ TEST_F(RosCli, PackagePathAndRosPackagePath) {
           (root_ / "src").string() + " " + urdf);
   EXPECT_EQ(r.code, 0) << r.out;
   const std::string out = (root_ / "m.h5").string();
-  r = run("build --object " + real("objects/ycb_011_banana.obj") + " --hand " + urdf + " -o " +
+  r = run("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + urdf + " -o " +
           out + " --package-path " + (root_ / "src").string() +
           " --valid 1 --trials 200 --threads 1 -q");
   EXPECT_EQ(r.code, 0) << r.out;
@@ -111,7 +109,7 @@ TEST_F(RosCli, XacroIsAnsweredWithWhatToDo) {
                           "  <xacro:include filename=\"$(find franka_description)/h.xacro\"/>\n"
                           "  <xacro:franka_hand arm_id=\"panda\"/>\n</robot>\n";
   for (const std::string& cmd :
-       {"hand-info " + xacro.string(), "build --object " + real("objects/ycb_011_banana.obj") +
+       {"hand-info " + xacro.string(), "build --object " + realInput("objects/ycb_011_banana.obj") +
                                            " --hand " + xacro.string() + " -o " +
                                            (root_ / "x.h5").string()}) {
     const CliRun r = run(cmd);

@@ -1,4 +1,5 @@
 """taskmap.validate: the physics hold test from Python, the same labels as the command line."""
+import json
 import os
 import subprocess
 import tempfile
@@ -30,10 +31,15 @@ class ValidateTest(unittest.TestCase):
         py_out = os.path.join(self.dir.name, "py.h5")
         cli_out = os.path.join(self.dir.name, "cli.h5")
         s = taskmap.validate(self.map, output=py_out, grasps=4, threads=1)
-        subprocess.run([CLI, "validate", self.map, "--grasps", "4", "-q", "-o", cli_out],
-                       check=True)
+        report = json.loads(subprocess.run(
+            [CLI, "validate", self.map, "--grasps", "4", "--json", "-o", cli_out],
+            check=True, capture_output=True, text=True).stdout)
         self.assertEqual(s["tested"], 4)
         self.assertEqual(sum(s["statuses"].values()), 4)
+        # One summary for both front ends: the same keys, the same counts.
+        self.assertEqual(set(report) - {"map", "output"}, set(s))
+        for key in ("tested", "holding", "statuses", "slipped_by_direction", "object_pieces"):
+            self.assertEqual(report[key], s[key], key)
         with h5py.File(py_out, "r") as a, h5py.File(cli_out, "r") as b:
             hold = a["grasps/hold"][:]
             np.testing.assert_array_equal(hold, b["grasps/hold"][:])

@@ -35,27 +35,11 @@ struct ValidateArgs {
   bool json = false, quiet = false, force = false;
 };
 
-nlohmann::ordered_json summaryJson(const ValidationSummary& s, const ValidateArgs& a) {
+nlohmann::ordered_json reportJson(const ValidationSummary& s, const ValidateArgs& a) {
   nlohmann::ordered_json j;
   j["map"] = a.map;
   j["output"] = a.output.empty() ? a.map : a.output;
-  j["tested"] = s.tested;
-  j["holding"] = s.holding;
-  j["hold_rate"] = s.tested ? static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0;
-  j["force_closure_tested"] = s.fc_tested;
-  j["force_closure_holding"] = s.fc_holding;
-  j["statuses"] = s.statuses;
-  nlohmann::ordered_json dirs;
-  for (std::size_t d = 0; d < 6; ++d) dirs[pushDirectionNames()[d]] = s.failed_by_direction[d];
-  j["slipped_by_direction"] = dirs;
-  j["object_pieces"] = s.model.object_pieces;
-  j["object_volume_error"] = s.model.object_volume_error;
-  j["object_note"] = s.model.object_note;
-  j["cpu_seconds"] = s.cpu_seconds;
-  j["wall_seconds"] = s.wall_seconds;
-  j["grasps_per_cpu_second"] =
-      s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0;
-  j["steps"] = s.steps;
+  j.update(nlohmann::ordered_json::parse(summaryJson(s)));
   return j;
 }
 
@@ -128,7 +112,7 @@ void runValidate(const ValidateArgs& args) {
     return;
   }
   if (args.json) {
-    std::cout << summaryJson(s, args).dump(2) << "\n";
+    std::cout << reportJson(s, args).dump(2) << "\n";
   } else if (!args.quiet) {
     printSummary(s, args);
   }

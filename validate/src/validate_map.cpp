@@ -98,6 +98,28 @@ void ValidateOptions::validate() const {
   if (threads < 0) throw Error("validate: threads (--threads) must be >= 0 (0: all cores)");
 }
 
+std::string summaryJson(const ValidationSummary& s) {
+  nlohmann::ordered_json j;
+  j["tested"] = s.tested;
+  j["holding"] = s.holding;
+  j["hold_rate"] = s.tested ? static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0;
+  j["force_closure_tested"] = s.fc_tested;
+  j["force_closure_holding"] = s.fc_holding;
+  j["statuses"] = s.statuses;
+  nlohmann::ordered_json dirs;
+  for (std::size_t d = 0; d < 6; ++d) dirs[pushDirectionNames()[d]] = s.failed_by_direction[d];
+  j["slipped_by_direction"] = dirs;
+  j["object_pieces"] = s.model.object_pieces;
+  j["object_volume_error"] = s.model.object_volume_error;
+  j["object_note"] = s.model.object_note;
+  j["cpu_seconds"] = s.cpu_seconds;
+  j["wall_seconds"] = s.wall_seconds;
+  j["grasps_per_cpu_second"] =
+      s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0;
+  j["steps"] = s.steps;
+  return j.dump();
+}
+
 std::string holdParamsJson(const HoldTestOptions& o) {
   nlohmann::ordered_json j;
   j["object_mass"] = o.object_mass;

@@ -4,6 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include <string>
+#include <utility>
 
 #include "build_fixtures.hpp"
 #include "taskmap/builder/map_builder.hpp"
@@ -18,29 +19,25 @@ struct Case {
   TaskMapData map;
 };
 
+// The stored grasps of a small default build (16 grasps, one thread) of `object` with `hand`.
+Case makeCase(HandModel hand, ObjectModel object) {
+  BuildOptions o;
+  o.valid_target = 16;
+  o.threads = 1;
+  Case k{std::move(hand), std::move(object), {}};
+  k.map = buildMap(k.object, k.hand, o).map;
+  return k;
+}
+
 const Case& pandaBox() {
-  static const Case c = [] {
-    BuildOptions o;
-    o.valid_target = 16;
-    o.threads = 1;
-    Case k{testing::pandaHand(), testing::boxObject(), {}};
-    k.map = buildMap(k.object, k.hand, o).map;
-    return k;
-  }();
+  static const Case c = makeCase(testing::pandaHand(), testing::boxObject());
   return c;
 }
 
 const Case& barrettCylinder() {
-  static const Case c = [] {
-    BuildOptions o;
-    o.valid_target = 16;
-    o.threads = 1;
-    Case k{HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"),
-           ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj"),
-           {}};
-    k.map = buildMap(k.object, k.hand, o).map;
-    return k;
-  }();
+  static const Case c =
+      makeCase(HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"),
+               ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj"));
   return c;
 }
 

@@ -61,6 +61,13 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
                               const std::function<void(const ValidateProgress&)>& progress = {},
                               const std::atomic<bool>* stop = nullptr);
 
+/// The summary as a JSON object, the one form the CLI (`validate --json`) and Python
+/// (`taskmap.validate`) report: tested, holding, hold_rate, force_closure_tested,
+/// force_closure_holding, statuses, slipped_by_direction (by push direction name),
+/// object_pieces, object_volume_error, object_note, cpu_seconds, wall_seconds (s),
+/// grasps_per_cpu_second, steps.
+std::string summaryJson(const ValidationSummary& summary);
+
 /// The protocol's parameters as a JSON object (what /validation params_json stores).
 std::string holdParamsJson(const HoldTestOptions& options);
 
