@@ -1,15 +1,26 @@
 # Helpers shared by every stage: warnings, sanitizers, module targets.
 
-# Warnings are errors in our own code; third-party headers come in as SYSTEM includes.
+# Warnings are errors in our own code; third-party headers come in as SYSTEM includes. The
+# release build enforces them; the sanitizer build (compiled at -O1, where GCC's flow-sensitive
+# warnings differ and the instrumentation adds false positives) prints them without failing.
 function(taskmap_set_warnings target)
+  set(_werror -Werror)
+  if(TASKMAP_SANITIZE)
+    set(_werror "")
+  endif()
   target_compile_options(${target} PRIVATE
-    $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor -Werror>)
+    $<$<COMPILE_LANGUAGE:CXX>:-Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor ${_werror}>)
 endfunction()
 
 if(TASKMAP_SANITIZE)
   string(REPLACE "," ";" _taskmap_san_list "${TASKMAP_SANITIZE}")
   string(REPLACE ";" "," _taskmap_san_flags "${_taskmap_san_list}")
-  add_compile_options(-fsanitize=${_taskmap_san_flags} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  # -O1 with line tables only (-g1; after the build type's flags, so they win): what
+  # AddressSanitizer's documentation recommends, stack traces keep file and line, and the
+  # compile takes less than half the time of -O2 -g (measured on meshes/src/convex_decomposition.cpp,
+  # the CGAL translation units dominate the sanitizer build: 737 s against 1688 s, same machine).
+  add_compile_options(-O1 -g1 -fsanitize=${_taskmap_san_flags} -fno-omit-frame-pointer
+    -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${_taskmap_san_flags})
 endif()
 

@@ -123,9 +123,8 @@ py::dict reachDict(const ReachResult& res) {
   return d;
 }
 
-}  // namespace
-
-void bindReaching(py::module_& m) {
+/// taskmap.Robot: the arm, its hand and scene, kinematics.
+void bindRobot(py::module_& m) {
   py::class_<PyRobot>(m, "Robot",
                       "A robot arm (URDF), optionally with a hand on its flange and a scene of "
                       "fixed bodies (metres, radians; world = robot root frame).")
@@ -185,7 +184,10 @@ void bindReaching(py::module_& m) {
           py::arg("q"), py::arg("body"), py::arg("reference") = "",
           "6 x dofs Jacobian of body relative to reference ('' = world) in the reference frame: "
           "linear rows (eq. 1.4) then angular rows (eq. 1.5).");
+}
 
+/// taskmap.reach and taskmap.plan_grasp.
+void bindPlanning(py::module_& m) {
   m.def(
       "reach",
       [](const PyRobot& r, const Eigen::Matrix<double, 7, 1>& target, const std::string& body,
@@ -281,6 +283,13 @@ void bindReaching(py::module_& m) {
       "grasp_index, iterations, iterations_to_manifold, iterations_to_quality, min_clearance_m, "
       "joint_limit_margin_rad, collision_free, ms_per_iteration, cost_history, "
       "proximity_history, quality_history, q (steps+1 x dofs).");
+}
+
+}  // namespace
+
+void bindReaching(py::module_& m) {
+  bindRobot(m);
+  bindPlanning(m);
 }
 
 }  // namespace taskmap

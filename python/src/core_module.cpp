@@ -1,4 +1,6 @@
-// Python bindings of the run-time query library: `import taskmap`.
+// taskmap._core: the run-time query library (integration, mapstore, clustering), what
+// `import taskmap` loads. No simulator, mesh or URDF library is linked here: the offline stages
+// are in taskmap._offline (offline_module.cpp), loaded on first use.
 // Poses are numpy arrays (x y z qw qx qy qz), gradients 6-vectors (linear, angular) in the
 // object frame; taskmap::Error becomes taskmap.Error, a subclass of ValueError.
 #include <pybind11/eigen.h>
@@ -8,9 +10,7 @@
 
 #include <algorithm>
 
-#include "reaching_bindings.hpp"
 #include "trajectory_bindings.hpp"
-#include "validate_bindings.hpp"
 
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
@@ -216,30 +216,18 @@ TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
   return TaskMap::fromData(std::move(d), makeOptions(kw));
 }
 
-}  // namespace
+void bindTaskMapQueries(py::class_<TaskMap>& cls);
 
-PYBIND11_MODULE(taskmap, m) {
-  m.doc() = "Grasp task maps: load a map, query nearest grasps, proximity and quality criteria.";
-  static py::exception<Error> error(m, "Error", PyExc_ValueError);
-  py::register_exception_translator([](std::exception_ptr p) {
-    try {
-      if (p) std::rethrow_exception(p);
-    } catch (const Error& e) {
-      PyErr_SetString(error.ptr(), e.what());
-    }
-  });
-
-  bindReaching(m);
-  bindTrajectory(m);
-  bindValidate(m);
-
-  py::class_<TaskMap>(m, "TaskMap", "A loaded, indexed task map (read-only, thread-safe queries).")
-      .def_static(
-          "load",
-          [](const std::string& path, const py::kwargs& kw) {
-            return TaskMap::load(path, makeOptions(kw));
-          },
-          py::arg("path"), "Reads a map file; keyword options as TaskMapOptions.")
+/// taskmap.TaskMap: load, save, from_arrays, the stored arrays, then the queries.
+void bindTaskMap(py::module_& m) {
+  py::class_<TaskMap> cls(m, "TaskMap",
+                          "A loaded, indexed task map (read-only, thread-safe queries).");
+  cls.def_static(
+         "load",
+         [](const std::string& path, const py::kwargs& kw) {
+           return TaskMap::load(path, makeOptions(kw));
+         },
+         py::arg("path"), "Reads a map file; keyword options as TaskMapOptions.")
       .def_static("from_arrays", &fromArrays, py::arg("poses"), py::arg("epsilon"),
                   py::arg("labels") = py::none(), py::arg("rotation_scale") = kDefaultRotationScale,
                   "Map from N x 7 poses, N epsilons and optional cluster labels (-1 outlier).")
@@ -274,13 +262,18 @@ PYBIND11_MODULE(taskmap, m) {
             const Neighbor n = t.nearest(toPose(x), c);
             return py::make_tuple(n.index, n.distance);
           },
-          py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)")
-      .def(
-          "knn",
-          [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
-            return neighbours(t.knn(toPose(x), k, c));
-          },
-          py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
+          py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)");
+  bindTaskMapQueries(cls);
+}
+
+/// TaskMap's queries: neighbours, proximity, quality, evaluate, cluster ranking.
+void bindTaskMapQueries(py::class_<TaskMap>& cls) {
+  cls.def(
+         "knn",
+         [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
+           return neighbours(t.knn(toPose(x), k, c));
+         },
+         py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
       .def(
           "radius",
           [](const TaskMap& t, const Vec7& x, double r, std::optional<int> c) {
@@ -388,7 +381,10 @@ PYBIND11_MODULE(taskmap, m) {
           },
           py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
           "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
+}
 
+/// taskmap.Session: cached evaluation for an optimizer run.
+void bindSession(py::module_& m) {
   py::class_<EvaluationSession>(m, "Session",
                                 "Warm-started evaluate for one optimizer run (TaskMap.session); "
                                 "not thread-safe.")
@@ -407,7 +403,10 @@ PYBIND11_MODULE(taskmap, m) {
       .def_property_readonly("margin", &EvaluationSession::margin)
       .def_property_readonly("cluster", &EvaluationSession::cluster)
       .def("reset", &EvaluationSession::reset, "Drops the cache and zeroes stats.");
+}
 
+/// load, seal and the frame, gradient and cost helpers.
+void bindFunctions(py::module_& m) {
   m.def(
       "load",
       [](const std::string& path, const py::kwargs& kw) {
@@ -464,4 +463,24 @@ PYBIND11_MODULE(taskmap, m) {
         return poseDistance(toPose(a), toPose(b), rho);
       },
       py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "Grasp task maps: load a map, query nearest grasps, proximity and quality criteria.";
+  static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+
+  bindTrajectory(m);
+
+  bindTaskMap(m);
+  bindSession(m);
+  bindFunctions(m);
 }

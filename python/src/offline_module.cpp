@@ -1,0 +1,25 @@
+// taskmap._offline: the offline stages (reaching planner, physics validation), which load the
+// simulators and the mesh and URDF libraries. `import taskmap` does not load it; the package
+// imports it on first use of one of its names (python/taskmap/__init__.py).
+#include <pybind11/pybind11.h>
+
+#include "reaching_bindings.hpp"
+#include "taskmap/core/error.hpp"
+#include "validate_bindings.hpp"
+
+namespace py = pybind11;
+
+PYBIND11_MODULE(_offline, m) {
+  m.doc() = "taskmap's offline stages: Robot, reach, plan_grasp, validate (loaded on first use).";
+  // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
+  static py::object error = py::module_::import("taskmap._core").attr("Error");
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const taskmap::Error& e) {
+      PyErr_SetString(error.ptr(), e.what());
+    }
+  });
+  taskmap::bindReaching(m);
+  taskmap::bindValidate(m);
+}
