@@ -1,12 +1,11 @@
 #include "taskmap/core/random.hpp"
+#include "taskmap/core/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace taskmap {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::uint64_t splitmix64(std::uint64_t& x) {
   std::uint64_t z = (x += 0x9E3779B97F4A7C15ULL);

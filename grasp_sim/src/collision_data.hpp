@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "collision_scene.hpp"
+#include "taskmap/core/constants.hpp"
 
 namespace taskmap {
 
@@ -66,8 +67,6 @@ struct TriangleQuery : btTriangleCallback {
 /// Contacts by separating axes (sat_depths): pairs overlapping by more than this (metres) take
 /// the axes' depth; shallower ones GJK/EPA as before.
 constexpr double kSatDepthMin = 1e-9;
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// Culling planes are tested in blocks of this many (vector arithmetic, early exit per block).
 constexpr int kPlaneBlock = 8;

@@ -16,6 +16,7 @@
 
 #include "collision_mesh.hpp"
 #include "hand_model_build.hpp"
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
@@ -26,8 +27,6 @@ namespace taskmap {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string readFile(const std::string& path, const char* what) {
   std::error_code ec;

@@ -29,13 +29,13 @@
 
 #include <Eigen/Geometry>
 
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/quality/wrench_epsilon.hpp"
 
 namespace taskmap {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 /// Below this relative length the (c - p) tangent component is too short to orient the cone.
 constexpr double kCovariantBasisMin = 1e-6;
 /// Normals shorter than this are rejected as zero; others are normalised.

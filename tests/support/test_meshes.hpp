@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/triangle_mesh.hpp"
 
 namespace taskmap::testing {
@@ -25,7 +26,6 @@ inline TriangleMesh makeBox(double sx, double sy, double sz,
 /// origin, with n sides.
 inline TriangleMesh makeCylinder(double r, double h, int n, int axis = 2) {
   TriangleMesh m;
-  const double kPi = 3.14159265358979323846;
   auto put = [&](double x, double y, double z) {
     Eigen::Vector3d v(x, y, z);
     // Map the local z axis to `axis` by a cyclic permutation (keeps orientation).

@@ -9,11 +9,10 @@
 #include <Eigen/Core>
 
 #include "map_summary.hpp"
+#include "taskmap/core/constants.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 
 namespace taskmap::cli::draw {
-
-constexpr double kPi = 3.14159265358979323846;
 
 /// RGB colour, components in [0, 1].
 struct Rgb {

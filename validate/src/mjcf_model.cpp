@@ -10,12 +10,12 @@
 
 #include <Eigen/Geometry>
 
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMinSize = 1e-5;  // MuJoCo refuses geoms of zero size (metres)
 
 /// Full-precision number.

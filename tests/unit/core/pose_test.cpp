@@ -6,13 +6,12 @@
 #include <gtest/gtest.h>
 
 #include "error_matchers.hpp"
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
 
 namespace taskmap {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(PoseTest, QuaternionSignDoesNotChangeDistance) {
   Rng rng(7);

@@ -14,6 +14,7 @@
 
 #include "error_matchers.hpp"
 #include "quality_fixtures.hpp"
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/quality/wrench_hull.hpp"
 
@@ -22,8 +23,6 @@ namespace {
 
 using testing::makeContact;
 using testing::randomContacts;
-
-constexpr double kPi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------------------------
 // Options, names
