@@ -218,6 +218,11 @@ std::string runBounded(const std::function<std::string()>& work, std::uint64_t f
   if (!bytes.empty() && bytes[0] == 'M' && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
     throw Error(what + ": needs more than " + mib(budget.memory_bytes) +
                 " of memory to parse; refused (" + limits + ")");
+  if (!bytes.empty() && bytes[0] == 'C' && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    throw Error(what +
+                ": the parser crashed on this file (AddressSanitizer's report is on "
+                "stderr); refused (" +
+                limits + ")");
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty())
     throw Error(what + ": the parser failed (exit status " +
                 std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "); refused");
