@@ -101,18 +101,23 @@ void writeAll(int fd, const char* data, std::size_t size) {
   const rlimit cpu{static_cast<rlim_t>(budget.cpu_seconds),
                    static_cast<rlim_t>(budget.cpu_seconds + 1)};
   setrlimit(RLIMIT_CPU, &cpu);
+#ifndef TASKMAP_ASAN
   const rlimit memory{static_cast<rlim_t>(baseline + budget.memory_bytes),
                       static_cast<rlim_t>(baseline + budget.memory_bytes)};
-#ifndef TASKMAP_ASAN
   setrlimit(RLIMIT_AS, &memory);
 #else
   // AddressSanitizer reserves terabytes of address space, so RLIMIT_AS cannot bound it; the
   // data limit counts private writable mappings (Linux >= 4.7), which every heap allocation
   // of the sanitizer's allocator is, and its shadow is already in the baseline.
+  // Freed blocks stay mapped in the sanitizer's quarantine (256 MiB by default) and every
+  // block carries redzones: the sanitized child gets twice the budget plus 512 MiB, which
+  // still refuses what a hostile file asks for (gigabytes) with the budget's message.
   g_report_fd = fd;
   __asan_set_error_report_callback(onSanitizerReport);
   __sanitizer_set_death_callback(onSanitizerDeath);
-  setrlimit(RLIMIT_DATA, &memory);
+  const rlim_t sanitized = static_cast<rlim_t>(baseline + 2 * budget.memory_bytes + 512 * kMiB);
+  const rlimit data{sanitized, sanitized};
+  setrlimit(RLIMIT_DATA, &data);
 #endif
   const rlimit no_core{0, 0};
   setrlimit(RLIMIT_CORE, &no_core);
