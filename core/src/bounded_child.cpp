@@ -20,11 +20,16 @@
 #include "taskmap/core/error.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)
-#define TASKMAP_NO_RLIMIT_AS 1
+#define TASKMAP_ASAN 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-#define TASKMAP_NO_RLIMIT_AS 1
+#define TASKMAP_ASAN 1
 #endif
+#endif
+
+#ifdef TASKMAP_ASAN
+#include <sanitizer/asan_interface.h>
+#include <sanitizer/common_interface_defs.h>
 #endif
 
 namespace taskmap {
@@ -32,8 +37,9 @@ namespace {
 
 constexpr std::uint64_t kMiB = 1024 * 1024;
 
+#ifndef TASKMAP_ASAN
 // The calling process' address space in bytes (VmSize), 0 when unknown.
-std::uint64_t addressSpace() {
+std::uint64_t memoryBaseline() {
   std::FILE* f = std::fopen("/proc/self/statm", "r");
   if (f == nullptr) return 0;
   unsigned long long pages = 0;
@@ -41,6 +47,44 @@ std::uint64_t addressSpace() {
   std::fclose(f);
   return n == 1 ? pages * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE)) : 0;
 }
+#else
+// The calling process' private writable memory in bytes (VmData of /proc/self/status, which
+// RLIMIT_DATA bounds), 0 when unknown. Under AddressSanitizer it includes the shadow memory
+// reserved at start-up (terabytes), so that baseline + budget bounds what the child adds.
+std::uint64_t memoryBaseline() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return 0;
+  char line[256];
+  unsigned long long kib = 0;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    if (std::strncmp(line, "VmData:", 7) == 0) kib = std::strtoull(line + 7, nullptr, 10);
+  }
+  std::fclose(f);
+  return kib * 1024;
+}
+
+// The child's pipe, for the sanitizer callbacks below.
+int g_report_fd = -1;
+bool g_reported = false;
+
+// AddressSanitizer reports an allocation it cannot serve (RLIMIT_DATA reached) as an error
+// and dies instead of throwing std::bad_alloc: tell the parent 'M' (memory) for those, 'C'
+// (crash) for every other report.
+void onSanitizerReport(const char* report) {
+  const bool memory = std::strstr(report, "out of memory") != nullptr ||
+                      std::strstr(report, "allocation-size-too-big") != nullptr ||
+                      std::strstr(report, "exceeds maximum supported size") != nullptr;
+  const char status = memory ? 'M' : 'C';
+  if (!g_reported && ::write(g_report_fd, &status, 1) == 1) g_reported = true;
+}
+
+// The sanitizer dies without a report when its own allocator cannot map memory ("Failed to
+// mmap"): under RLIMIT_DATA that is exhausted memory.
+void onSanitizerDeath() {
+  const char status = 'M';
+  if (!g_reported && ::write(g_report_fd, &status, 1) == 1) g_reported = true;
+}
+#endif
 
 void writeAll(int fd, const char* data, std::size_t size) {
   while (size > 0) {
@@ -57,12 +101,23 @@ void writeAll(int fd, const char* data, std::size_t size) {
   const rlimit cpu{static_cast<rlim_t>(budget.cpu_seconds),
                    static_cast<rlim_t>(budget.cpu_seconds + 1)};
   setrlimit(RLIMIT_CPU, &cpu);
-#ifndef TASKMAP_NO_RLIMIT_AS
-  const rlimit as{static_cast<rlim_t>(baseline + budget.memory_bytes),
-                  static_cast<rlim_t>(baseline + budget.memory_bytes)};
-  setrlimit(RLIMIT_AS, &as);
+#ifndef TASKMAP_ASAN
+  const rlimit memory{static_cast<rlim_t>(baseline + budget.memory_bytes),
+                      static_cast<rlim_t>(baseline + budget.memory_bytes)};
+  setrlimit(RLIMIT_AS, &memory);
 #else
-  (void)baseline;
+  // AddressSanitizer reserves terabytes of address space, so RLIMIT_AS cannot bound it; the
+  // data limit counts private writable mappings (Linux >= 4.7), which every heap allocation
+  // of the sanitizer's allocator is, and its shadow is already in the baseline.
+  // Freed blocks stay mapped in the sanitizer's quarantine (256 MiB by default) and every
+  // block carries redzones: the sanitized child gets twice the budget plus 512 MiB, which
+  // still refuses what a hostile file asks for (gigabytes) with the budget's message.
+  g_report_fd = fd;
+  __asan_set_error_report_callback(onSanitizerReport);
+  __sanitizer_set_death_callback(onSanitizerDeath);
+  const rlim_t sanitized = static_cast<rlim_t>(baseline + 2 * budget.memory_bytes + 512 * kMiB);
+  const rlimit data{sanitized, sanitized};
+  setrlimit(RLIMIT_DATA, &data);
 #endif
   const rlimit no_core{0, 0};
   setrlimit(RLIMIT_CORE, &no_core);
@@ -105,7 +160,7 @@ std::string runBounded(const std::function<std::string()>& work, std::uint64_t f
   const char* off = std::getenv("TASKMAP_NO_PARSE_CHILD");
   if (off != nullptr && std::strcmp(off, "1") == 0) return work();
   const ParseBudget budget = parseBudget(file_bytes);
-  const std::uint64_t baseline = addressSpace();
+  const std::uint64_t baseline = memoryBaseline();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw Error(what + ": cannot create a pipe (" + std::strerror(errno) + ")");
@@ -165,6 +220,14 @@ std::string runBounded(const std::function<std::string()>& work, std::uint64_t f
     throw Error(what + ": the parser crashed (signal " + std::to_string(sig) + ", " +
                 strsignal(sig) + ") on this file, or ran out of memory; refused (" + limits + ")");
   }
+  if (!bytes.empty() && bytes[0] == 'M' && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    throw Error(what + ": needs more than " + mib(budget.memory_bytes) +
+                " of memory to parse; refused (" + limits + ")");
+  if (!bytes.empty() && bytes[0] == 'C' && !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    throw Error(what +
+                ": the parser crashed on this file (AddressSanitizer's report is on "
+                "stderr); refused (" +
+                limits + ")");
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || bytes.empty())
     throw Error(what + ": the parser failed (exit status " +
                 std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + "); refused");

@@ -116,6 +116,17 @@ void ExportScene::validate() const {
       throw Error("export scene: glyph " + std::to_string(i) + " is not finite");
     }
   }
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const ScenePart& part = parts[i];
+    const auto n = static_cast<int>(part.mesh.vertices.size());
+    bool ok = finite(part.color) && !part.mesh.faces.empty();
+    for (const auto& v : part.mesh.vertices) ok = ok && v.allFinite();
+    for (const auto& f : part.mesh.faces) ok = ok && f.minCoeff() >= 0 && f.maxCoeff() < n;
+    if (!ok) {
+      throw Error("export scene: part " + std::to_string(i) + " ('" + part.name +
+                  "') is empty, not finite or indexes a missing vertex");
+    }
+  }
   if (!finite(object_color)) throw Error("export scene: object colour is not finite");
   if (!(glyph_size > 0) || !std::isfinite(glyph_size)) {
     throw Error("export scene: glyph_size must be a positive length in metres");
@@ -185,6 +196,20 @@ void exportScene(const std::string& path, const ExportScene& scene, SceneFormat 
     }
     materials.push_back(makeMaterial("glyphs", scene.glyphs.front().color));
     meshes.push_back(makeMesh("glyphs", vertices, colors, faces, aiPrimitiveType_TRIANGLE,
+                              static_cast<unsigned>(materials.size() - 1)));
+  }
+  // Parts (e.g. hand links at the representatives), one mesh each.
+  for (const ScenePart& part : scene.parts) {
+    std::vector<std::vector<unsigned>> faces;
+    faces.reserve(part.mesh.faces.size());
+    for (const auto& f : part.mesh.faces) {
+      faces.push_back(
+          {static_cast<unsigned>(f[0]), static_cast<unsigned>(f[1]), static_cast<unsigned>(f[2])});
+    }
+    materials.push_back(makeMaterial(part.name.c_str(), part.color));
+    meshes.push_back(makeMesh(part.name.c_str(), part.mesh.vertices,
+                              std::vector<Rgba>(part.mesh.vertices.size(), part.color), faces,
+                              aiPrimitiveType_TRIANGLE,
                               static_cast<unsigned>(materials.size() - 1)));
   }
   if (meshes.empty()) throw Error("cannot export '" + path + "': the scene is empty");

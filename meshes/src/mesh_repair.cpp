@@ -315,7 +315,17 @@ SolidResult makeSolidImpl(MeshSoup soup, const std::string& what, bool repair) {
   SolidBuild b{std::move(soup), what, repair, {}, 0.0};
   checkInput(b);
   cleanFaces(b);
+  // A mesh collapsed onto a plane (e.g. a box whose thickness is below float precision at its
+  // coordinates) may lose every face here; CGAL must not see an empty surface.
+  const auto refuseEmpty = [&b] {
+    if (b.soup.faces.empty())
+      b.refuse(
+          "no faces are left after dropping degenerate, duplicate and opposite faces (the "
+          "mesh is flat or collapsed); a solid needs positive volume");
+  };
+  refuseEmpty();
   const EdgeStats stats = closeBorders(b);
+  refuseEmpty();
   Surface mesh = orientedSurface(b, stats);
   removeZeroAreaFaces(b, mesh);
   orientOutward(b, mesh);

@@ -6,12 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
+#include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cairo.h>
 #include <gtest/gtest.h>
@@ -21,6 +24,7 @@
 #include "cli_run.hpp"
 #include "synthetic_map.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "viz_fixtures.hpp"
 
 namespace taskmap {
 namespace {
@@ -31,6 +35,20 @@ using testing::CliRun;
 
 CliRun run(const std::string& args) {
   return testing::runTaskmap(args);
+}
+
+// The JSON of `inspect --json --png` without the warning lines (stderr is merged into the
+// output; maps whose hand is not found draw no hand and say so).
+nlohmann::json jsonOf(const std::string& out) {
+  std::string json;
+  std::size_t at = 0;
+  while (at < out.size()) {
+    const std::size_t end = std::min(out.find('\n', at), out.size());
+    const std::string line = out.substr(at, end - at);
+    if (line.find(": warning: ") == std::string::npos) json += line + "\n";
+    at = end + 1;
+  }
+  return nlohmann::json::parse(json);
 }
 
 class InspectCliTest : public ::testing::Test {
@@ -155,7 +173,7 @@ TEST_F(InspectCliTest, PictureHasEveryClusterColour) {
   const std::string png_path = path("map.png");
   const CliRun r = run("inspect --json --png " + png_path + " " + map_path_);
   ASSERT_EQ(r.code, 0) << r.out;
-  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json j = jsonOf(r.out);
   const Png png = readPng(png_path);
   EXPECT_EQ(png.width, 1600);
   EXPECT_EQ(png.height, 1100);
@@ -202,7 +220,7 @@ TEST_F(InspectCliTest, ManyClustersKeepDistinctColours) {
   const std::string png_path = path("many.png");
   const CliRun r = run("inspect --json --png " + png_path + " " + file);
   ASSERT_EQ(r.code, 0) << r.out;
-  const nlohmann::json j = nlohmann::json::parse(r.out);
+  const nlohmann::json j = jsonOf(r.out);
   const Png png = readPng(png_path);
   std::set<std::uint32_t> colors;
   for (const auto& cl : j["clustering"]["clusters"]) {
@@ -223,7 +241,7 @@ TEST_F(InspectCliTest, UnclusteredMapInspectsAndDraws) {
   EXPECT_NE(r.out.find("clusters   none"), std::string::npos) << r.out;
   r = run("inspect --json --png " + path("plain.png") + " " + file);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_TRUE(nlohmann::json::parse(r.out)["clustering"].is_null());
+  EXPECT_TRUE(jsonOf(r.out)["clustering"].is_null());
   const Png png = readPng(path("plain.png"));
   EXPECT_EQ(png.width, 1600);
   EXPECT_GT(png.count(0x969696), 0);  // every grasp drawn as an outlier
@@ -362,6 +380,211 @@ TEST_F(InspectCliTest, BadInputGivesClearErrorsAndNonZeroExit) {
             std::string::npos)
       << r.out;
   EXPECT_FALSE(fs::exists(path("y.h5")));
+}
+
+// A map of the humanoid hand with one grasp per palm position (each grasp a cluster of its
+// own, its representative), the hand closed in its preshape and approaching the origin.
+TaskMapData handMap(const HandModel& hand, const std::vector<Eigen::Vector3d>& palms) {
+  TaskMapData m = testing::oneGraspMap(hand, palms[0]);
+  const auto n = static_cast<Eigen::Index>(palms.size());
+  MapGrasps& g = m.grasps;
+  g.pose.conservativeResize(n, 7);
+  g.joints.conservativeResize(n, g.joints.cols());
+  ClusteringResult c;
+  c.method = Linkage::kSingle;
+  c.rotation_scale = 0.1;
+  c.threshold = 0.01;
+  c.min_size = 1;
+  c.linkage = testing::chainLinkage(n, 0.5);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const TaskMapData one = testing::oneGraspMap(hand, palms[static_cast<std::size_t>(i)]);
+    g.pose.row(i) = one.grasps.pose.row(0);
+    g.joints.row(i) = one.grasps.joints.row(0);
+    if (i > 0) {
+      g.force_closure.push_back(1);
+      g.epsilon.push_back(0.125);
+      g.volume.push_back(0.001);
+      g.contact_offsets.push_back(g.contact_offsets.back());  // no contacts
+    }
+    c.labels.push_back(static_cast<int>(i));
+    ClusterSummary s;
+    s.size = 1;
+    s.representative = static_cast<int>(i);
+    s.mean_pose = g.poseAt(static_cast<std::size_t>(i));
+    s.bounds_min = s.bounds_max = s.mean_pose.position;
+    s.mean_epsilon = s.best_epsilon = 0.125;
+    c.clusters.push_back(s);
+  }
+  m.clustering = c;
+  return m;
+}
+
+// The pixels of a PNG as 0xRRGGBB.
+struct Pixels {
+  int width = 0, height = 0;
+  std::vector<std::uint32_t> rgb;
+  std::uint32_t at(int x, int y) const {
+    return rgb[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+               static_cast<std::size_t>(x)];
+  }
+};
+
+Pixels readPixels(const std::string& file) {
+  Pixels p;
+  cairo_surface_t* s = cairo_image_surface_create_from_png(file.c_str());
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    p.width = cairo_image_surface_get_width(s);
+    p.height = cairo_image_surface_get_height(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    for (int y = 0; y < p.height; ++y) {
+      const auto* row = reinterpret_cast<const std::uint32_t*>(data + y * stride);
+      for (int x = 0; x < p.width; ++x) p.rgb.push_back(row[x] & 0xffffffu);
+    }
+  }
+  cairo_surface_destroy(s);
+  return p;
+}
+
+// Pixels of one colour class in a rectangle: how many and their mean x.
+struct Blob {
+  int count = 0;
+  double mean_x = 0;
+};
+
+template <class Pred>
+Blob blob(const Pixels& p, int x0, int y0, int x1, int y1, Pred pred) {
+  Blob b;
+  for (int y = y0; y < y1; ++y)
+    for (int x = x0; x < x1; ++x)
+      if (pred(p.at(x, y))) {
+        ++b.count;
+        b.mean_x += x;
+      }
+  if (b.count > 0) b.mean_x /= b.count;
+  return b;
+}
+
+// colour c at 30 % over white, as the hand outlines are filled (+-3 per channel).
+bool handTint(std::uint32_t px, std::uint32_t c) {
+  for (int shift : {0, 8, 16}) {
+    const double ch = (c >> shift) & 0xff;
+    const double expect = 0.3 * ch + 0.7 * 255.0;
+    if (std::abs(static_cast<double>((px >> shift) & 0xff) - expect) > 3.0) return false;
+  }
+  return true;
+}
+
+// inspect --png draws the hand, posed by the representative, where the pose puts it: a palm on
+// the +x side of the cube puts hand pixels right of the object's silhouette in the top view
+// (x right) and the front view (x right), a palm on the -x side left of it. A map whose hand
+// is not found draws no hand.
+TEST_F(InspectCliTest, PictureOutlinesTheHandAtEachRepresentative) {
+  const HandModel hand = testing::humanoidHand();
+  // Cells of the 1600 x 1100 picture: top view x in [20, 639), front view x in [651, 1270),
+  // both y in [72, 570) (map_picture.cpp's layout).
+  const int cells[2][2] = {{20, 639}, {651, 1270}};
+  for (double side : {+1.0, -1.0}) {
+    SCOPED_TRACE(side > 0 ? "palm at +x" : "palm at -x");
+    const std::string file = path("hand.h5"), png_path = path("hand.png");
+    writeMap(file, handMap(hand, {Eigen::Vector3d(side * 0.12, 0, 0)}));
+    const CliRun r = run("inspect --json --png " + png_path + " " + file);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const std::uint32_t color = hexColor(jsonOf(r.out)["clustering"]["clusters"][0]["color"]);
+    const Pixels png = readPixels(png_path);
+    ASSERT_EQ(png.width, 1600);
+    for (const auto& cell : cells) {
+      const Blob object =
+          blob(png, cell[0], 72, cell[1], 570, [](std::uint32_t px) { return px == 0xcccccc; });
+      const Blob hand_px = blob(png, cell[0], 72, cell[1], 570,
+                                [&](std::uint32_t px) { return handTint(px, color); });
+      ASSERT_GT(object.count, 500);
+      EXPECT_GT(hand_px.count, 300) << "hand pixels in the view at x " << cell[0];
+      EXPECT_GT(side * (hand_px.mean_x - object.mean_x), 20.0)
+          << "hand at x " << hand_px.mean_x << ", object at x " << object.mean_x;
+    }
+  }
+  // No hand found by the map's SHA-256: a warning, no hand pixels.
+  TaskMapData unknown = handMap(hand, {Eigen::Vector3d(0.12, 0, 0)});
+  unknown.hand.urdf_sha256 = std::string(64, '0');
+  writeMap(path("unknown.h5"), unknown);
+  const CliRun r = run("inspect --png " + path("plain.png") + " " + path("unknown.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("warning"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("drawing no hand"), std::string::npos) << r.out;
+  const Pixels plain = readPixels(path("plain.png"));
+  const Blob none =
+      blob(plain, 20, 72, 1270, 570, [](std::uint32_t px) { return handTint(px, 0x1f77b4); });
+  EXPECT_EQ(none.count, 0);
+}
+
+// The GLB's JSON chunk (glTF 2.0 binary: 12-byte header, then the JSON chunk).
+nlohmann::json glbJson(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 20 || bytes.compare(0, 4, "glTF") != 0 || bytes.compare(16, 4, "JSON") != 0)
+    return nullptr;
+  std::uint32_t length = 0;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  if (20 + static_cast<std::size_t>(length) > bytes.size()) return nullptr;
+  return nlohmann::json::parse(bytes.substr(20, length));
+}
+
+// export --format glb carries the hand at the representatives: one mesh (and node) per link
+// with collision shapes per representative, beside object, grasps and glyphs, each link where
+// its representative's pose puts it; assimp and three.js's GLTFLoader read the file.
+TEST_F(InspectCliTest, GlbCarriesTheHandLinksAtEachRepresentative) {
+  const HandModel hand = testing::humanoidHand();
+  std::size_t links = 0;
+  for (const HandLink& l : hand.links()) links += l.shapes.empty() ? 0 : 1;
+  ASSERT_GT(links, 5u);
+  const std::string file = path("two.h5"), glb = path("two.glb");
+  writeMap(file, handMap(hand, {Eigen::Vector3d(0.12, 0, 0), Eigen::Vector3d(-0.12, 0, 0)}));
+  const CliRun r = run("export " + file + " --format glb -o " + glb);
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json j = glbJson(glb);
+  ASSERT_TRUE(j.is_object()) << "not a GLB";
+  const std::size_t expected = 3 + 2 * links;  // object, grasps, glyphs + links x reps
+  EXPECT_EQ(j["meshes"].size(), expected);
+  std::size_t with_mesh = 0;
+  double centre[2] = {0, 0};
+  std::size_t parts[2] = {0, 0};
+  for (const auto& node : j["nodes"]) {
+    if (!node.contains("mesh")) continue;
+    ++with_mesh;
+    const std::string name = node.value("name", "");
+    for (int k = 0; k < 2; ++k) {
+      if (name.rfind("cluster" + std::to_string(k) + "_", 0) != 0) continue;
+      const auto& mesh = j["meshes"][node["mesh"].get<std::size_t>()];
+      const auto& acc = j["accessors"][mesh["primitives"][0]["attributes"]["POSITION"].get<int>()];
+      centre[k] += 0.5 * (acc["min"][0].get<double>() + acc["max"][0].get<double>());
+      ++parts[k];
+    }
+  }
+  EXPECT_EQ(with_mesh, expected);
+  ASSERT_EQ(parts[0], links);
+  ASSERT_EQ(parts[1], links);
+  // glTF nodes hold the object frame as is (no node transforms): cluster 0's hand is on the
+  // +x side of the cube, cluster 1's on the -x side.
+  EXPECT_GT(centre[0] / links, 0.04);
+  EXPECT_LT(centre[1] / links, -0.04);
+
+  Assimp::Importer importer;
+  const aiScene* s = importer.ReadFile(glb, aiProcess_ValidateDataStructure);
+  ASSERT_NE(s, nullptr) << importer.GetErrorString();
+  EXPECT_EQ(s->mNumMeshes, expected);
+  const std::string three = "/usr/share/javascript/three";
+  if (::access("/usr/bin/node", X_OK) == 0 &&
+      fs::exists(three + "/examples/js/loaders/GLTFLoader.js")) {
+    const CliRun probe = testing::runShell("/usr/bin/node " + std::string(TASKMAP_SOURCE_DIR) +
+                                           "/tests/cli/gltf_probe.js " + glb + " " + three);
+    ASSERT_EQ(probe.code, 0) << probe.out;
+    EXPECT_EQ(nlohmann::json::parse(probe.out)["names"].size(), expected) << probe.out;
+  } else {
+    std::printf("three.js GLTFLoader check skipped: no /usr/bin/node or libjs-three\n");
+  }
+  // PLY: one vertex list with the parts after object, points and glyphs.
+  ASSERT_EQ(run("export " + file + " --format ply -o " + path("two.ply")).code, 0);
 }
 
 }  // namespace

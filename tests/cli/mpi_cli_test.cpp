@@ -2,6 +2,8 @@
 // thread count; a rank that dies fails the job with no output file, and the re-run resumes
 // from the checkpoint, simulating fewer trials, and gives the same map. Ranks talk over
 // loopback TCP (as separate nodes would), oversubscribed on a small machine.
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -148,6 +150,47 @@ TEST_F(MpiBuild, BadInputIsReportedOnceAndNothingIsWritten) {
   EXPECT_EQ(errors, 1u) << "one rank reports, once:\n" << r.out;
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".ckpt"));
+}
+
+// taskmap-mpi build takes the lock of taskmap build on the output: while a taskmap build
+// runs on an output, an MPI build of the same output refuses at once naming the holder's PID
+// and writes nothing (no checkpoint); once the first run is gone, the output is free again.
+TEST_F(MpiBuild, SecondRunOnTheSameOutputRefusesWithTheHolderPid) {
+  const std::string out = path("locked.h5");
+  const std::string log = path("first.log");
+  const std::string first = taskmap() + " build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                            "/basket.obj --hand " + std::string(TASKMAP_HANDS_DIR) +
+                            "/barrett/barrett.urdf --valid 100000 --seed 3 --threads 1 -q -o " +
+                            out;
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", ("exec " + first + " > " + log + " 2>&1").c_str(), nullptr);
+    ::_exit(127);
+  }
+  // The first run holds the lock once its PID is in the lock file.
+  const std::string holder = std::to_string(pid);
+  bool held = false;
+  for (int i = 0; i < 600 && !held; ++i) {
+    std::ifstream in(out + ".lock");
+    std::string content;
+    held = static_cast<bool>(std::getline(in, content)) && content == holder;
+    if (!held) ::usleep(50000);
+  }
+  ASSERT_TRUE(held) << "taskmap build did not take the lock in 30 s";
+  const RunResult second = run(mpi(2) + buildArgs(out, 1) + " --block-trials 64");
+  EXPECT_NE(second.code, 0) << second.out;
+  EXPECT_NE(second.out.find("output '" + out + "' is in use by another taskmap run (PID " + holder),
+            std::string::npos)
+      << second.out;
+  EXPECT_FALSE(fs::exists(out + ".ckpt")) << "the refused run wrote a checkpoint";
+  // Stop the first run and wait for it; the lock goes with the process.
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  // Free again (a stale lock file is no held lock): the MPI build runs.
+  const RunResult third = run(mpi(2) + buildArgs(out, 1) + " --block-trials 64");
+  EXPECT_EQ(third.code, 0) << third.out;
 }
 
 // A data set of 3 objects (one of them not a mesh) x 2 hands.

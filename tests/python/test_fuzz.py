@@ -3,7 +3,9 @@
 Mutants (fixed seeds: bit flips, zeroed blocks, truncations, huge numbers) of a real map
 (tests/data/maps/box_barrett.h5) go through `taskmap inspect --json` and `taskmap.load`;
 mutants of a box in every bounded mesh format (tests/data/meshes/fuzz/) go through
-`taskmap mesh-info`. Each case has a time limit. Required: no crash, no hang, every refusal
+`taskmap mesh-info`; mutants of the map go through `taskmap.seal` too (each parsed in its
+bounded child). Each case has a time limit; the Python workers run with CPU and address-space
+limits. Required: no crash, no hang, every refusal
 names the file and says what is wrong, no accepted map whose grasps differ from the original,
 and peak memory of a mesh load within a fixed margin of loading the original. Prints a table
 of outcomes per format.
@@ -29,6 +31,9 @@ MAP = os.path.join(DATA, "maps", "box_barrett.h5")
 MESHES = ["box.obj", "box.off", "box_ascii.ply", "box_binary.ply", "box_ascii.stl",
           "box_binary.stl"]
 MAP_MUTANTS = 200
+SEAL_MUTANTS = 40
+WORKER_ADDRESS_SPACE = 4 << 30  # bytes
+WORKER_CPU_SECONDS = 600
 MESH_MUTANTS = 100
 SECONDS = 20.0
 KINDS = ("bit_flips", "zeroed_block", "truncation", "huge_number")
@@ -95,21 +100,33 @@ def arrays(m):
     return [np.asarray(m.poses), np.asarray(m.epsilon)]
 expected = arrays(ref)
 for line in sys.stdin:
-    path = line.strip()
+    op, path = line.strip().split(" ", 1)
     try:
+        if op == "seal":
+            taskmap.seal(path)
         m = taskmap.load(path)
         same = len(m) == len(ref) and all(np.array_equal(a, b) for a, b in zip(arrays(m), expected))
         reply = {"outcome": "accepted", "same": bool(same)}
     except taskmap.Error as e:
         reply = {"outcome": "refused", "message": str(e)}
+    except MemoryError as e:
+        reply = {"outcome": "memory", "message": "MemoryError: %s" % e}
     except Exception as e:
         reply = {"outcome": "other_exception", "message": "%s: %s" % (type(e).__name__, e)}
     print(json.dumps(reply), flush=True)
 """
 
 
+def limit_worker():
+    """In the worker child before exec: CPU-time and address-space limits."""
+    import resource
+    resource.setrlimit(resource.RLIMIT_AS, (WORKER_ADDRESS_SPACE, WORKER_ADDRESS_SPACE))
+    resource.setrlimit(resource.RLIMIT_CPU, (WORKER_CPU_SECONDS, WORKER_CPU_SECONDS))
+
+
 class PythonWorker:
-    """A python process that loads maps on request; killed and restarted on a hang or crash."""
+    """A python process (CPU and memory limits) that loads or seals maps on request; killed and
+    restarted on a hang or crash."""
 
     def __init__(self, reference):
         self.reference = reference
@@ -117,12 +134,13 @@ class PythonWorker:
 
     def start(self):
         self.proc = subprocess.Popen([sys.executable, "-c", WORKER, self.reference],
-                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
+                                     preexec_fn=limit_worker)
 
-    def load(self, path):
+    def load(self, path, op="load"):
         if self.proc is None:
             self.start()
-        self.proc.stdin.write(path + "\n")
+        self.proc.stdin.write(op + " " + path + "\n")
         self.proc.stdin.flush()
         ready, _, _ = select.select([self.proc.stdout], [], [], SECONDS)
         if not ready:
@@ -189,7 +207,7 @@ class FuzzTest(unittest.TestCase):
                     self.check_refusal(where, path, err)
                     table["cli " + kind]["refused"] += 1
                 reply = worker.load(path)
-                self.assertNotIn(reply["outcome"], ("hang", "crash"), "python: %s on %s" % (reply, where))
+                self.assertNotIn(reply["outcome"], ("hang", "crash", "memory"), "python: %s on %s" % (reply, where))
                 self.assertNotEqual(reply["outcome"], "other_exception", "python: %s" % reply)
                 if reply["outcome"] == "accepted":
                     self.assertTrue(reply["same"], "python accepted a changed map: " + where)
@@ -201,6 +219,34 @@ class FuzzTest(unittest.TestCase):
         finally:
             worker.stop()
         self.report("map mutants (%d each through the CLI and Python)" % MAP_MUTANTS, table)
+
+    def test_map_mutants_through_python_seal(self):
+        """taskmap.seal on mutants of a map: sealed (then loads) or refused naming the file."""
+        with open(MAP, "rb") as f:
+            original = f.read()
+        worker = PythonWorker(MAP)
+        table = collections.defaultdict(collections.Counter)
+        try:
+            for i in range(SEAL_MUTANTS):
+                kind, data = mutate(original, 32, i)
+                path = os.path.join(self.tmp, "seal_%03d.h5" % i)
+                with open(path, "wb") as f:
+                    f.write(data)
+                where = "%s (%s)" % (path, kind)
+                reply = worker.load(path, "seal")
+                table["seal " + kind][reply["outcome"]] += 1
+                self.assertNotIn(reply["outcome"], ("hang", "crash", "memory"),
+                                 "python seal: %s on %s" % (reply, where))
+                self.assertNotEqual(reply["outcome"], "other_exception", "python seal: %s" % reply)
+                if reply["outcome"] == "refused":
+                    self.check_refusal(where, path, reply["message"])
+                for leftover in os.listdir(self.tmp):
+                    self.assertFalse(leftover.startswith("seal_%03d.h5." % i),
+                                     "seal left a temporary file: " + leftover)
+                os.remove(path)
+        finally:
+            worker.stop()
+        self.report("map mutants through taskmap.seal (%d, then taskmap.load)" % SEAL_MUTANTS, table)
 
     def test_mesh_mutants_through_cli(self):
         table = collections.defaultdict(collections.Counter)

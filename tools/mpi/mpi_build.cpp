@@ -15,10 +15,12 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "block_ledger.hpp"
 #include "build_command.hpp"
 #include "mpi_common.hpp"
+#include "run_lock.hpp"
 #include "task_farm.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/error.hpp"
@@ -29,6 +31,7 @@ namespace {
 
 // Everything of a build every rank has.
 struct RankSetup {
+  std::optional<RunLock> lock;  // rank 0's, on the output (the lock of `taskmap build`)
   BuildPlan plan;
   std::unique_ptr<ObjectModel> object;
   std::unique_ptr<HandModel> hand;
@@ -97,6 +100,8 @@ bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
   std::string error;
   try {
     setup.plan = planBuild(args);
+    // One build at a time per output, MPI or not: a second one refuses with the holder's PID.
+    if (world.rank == 0) setup.lock.emplace(args.output + ".lock", "output '" + args.output + "'");
     setup.object =
         std::make_unique<ObjectModel>(ObjectModel::load(args.object, meshLoadOptions(args)));
     setup.hand = std::make_unique<HandModel>(HandModel::load(setup.plan.hand_urdf));

@@ -19,7 +19,8 @@ void addAcronymFrameOptions(CLI::App* cmd, AcronymFrameArgs& args) {
                   "(approach) axis, m (default 0.1034: ACRONYM's Franka gripper)");
   cmd->add_option("--hand", args.hand,
                   "take the palm frame in the gripper base frame from this hand (URDF or bundled "
-                  "name): its root-to-palm transform, for a URDF whose root is the base frame");
+                  "name): its root-to-palm transform, for a URDF whose root is the base frame; "
+                  "export ply/glb: the hand posed at the representatives (default: the map's)");
   addPackagePathOption(cmd);
 }
 

@@ -3,16 +3,21 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "acronym_frame.hpp"
 #include "command.hpp"
+#include "map_hand.hpp"
 #include "map_summary.hpp"
 #include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/meshes/mesh_export.hpp"
+#include "taskmap/meshes/shape_mesh.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -75,6 +80,28 @@ ExportScene sceneOf(const TaskMapData& map, double glyph_size) {
   return s;
 }
 
+// The hand's links posed by each cluster representative (stored pose and joint values), one
+// part per link with collision shapes, named "cluster<k>_<link>", in the cluster colour.
+std::vector<ScenePart> handParts(const TaskMapData& map, const HandModel& hand) {
+  std::vector<ScenePart> parts;
+  if (!map.clustering) return parts;
+  for (std::size_t k = 0; k < map.clustering->clusters.size(); ++k) {
+    const int rep = map.clustering->clusters[k].representative;
+    if (rep < 0 || static_cast<std::size_t>(rep) >= map.grasps.size()) continue;
+    const GraspPosture p = graspPosture(map, static_cast<std::size_t>(rep));
+    std::vector<TriangleMesh> links = posedLinkMeshes(hand, p.palm_pose, p.joints);
+    for (std::size_t li = 0; li < links.size(); ++li) {
+      if (links[li].faces.empty()) continue;
+      ScenePart part;
+      part.name = "cluster" + std::to_string(k) + "_" + hand.links()[li].name;
+      part.mesh = std::move(links[li]);
+      part.color = rgba(static_cast<int>(k));
+      parts.push_back(std::move(part));
+    }
+  }
+  return parts;
+}
+
 void runExport(const ExportArgs& args) {
   if (args.format != "ply" && args.format != "glb" && args.format != "acronym") {
     throw Error("unknown format '" + args.format + "'; use ply, glb or acronym");
@@ -96,7 +123,10 @@ void runExport(const ExportArgs& args) {
     options.base_to_palm = baseToPalm(args.frame);
     writeAcronym(args.output, map, options);
   } else {
-    exportScene(args.output, sceneOf(map, args.glyph_size), sceneFormatFromString(args.format));
+    ExportScene scene = sceneOf(map, args.glyph_size);
+    const std::optional<HandModel> hand = mapHand(map, args.frame.hand, "taskmap export");
+    if (hand) scene.parts = handParts(map, *hand);
+    exportScene(args.output, scene, sceneFormatFromString(args.format));
   }
   std::cout << "wrote " << args.output << " (" << args.format << "): " << map.grasps.size()
             << " grasps, " << (map.clustering ? map.clustering->clusters.size() : 0)
@@ -109,7 +139,9 @@ const CommandRegistrar kRegistrar("export", [](CLI::App& app) {
       "export",
       "Export a task map: ply or glb (object mesh, palm positions as points coloured by "
       "cluster, a hand glyph per cluster representative with fingers along the approach axis "
-      "(palm +z); opens in MeshLab or Blender), or acronym (ACRONYM's per-object HDF5 layout: "
+      "(palm +z), and the hand's collision shapes posed by each representative, one mesh per "
+      "link (the map's hand or --hand); opens in MeshLab or Blender), or acronym (ACRONYM's "
+      "per-object HDF5 layout: "
       "grasps/transforms, grasps/qualities/flex/object_in_gripper = force closure, object/*, "
       "gripper/*).");
   cmd->add_option("map", args->map, "task map file (.h5)")->required();

@@ -2,9 +2,11 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "command.hpp"
+#include "map_hand.hpp"
 #include "map_picture.hpp"
 #include "map_summary.hpp"
 #include "output_guard.hpp"
@@ -19,6 +21,7 @@ struct InspectArgs {
   bool json = false;
   std::string png;
   PictureOptions picture;
+  std::string hand;
   bool force = false;
 };
 
@@ -36,7 +39,8 @@ void runInspect(const InspectArgs& args) {
     std::cout << formatSummary(summary);
   }
   if (!args.png.empty()) {
-    writeMapPicture(map, summary, args.png, args.picture);
+    const std::optional<HandModel> hand = mapHand(map, args.hand, "taskmap inspect");
+    writeMapPicture(map, summary, args.png, args.picture, hand ? &*hand : nullptr);
     if (!args.json) std::cout << "picture    " << args.png << "\n";
   }
 }
@@ -56,8 +60,11 @@ const CommandRegistrar kRegistrar("inspect", [](CLI::App& app) {
   cmd->add_option("--png", args->png,
                   "also draw the map to this PNG: three orthographic views (top, front, side) "
                   "of the object silhouette with palm positions coloured by cluster (outliers "
-                  "grey), representatives with their approach axis (palm +z), and a histogram "
-                  "of epsilon per cluster");
+                  "grey), representatives with their approach axis (palm +z) and the outline of "
+                  "the hand posed by them, and a histogram of epsilon per cluster");
+  cmd->add_option("--hand", args->hand,
+                  "--png: the hand to outline (URDF or bundled hand name; default: the map's "
+                  "hand, found by its URDF SHA-256; without it no hand is drawn)");
   cmd->add_option("--width", args->picture.width, "picture width in pixels (>= 800)")
       ->capture_default_str();
   cmd->add_option("--height", args->picture.height, "picture height in pixels (>= 600)")

@@ -44,29 +44,6 @@ struct HandView {
 constexpr HandView kHandViews[3] = {
     {"front (x right, z up)", 0, 2}, {"side (y right, z up)", 1, 2}, {"top (x right, y up)", 0, 1}};
 
-/// Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise.
-std::vector<Eigen::Vector2d> hull2d(std::vector<Eigen::Vector2d> p) {
-  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (p.size() < 3) return p;
-  std::vector<Eigen::Vector2d> h(2 * p.size());
-  std::size_t k = 0;
-  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
-    h[k++] = p[i];
-  }
-  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
-    h[k++] = p[i - 1];
-  }
-  h.resize(k - 1);
-  return h;
-}
-
 /// Every shape of the hand at q as a point set in the palm frame, with its colour.
 struct PlacedShape {
   std::vector<Eigen::Vector3d> points;

@@ -38,7 +38,7 @@ bool pictureSupported() {
 }
 
 void writeMapPicture(const TaskMapData&, const MapSummary&, const std::string& path,
-                     const PictureOptions&) {
+                     const PictureOptions&, const HandModel*) {
   throw Error("cannot write '" + path +
               "': this taskmap was built without cairo; install libcairo2-dev and rebuild");
 }
@@ -141,6 +141,15 @@ void drawView(cairo_t* cr, const Scene& s, const View& view, const Box& cell, do
     }
   }
 
+  // The hand at each representative: the outline of every collision shape.
+  for (std::size_t k = 0; k < s.hands.size(); ++k) {
+    for (const PosedShapePoints& shape : s.hands[k]) {
+      std::vector<Eigen::Vector2d> q;
+      for (const Eigen::Vector3d& p : shape.points) q.emplace_back(pr.px(p), pr.py(p));
+      drawOutline(cr, q, rgbOf(s.summary->clusters[k].id));
+    }
+  }
+
   // Representatives with their approach axis (palm +z).
   const int w = thirdAxis(view);
   for (const ClusterRow& row : s.summary->clusters) {
@@ -176,7 +185,7 @@ void drawView(cairo_t* cr, const Scene& s, const View& view, const Box& cell, do
 }  // namespace
 
 void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
-                     const PictureOptions& options) {
+                     const PictureOptions& options, const HandModel* hand) {
   options.validate();
   Scene s;
   s.map = &map;
@@ -188,7 +197,15 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   for (int& l : s.labels) {
     if (l >= k_count) l = -1;
   }
-  // Bounds of everything drawn: object vertices and palm positions.
+  if (hand != nullptr) {
+    for (const ClusterRow& row : summary.clusters) {
+      const bool known =
+          row.representative >= 0 && static_cast<std::size_t>(row.representative) < n;
+      s.hands.push_back(known ? posedShapePoints(*hand, graspPosture(map, row.representative))
+                              : std::vector<PosedShapePoints>{});
+    }
+  }
+  // Bounds of everything drawn: object vertices, palm positions and the hands.
   s.lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   s.hi = -s.lo;
   for (Eigen::Index i = 0; i < map.object.vertices.rows(); ++i) {
@@ -199,6 +216,14 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
     const Eigen::Vector3d p = map.grasps.pose.row(static_cast<Eigen::Index>(i)).head<3>();
     s.lo = s.lo.cwiseMin(p);
     s.hi = s.hi.cwiseMax(p);
+  }
+  for (const auto& shapes : s.hands) {
+    for (const PosedShapePoints& shape : shapes) {
+      for (const Eigen::Vector3d& p : shape.points) {
+        s.lo = s.lo.cwiseMin(p);
+        s.hi = s.hi.cwiseMax(p);
+      }
+    }
   }
   if (!(s.lo.allFinite() && s.hi.allFinite())) {
     s.lo = Eigen::Vector3d::Constant(-0.05);

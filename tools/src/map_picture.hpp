@@ -2,12 +2,14 @@
 /// @file map_picture.hpp
 /// The picture of `taskmap inspect --png`: the object's silhouette in three orthographic
 /// views with every grasp's palm position coloured by cluster, each cluster representative
-/// with its approach direction, and a histogram of epsilon per cluster (cairo).
+/// with its approach direction and the outline of the hand posed by it, and a histogram of
+/// epsilon per cluster (cairo).
 
 #include <string>
 
 #include "map_summary.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::cli {
 
@@ -23,9 +25,11 @@ struct PictureOptions {
 bool pictureSupported();
 
 /// Draws the map and writes a PNG atomically (temporary file beside path, then rename).
-/// Approach direction: the palm frame's +z axis (maps store no hand geometry).
+/// Approach direction: the palm frame's +z axis. With a hand (the map's: same actuated joints),
+/// each representative also shows the hand's outline: every collision shape posed with the
+/// stored pose and joint values, projected, as its convex outline in the cluster colour.
 /// Throws Error naming the file when it cannot be written.
 void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
-                     const PictureOptions& options = {});
+                     const PictureOptions& options = {}, const HandModel* hand = nullptr);
 
 }  // namespace taskmap::cli

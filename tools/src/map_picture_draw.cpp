@@ -116,6 +116,43 @@ void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double to
   }
 }
 
+// Andrew's monotone chain.
+std::vector<Eigen::Vector2d> hull2d(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (p.size() < 3) return p;
+  std::vector<Eigen::Vector2d> h(2 * p.size());
+  std::size_t k = 0;
+  auto cross = [](const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    while (k >= 2 && cross(h[k - 2], h[k - 1], p[i]) <= 0) --k;
+    h[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(h[k - 2], h[k - 1], p[i - 1]) <= 0) --k;
+    h[k++] = p[i - 1];
+  }
+  h.resize(k - 1);
+  return h;
+}
+
+void drawOutline(cairo_t* cr, const std::vector<Eigen::Vector2d>& points, const Rgb& c) {
+  const std::vector<Eigen::Vector2d> h = hull2d(points);
+  if (h.size() < 3) return;
+  cairo_new_path(cr);
+  cairo_move_to(cr, h[0].x(), h[0].y());
+  for (std::size_t i = 1; i < h.size(); ++i) cairo_line_to(cr, h[i].x(), h[i].y());
+  cairo_close_path(cr);
+  setColor(cr, c, 0.3);
+  cairo_fill_preserve(cr);
+  setColor(cr, kInk, 0.85);
+  cairo_set_line_width(cr, 1.0);
+  cairo_stroke(cr);
+}
+
 void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double size) {
   cairo_rectangle(cr, cell.x, cell.y, cell.w, cell.h);
   cairo_set_source_rgb(cr, 1, 1, 1);
@@ -295,6 +332,12 @@ void drawLegend(cairo_t* cr, const Scene& s, const Box& box) {
   y += 24;
   drawRepresentative(cr, box.x + 8, y - 4, kFrame, -1, true);
   text(cr, box.x + 24, y + 1, "approach away from viewer", 13);
+  if (!s.hands.empty()) {
+    y += 26;
+    drawOutline(cr, {{box.x, y - 12}, {box.x + 16, y - 12}, {box.x + 16, y + 4}, {box.x, y + 4}},
+                kFrame);
+    text(cr, box.x + 24, y + 1, "hand at the representative", 13);
+  }
   y += 26;
   cairo_rectangle(cr, box.x, y - 12, 16, 16);
   setColor(cr, kSilhouette);

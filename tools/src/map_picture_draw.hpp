@@ -8,6 +8,7 @@
 #include <cairo.h>
 #include <Eigen/Core>
 
+#include "map_hand.hpp"
 #include "map_summary.hpp"
 #include "taskmap/core/constants.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
@@ -35,6 +36,9 @@ struct Scene {
   std::vector<int> labels;  ///< per grasp, -1 outlier (all -1 when not clustered)
   Eigen::Vector3d lo, hi;   ///< bounds of object and palm positions, metres
   double arrow_length;      ///< metres
+  /// Per cluster row: the hand's collision shapes posed by the representative (empty when
+  /// the map has no hand to draw).
+  std::vector<std::vector<PosedShapePoints>> hands;
 };
 
 /// Colour of a cluster (clusterColor), grey for outliers (k < 0).
@@ -56,6 +60,10 @@ void drawArrow(cairo_t* cr, double x0, double y0, double x1, double y1, const Rg
 /// mostly perpendicular to the view), a dot if it points at the viewer, a cross if away.
 void drawRepresentative(cairo_t* cr, double x, double y, const Rgb& c, double toward_viewer,
                         bool axial);
+/// Convex hull of 2-D points, counter-clockwise (fewer than 3 points come back as given).
+std::vector<Eigen::Vector2d> hull2d(std::vector<Eigen::Vector2d> points);
+/// The convex outline of points (pixels): filled in colour c (30 % opaque), a thin dark rim.
+void drawOutline(cairo_t* cr, const std::vector<Eigen::Vector2d>& points, const Rgb& c);
 /// A panel: white cell with a frame and a bold title at (10, 22) from its corner.
 void drawCell(cairo_t* cr, const Box& cell, const std::string& title, double size = 15);
 /// An image surface and its cairo context, destroyed together. The constructor throws Error

@@ -3,8 +3,10 @@
 /// Parsing an untrusted file in a forked child process with an address-space limit (RLIMIT_AS:
 /// the caller's current address space plus max(256 MiB, 20 x the file's size)) and a CPU-time
 /// limit, so that no file can crash or exhaust the calling process (C++ API, Python module and
-/// tool alike). The meshes stage parses every mesh this way (assimp), mapstore the HDF5 of a file
-/// it is asked to seal.
+/// tool alike). Under AddressSanitizer, whose shadow memory needs terabytes of address space,
+/// the same budget is a data limit instead (RLIMIT_DATA over the caller's VmData), and the
+/// sanitizer's out-of-memory report counts as exhausted memory. The meshes stage parses every mesh
+/// this way (assimp), mapstore the HDF5 of a file it is asked to seal.
 
 #include <cstdint>
 #include <functional>

@@ -33,6 +33,13 @@ struct SceneGlyph {
   Rgba color = Rgba(0.8f, 0.2f, 0.2f, 1.0f);
 };
 
+/// A named triangle mesh already in the object frame, e.g. one hand link posed by a grasp.
+struct ScenePart {
+  std::string name;   ///< node and mesh name (e.g. "cluster0_palm_link")
+  TriangleMesh mesh;  ///< metres, object frame, outward faces
+  Rgba color = Rgba(0.2f, 0.45f, 0.85f, 1.0f);
+};
+
 /// What exportScene writes. Coordinates in metres, object frame.
 struct ExportScene {
   std::string name = "taskmap";  ///< scene / root node name
@@ -42,6 +49,7 @@ struct ExportScene {
   std::vector<Rgba> point_colors;       ///< one per point
   std::vector<SceneGlyph> glyphs;       ///< e.g. cluster representatives
   double glyph_size = 0.03;             ///< metres, length of a glyph's fingers; > 0
+  std::vector<ScenePart> parts;         ///< e.g. the hand's links at each representative
   /// Throws Error naming the field when sizes disagree, an index is out of range, or a value
   /// is not finite.
   void validate() const;
@@ -57,8 +65,9 @@ constexpr int kGlyphVertices = 32;
 /// Writes the scene atomically (temporary file beside path, then rename).
 /// PLY: the object vertices come first (in order), then the points, then the glyphs; faces
 /// are the object triangles, then one one-vertex face per point, then the glyph triangles;
-/// every vertex carries an RGBA colour. GLB: three meshes named "object", "grasps" (points)
-/// and "glyphs", each with per-vertex colours and a material of its colour.
+/// every vertex carries an RGBA colour; the parts follow the glyphs. GLB: meshes named
+/// "object", "grasps" (points) and "glyphs", then one mesh per part named as the part, each
+/// with per-vertex colours and a material of its colour, each in a node of its own name.
 /// Throws Error naming the file when it cannot be written.
 void exportScene(const std::string& path, const ExportScene& scene, SceneFormat format);
 
