@@ -87,6 +87,18 @@ TEST(HandDraft, RealFrankaAndAllegroHandsLoad) {
   EXPECT_GT(approachInRoot(a.hand).x(), 0.5) << approachInRoot(a.hand).transpose();
 }
 
+// A URDF without collision geometry: the draft names the field it cannot decide.
+TEST(HandDraft, UndecidedFieldIsNamed) {
+  const std::string urdf = ::testing::TempDir() + "/no_geometry_hand.urdf";
+  std::ofstream(urdf) << R"(<robot name="bare"><link name="base"/><link name="finger"/>
+    <joint name="j" type="revolute"><parent link="base"/><child link="finger"/>
+    <axis xyz="0 1 0"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>)";
+  const SidecarDraft d = draftHandSidecar(urdf);
+  ASSERT_EQ(d.undecided.size(), 1u);
+  EXPECT_NE(d.undecided[0].find("palm_link"), std::string::npos) << d.undecided[0];
+  EXPECT_TRUE(d.json.empty());
+}
+
 TEST(HandDraft, UnreadableUrdfIsAnError) {
   EXPECT_THROW(draftHandSidecar("/nonexistent/hand.urdf"), Error);
 }
