@@ -208,11 +208,11 @@ std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   j["max_retraction"] = o.simulation.max_retraction;
   j["squeeze"] = o.simulation.squeeze;
   j["require_palm_contact"] = o.simulation.require_palm_contact;
-  // Grasp mode and standoff in force (the options', else the hand sidecar's).
+  // Grasp mode and standoff in force (the options', else the hand sidecar's, else the default
+  // derived from the hand: resolveStandoff).
   const GraspMode mode = o.simulation.grasp_mode ? *o.simulation.grasp_mode : hand.graspMode();
   j["grasp_mode"] = mode == GraspMode::kFingertip ? "fingertip" : "palm";
-  if (mode == GraspMode::kFingertip)
-    j["grasp_standoff"] = o.simulation.standoff >= 0.0 ? o.simulation.standoff : hand.standoff();
+  if (mode == GraspMode::kFingertip) j["grasp_standoff"] = resolveStandoff(hand, o.simulation);
   j["centre_coupled"] = o.simulation.centre_coupled;
   j["check_self_collision"] = o.simulation.check_self_collision;
   j["max_closing_steps"] = o.simulation.max_closing_steps;

@@ -45,9 +45,27 @@ void ClusteringOptions::validate() const {
 
 int resolveMinSize(const ClusteringOptions& options, int n) {
   if (options.min_size > 0) return options.min_size;
-  // The small epsilon keeps 0.02 * 1000 at 20, not 21 from rounding.
+  // The small epsilon keeps 0.03 * 1000 at 30, not 31 from rounding.
   const double m = std::ceil(options.min_size_fraction * n - 1e-9);
-  return std::max(1, static_cast<int>(m));
+  const int wanted = std::max(kDefaultMinClusterSize, static_cast<int>(m));
+  return std::max(1, std::min(wanted, n));
+}
+
+double midGapCut(const LinkageMatrix& linkage, double threshold) {
+  detail::validateLinkage(linkage, "midGapCut");
+  if (!std::isfinite(threshold) || threshold < 0.0) {
+    throw Error("midGapCut: the cut distance must be finite and >= 0 (metres), got " +
+                std::to_string(threshold));
+  }
+  const Eigen::Index rows = linkage.rows();
+  if (rows == 0) return threshold;
+  // Merge distances are non-decreasing: the first row above the threshold bounds the gap.
+  Eigen::Index above = 0;
+  while (above < rows && linkage(above, 2) <= threshold) ++above;
+  const double top = linkage(rows - 1, 2);
+  if (above == rows) return top > 0.0 ? 1.5 * top : threshold;  // one cluster: clear of the top
+  const double lo = above > 0 ? linkage(above - 1, 2) : 0.0;
+  return 0.5 * (lo + linkage(above, 2));
 }
 
 double defaultThreshold(const LinkageMatrix& linkage) {
@@ -157,19 +175,20 @@ double defaultCut(const LinkageMatrix& linkage, int min_size, double outlier_bud
   if (gap.split > 0.0) {
     const double n = static_cast<double>(linkage.rows() + 1);
     if (coverage < gap.split || gap.smaller <= outlier_budget * n)
-      return std::max(gap.threshold, coverage);
+      return midGapCut(linkage, std::max(gap.threshold, coverage));
     // A clear split of two families each larger than the outlier budget: the coverage floor
     // may absorb fragments, never undo the split itself: cut at the highest merge below it.
     double below = gap.threshold;
     for (Eigen::Index k = 0; k < linkage.rows(); ++k)
       if (linkage(k, 2) < gap.split) below = std::max(below, linkage(k, 2));
-    return below;
+    return midGapCut(linkage, below);
   }
   // No clear gap: a continuum of grasps. One cluster would summarise it by a mean pose that
   // no grasp has (around a cylinder, of a mug's handle and body); cut at the coverage floor
   // instead when that leaves at least two clusters of min_size.
-  if (linkage.rows() > 0 && clustersAtLeast(linkage, coverage, min_size) >= 2) return coverage;
-  return std::max(gap.threshold, coverage);
+  if (linkage.rows() > 0 && clustersAtLeast(linkage, coverage, min_size) >= 2)
+    return midGapCut(linkage, coverage);
+  return midGapCut(linkage, std::max(gap.threshold, coverage));
 }
 
 namespace {

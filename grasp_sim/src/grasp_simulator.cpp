@@ -67,6 +67,13 @@ void GraspSimOptions::validate() const {
                 std::to_string(max_contacts_per_link));
 }
 
+double resolveStandoff(const HandModel& hand, const GraspSimOptions& options) {
+  options.validate();
+  if (options.standoff >= 0.0) return options.standoff;
+  if (hand.hasStandoff()) return hand.standoff();
+  return std::max(kDefaultStandoffShare * hand.rotationScale(), 4.0 * options.contact_tolerance);
+}
+
 struct GraspSimulator::Impl {
   SimModel model;
   Impl(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o)
@@ -124,7 +131,7 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
     partners[static_cast<std::size_t>(pr.second)].push_back(pr.first);
   }
   grasp_mode = opt.grasp_mode ? *opt.grasp_mode : hand.graspMode();
-  standoff = opt.standoff >= 0.0 ? opt.standoff : hand.standoff();
+  standoff = resolveStandoff(hand, opt);
   group_of.assign(hand.closing().size(), -1);
   if (opt.centre_coupled) findCoupledGroups();
 }

@@ -30,6 +30,8 @@ constexpr double kPenetrating = 1e-9;
 constexpr double kBoundSlack = 1e-9;
 /// Fingertip grasps: most back-off steps toward the standoff (each closes most of the gap).
 constexpr int kMaxStandoffSteps = 20;
+/// Fingertip grasps: farthest palm gap GraspStats::palm_gap measures, metres.
+constexpr double kPalmGapRange = 0.1;
 
 }  // namespace
 
@@ -304,6 +306,7 @@ void Trial::collectContacts() {
   for (std::size_t f = 0; f < finger_touch.size(); ++f)
     if (finger_touch[f]) res_.fingers_in_contact.push_back(m_.hand.fingerNames()[f]);
   self_ = m_.opt.check_self_collision && selfPenetrating();
+  if (m_.grasp_mode == GraspMode::kFingertip) st_.palm_gap = palmGap(palm_, kPalmGapRange);
   if (m_.opt.profile) st_.contacts_seconds = lap();
 }
 

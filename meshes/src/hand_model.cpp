@@ -107,6 +107,12 @@ GraspMode HandModel::graspMode() const {
 double HandModel::standoff() const {
   return standoff_;
 }
+const std::optional<Eigen::Isometry3d>& HandModel::mount() const {
+  return mount_;
+}
+bool HandModel::hasStandoff() const {
+  return has_standoff_;
+}
 const std::vector<CollisionMeshInfo>& HandModel::collisionMeshes() const {
   return collision_meshes_;
 }

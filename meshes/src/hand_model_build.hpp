@@ -24,6 +24,8 @@ std::string readHandFile(const std::string& path, const char* what);
 struct HandModelBuilder {
   /// Loads the URDF and its sidecar into a complete model (HandModel::load).
   static HandModel build(const std::string& urdf_path, const std::string& sidecar_arg);
+  /// The URDF tree alone (HandModel::loadKinematics).
+  static HandModel buildKinematics(const std::string& urdf_path);
 
   // ---- URDF tree (hand_model_urdf.cpp) ----
   /// Reads and parses the URDF: path, SHA-256, robot name; checks it has a root link.

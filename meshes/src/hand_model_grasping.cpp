@@ -71,6 +71,7 @@ void HandGraspingKeys::read(const json& js, const std::string& S, HandModel* h) 
   if (g.contains("standoff")) {
     if (!g["standoff"].is_number()) throw Error(S + "grasp.standoff must be a number (metres)");
     h->standoff_ = g["standoff"].get<double>();
+    h->has_standoff_ = true;
     if (!(h->standoff_ >= 0.0 && h->standoff_ <= kMaxStandoff))
       throw Error(S + "grasp.standoff must be in [0, 0.5] metres, got " +
                   std::to_string(h->standoff_));

@@ -64,11 +64,15 @@ struct SidecarContext {
   }
 };
 
-Eigen::Isometry3d palmFrameOf(const json& pf, const std::string& S) {
-  if (!pf.is_object()) throw Error(S + "palm_frame must be an object with xyz and rpy");
+/// A frame {"xyz": [m], "rpy": [rad]} (URDF convention) read from sidecar key `key`.
+Eigen::Isometry3d frameOf(const json& pf, const std::string& S, const std::string& key) {
+  if (!pf.is_object()) throw Error(S + key + " must be an object with xyz and rpy");
+  for (auto it = pf.begin(); it != pf.end(); ++it)
+    if (it.key() != "xyz" && it.key() != "rpy")
+      throw Error(S + key + ": unknown key '" + it.key() + "' (allowed: xyz, rpy)");
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
-  if (pf.contains("xyz")) xyz = vec3(pf["xyz"], S + "palm_frame.xyz");
-  if (pf.contains("rpy")) rpy = vec3(pf["rpy"], S + "palm_frame.rpy");
+  if (pf.contains("xyz")) xyz = vec3(pf["xyz"], S + key + ".xyz");
+  if (pf.contains("rpy")) rpy = vec3(pf["rpy"], S + key + ".rpy");
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.translation() = xyz;
   t.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
@@ -179,7 +183,7 @@ json HandModelBuilder::readSidecar(HandModel& h, const std::string& sidecar_arg)
   static const std::set<std::string> kKeys = {
       "palm_link", "palm_frame", "approach_axis",  "preshape",    "closing",
       "squeeze",   "fingers",    "rotation_scale", "description", "dimensions",
-      "name",      "coupled",    "grasp",          "collision"};
+      "name",      "coupled",    "grasp",          "collision",   "mount"};
   for (auto it = js.begin(); it != js.end(); ++it)
     if (!kKeys.count(it.key()))
       throw Error(S + "unknown key '" + it.key() + "' (see meshes/hands/README.md)");
@@ -199,7 +203,8 @@ void HandModelBuilder::applySidecar(HandModel& h, const json& js) {
   }
   h.palm_link_ = ctx.link(js["palm_link"], "palm_link");
   ctx.needGeometry(h.palm_link_, "palm");
-  if (js.contains("palm_frame")) h.palm_frame_ = palmFrameOf(js["palm_frame"], S);
+  if (js.contains("palm_frame")) h.palm_frame_ = frameOf(js["palm_frame"], S, "palm_frame");
+  if (js.contains("mount")) h.mount_ = frameOf(js["mount"], S, "mount");
   checkPalmFixed(h, h.palm_link_, S);
   const Eigen::Vector3d approach = vec3(js["approach_axis"], S + "approach_axis");
   if (!(approach.norm() > 1e-9)) throw Error(S + "approach_axis must not be zero");

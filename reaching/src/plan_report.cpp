@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -28,23 +30,33 @@ nlohmann::json costHistory(const ClusterPlan& c) {
 
 nlohmann::json clusterJson(const ClusterPlan& c) {
   const int it = c.optimization.iterations;
-  return {{"start_cluster", c.cluster},
-          {"comfort", c.comfort},
-          {"cluster", c.grasp_cluster},
-          {"grasp_index", c.grasp_index},
-          {"iterations", it},
-          {"iterations_to_manifold", c.iterations_to_manifold},
-          {"iterations_to_quality", c.iterations_to_quality},
-          {"min_clearance_m", c.min_clearance},
-          {"joint_limit_margin_rad", c.joint_limit_margin},
-          {"velocity_ratio", c.velocity_ratio},
-          {"collision_free", c.collision_free},
-          {"cost", c.optimization.cost.total},
-          {"ms", c.milliseconds},
-          {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
+  nlohmann::json j = {{"start_cluster", c.cluster},
+                      {"comfort", c.comfort},
+                      {"cluster", c.grasp_cluster},
+                      {"grasp_index", c.grasp_index},
+                      {"iterations", it},
+                      {"iterations_to_manifold", c.iterations_to_manifold},
+                      {"iterations_to_quality", c.iterations_to_quality},
+                      {"min_clearance_m", c.min_clearance},
+                      {"joint_limit_margin_rad", c.joint_limit_margin},
+                      {"velocity_ratio", c.velocity_ratio},
+                      {"collision_free", c.collision_free},
+                      {"cost", c.optimization.cost.total},
+                      {"ms", c.milliseconds},
+                      {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
+  if (c.min_clearance < 0.0) j["warning"] = clearanceWarning(c.min_clearance);
+  return j;
 }
 
 }  // namespace
+
+std::string clearanceWarning(double clearance, const std::string& pair) {
+  if (!(clearance < 0.0)) return "";
+  char mm[32];
+  std::snprintf(mm, sizeof mm, "%.1f", -1000.0 * clearance);
+  return std::string("NEGATIVE clearance: ") + (pair.empty() ? "bodies" : pair) + " overlap by " +
+         mm + " mm, the motion is not collision-free";
+}
 
 const char* toString(GraspPlanStatus s) {
   return s == GraspPlanStatus::kPlanned  ? "planned"

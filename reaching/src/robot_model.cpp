@@ -212,6 +212,20 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
   palm_body_ = addBody(std::move(palm));
 }
 
+HandMount mountFromSidecar(const HandModel& hand, const std::string& flange,
+                           const std::string& option) {
+  if (!hand.mount()) {
+    const std::string sidecar = hand.sidecarPath().empty() ? "its sidecar" : hand.sidecarPath();
+    throw Error("hand '" + hand.name() + "' does not say how it is mounted on the arm: add " +
+                "\"mount\": {\"xyz\": [x, y, z], \"rpy\": [r, p, y]} (its palm frame in the " +
+                "flange frame, metres and radians) to " + sidecar + ", or give " + option);
+  }
+  HandMount m;
+  m.flange = flange;
+  m.palm_in_flange = *hand.mount();
+  return m;
+}
+
 HandMount RobotModel::humanoidMountOnPanda() {
   HandMount m;
   m.flange = "fer_link8";

@@ -70,6 +70,40 @@ std::string frankaWithSelfCollisionLink() {
   return urdf;
 }
 
+// hand-init drafts the sidecar from the URDF alone, prints each guess, refuses to replace a
+// file, and the draft builds a map of the YCB banana without edits (real Franka and Allegro).
+TEST(HandsCli, HandInitDraftBuildsAMapWithoutEdits) {
+  const std::string allegro = realInput("hands/allegro_right/allegro_hand_description_right.urdf");
+  for (const std::string& urdf : {kFranka, allegro}) {
+    const fs::path dir = kScratch.path("init_" + fs::path(urdf).stem().string());
+    fs::create_directories(dir);
+    fs::copy(fs::path(urdf).parent_path(), dir,
+             fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+    const std::string stem = fs::path(urdf).stem().string();
+    const std::string copy = (dir / (stem + ".urdf")).string();
+    const std::string sidecar = (dir / (stem + ".hand.json")).string();
+    fs::remove(sidecar);  // the user's sidecar is what hand-init replaces
+    CliRun r = runTaskmap("hand-init " + copy + " -o " + sidecar);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_NE(r.out.find("guess: palm_link"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("closes toward"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("guess: finger"), std::string::npos) << r.out;
+    ASSERT_TRUE(fs::exists(sidecar));
+    r = runTaskmap("hand-init " + copy + " -o " + sidecar);
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.out.find("give --force"), std::string::npos) << r.out;
+    const std::string map = kScratch.path("init_" + stem + ".h5");
+    r = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + copy +
+                   " --valid 20 --trials 20000 --seed 1 --quiet -o " + map);
+    EXPECT_EQ(r.code, 0) << stem << ": " << r.out;
+    EXPECT_TRUE(fs::exists(map)) << stem;
+  }
+  // Without -o the draft is printed.
+  const CliRun printed = runTaskmap("hand-init " + kFranka);
+  ASSERT_EQ(printed.code, 0) << printed.out;
+  EXPECT_NE(printed.out.find("\"palm_link\": \"panda_hand\""), std::string::npos) << printed.out;
+}
+
 TEST(HandsCli, HandInfoTextShowsJointsMimicPalmAndApproach) {
   const CliRun run = runTaskmap("hand-info " + kFranka);
   ASSERT_EQ(run.code, 0) << run.out;

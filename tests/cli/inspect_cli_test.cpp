@@ -200,6 +200,27 @@ TEST_F(InspectCliTest, PictureHasEveryClusterColour) {
   EXPECT_EQ(small.height, 650);
 }
 
+TEST_F(InspectCliTest, PictureNamesTheFileNotItsDirectory) {
+  // The same map in two directories of different depth draws the same pixels: the caption is
+  // the file name only (a picture checked into docs/ must not show a build directory).
+  const fs::path deep = dir_ / "a_long_build_directory" / "nested";
+  fs::create_directories(deep);
+  fs::copy_file(map_path_, deep / "basket.h5");
+  ASSERT_EQ(run("inspect --png " + path("top.png") + " " + map_path_).code, 0);
+  ASSERT_EQ(run("inspect --png " + path("deep.png") + " " + (deep / "basket.h5").string()).code, 0);
+  const Png top = readPng(path("top.png"));
+  const Png nested = readPng(path("deep.png"));
+  ASSERT_GT(top.counts.size(), 50u);
+  EXPECT_EQ(top.counts, nested.counts);
+  // A different file name does change the caption (the comparison can fail).
+  fs::copy_file(map_path_, deep / "basket_with_a_much_longer_name.h5");
+  ASSERT_EQ(run("inspect --png " + path("other.png") + " " +
+                (deep / "basket_with_a_much_longer_name.h5").string())
+                .code,
+            0);
+  EXPECT_NE(top.counts, readPng(path("other.png")).counts);
+}
+
 TEST_F(InspectCliTest, ManyClustersKeepDistinctColours) {
   // 24 clusters (one per grasp group) from the same grasps, re-labelled round robin.
   TaskMapData m = map_;

@@ -70,6 +70,45 @@ TEST(ReachCli, ObstacleSceneAndFailureExitStatus) {
   EXPECT_NE(r.out.find("not_reached"), std::string::npos) << r.out;
 }
 
+// Another hand than the humanoid: the mount comes from its sidecar, or reach asks for it
+// (issue 30: the humanoid's adapter was used silently).
+TEST(ReachCli, MountFromTheHandSidecarOrAskedFor) {
+  const std::string franka =
+      std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf";
+  testing::CliRun r = testing::runTaskmap("reach " + kSideGrasp + " --hand " + franka);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(r.out.find("\"status\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("does not say how it is mounted"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--mount"), std::string::npos) << r.out;
+  // With --mount (Franka's flange: the hand turned -45 degrees about z) it runs.
+  r = testing::runTaskmap("reach " + kSideGrasp + " --hand " + franka +
+                          " --mount \"0 0 0 0.9238795 0 0 -0.3826834\" --json");
+  EXPECT_NE(r.out.find("\"status\""), std::string::npos) << r.out;
+  // The bundled panda carries its mount in its sidecar.
+  r = testing::runTaskmap("reach " + kSideGrasp + " --hand panda --json");
+  EXPECT_NE(r.out.find("\"status\""), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("mounted"), std::string::npos) << r.out;
+}
+
+// A negative clearance is flagged in words in the text report and the JSON.
+TEST(ReachCli, NegativeClearanceIsFlaggedInWords) {
+  const std::string into_table = "--target \"0.3 0 0 0 1 0 0\" --frame world";
+  testing::CliRun r = testing::runTaskmap("reach " + into_table);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("NEGATIVE clearance"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("not collision-free"), std::string::npos) << r.out;
+  r = testing::runTaskmap("reach " + into_table + " --json");
+  // The JSON object, without the status line the tool adds on stderr.
+  const nlohmann::json j =
+      nlohmann::json::parse(r.out.substr(0, r.out.rfind('}') + 1), nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << r.out;
+  ASSERT_LT(j["min_clearance_m"].get<double>(), 0.0) << r.out;
+  EXPECT_NE(j["warning"].get<std::string>().find("NEGATIVE clearance"), std::string::npos);
+  // A clear reach carries no warning.
+  r = testing::runTaskmap("reach " + kSideGrasp);
+  EXPECT_EQ(r.out.find("NEGATIVE"), std::string::npos) << r.out;
+}
+
 TEST(ReachCli, BadInputNamesTheProblem) {
   testing::CliRun r = testing::runTaskmap("reach --target \"1 2 3\"");
   EXPECT_NE(r.code, 0);

@@ -4,17 +4,28 @@ Runs the helper executable bin/taskmap_linkage_helper (tests/unit/clustering) on
 embedded, clustered poses and compares its linkage matrices with scipy's, for single,
 average and complete linkage: merge distances within 1e-9 relative, same sizes, and the
 same flat clusters at several cuts (ids may differ only where merge distances tie).
+
+StoredCutTest builds a task map (basket x Barrett hand, 300 grasps) with the default
+clustering and re-cuts it with scipy: fcluster on the stored dendrogram at the stored
+threshold, and on scipy's own average linkage of the embedded poses (merge heights that differ
+from ours by rounding, 1e-17), both give the stored labels once clusters below the stored
+min_size are outliers. The stored threshold lies in the middle of the gap between two merge
+heights (issue 30: it sat exactly on one, and scipy's linkage then split a cluster).
 """
 import os
 import subprocess
 import tempfile
 import unittest
 
+import h5py
 import numpy as np
 from scipy.cluster.hierarchy import fcluster, linkage
+from scipy.spatial.transform import Rotation
 
 BUILD = os.environ.get("TASKMAP_BUILD_DIR", "")
 HELPER = os.path.join(BUILD, "bin", "taskmap_linkage_helper")
+CLI = os.environ.get("TASKMAP_CLI", "taskmap")
+SOURCE = os.environ.get("TASKMAP_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
 
 
 def same_partition(a, b):
@@ -77,6 +88,80 @@ class ScipyLinkageTest(unittest.TestCase):
                            capture_output=True, text=True)
         self.assertEqual(r.returncode, 1)
         self.assertIn("unknown linkage method 'ward'", r.stderr)
+
+
+def embed(poses, rho):
+    """Pose embedding of docs/METHOD.md section 4: (p, (rho / sqrt 2) vec(R)), poses N x 7 with
+    x y z qw qx qy qz."""
+    rot = Rotation.from_quat(poses[:, [4, 5, 6, 3]]).as_matrix()  # scipy: x y z w
+    vec = rot.transpose(0, 2, 1).reshape(-1, 9)  # columns of R, as Eigen stores them
+    return np.hstack([poses[:, :3], vec * (rho / np.sqrt(2.0))])
+
+
+def with_outliers(raw, min_size):
+    """Flat labels with clusters below min_size replaced by -1."""
+    ids, counts = np.unique(raw, return_counts=True)
+    small = set(ids[counts < min_size].tolist())
+    return np.array([-1 if r in small else r for r in raw.tolist()])
+
+
+def same_labelling(a, b):
+    """True when a and b give the same partition with the same outliers (-1)."""
+    if not np.array_equal(a == -1, b == -1):
+        return False
+    keep = a != -1
+    return same_partition(a[keep], b[keep])
+
+
+class StoredCutTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        path = os.path.join(cls.tmp.name, "basket.h5")
+        subprocess.run([CLI, "build", "--object",
+                        os.path.join(SOURCE, "meshes", "objects", "basket.obj"),
+                        "--hand", "barrett", "--valid", "300", "--seed", "1", "--quiet",
+                        "-o", path], check=True)
+        with h5py.File(path, "r") as f:
+            cls.z = f["clustering/linkage"][:]
+            cls.labels = f["grasps/cluster"][:]
+            cls.poses = f["grasps/pose"][:]
+            attrs = f["clustering"].attrs
+            cls.threshold = float(attrs["threshold"])
+            cls.min_size = int(attrs["min_size"])
+            cls.method = attrs["method"]
+            cls.method = cls.method.decode() if isinstance(cls.method, bytes) else cls.method
+            cls.rho = float(attrs["rotation_scale"])
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_default_min_size(self):
+        self.assertEqual(self.min_size, max(3, int(np.ceil(0.03 * len(self.labels)))))
+        ids, counts = np.unique(self.labels[self.labels >= 0], return_counts=True)
+        self.assertGreaterEqual(len(ids), 2)
+        self.assertTrue(np.all(counts >= self.min_size))
+
+    def test_threshold_in_the_middle_of_a_gap(self):
+        heights = self.z[:, 2]
+        self.assertFalse(np.any(heights == self.threshold))
+        below = heights[heights <= self.threshold]
+        above = heights[heights > self.threshold]
+        self.assertGreater(len(below), 0)
+        self.assertGreater(len(above), 0)
+        self.assertAlmostEqual(self.threshold, 0.5 * (below.max() + above.min()), delta=1e-15)
+
+    def test_recut_stored_dendrogram(self):
+        raw = fcluster(self.z, self.threshold, criterion="distance")
+        self.assertTrue(same_labelling(with_outliers(raw, self.min_size), self.labels))
+
+    def test_recut_scipy_linkage_of_the_poses(self):
+        points = embed(self.poses, self.rho)
+        z_ref = linkage(points, self.method)
+        np.testing.assert_allclose(z_ref[:, 2], self.z[:, 2], rtol=1e-9, atol=1e-15)
+        raw = fcluster(z_ref, self.threshold, criterion="distance")
+        self.assertTrue(same_labelling(with_outliers(raw, self.min_size), self.labels))
 
 
 if __name__ == "__main__":

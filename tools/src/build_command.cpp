@@ -90,7 +90,8 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
       ->check(CLI::IsMember({"palm", "fingertip"}));
   cmd->add_option("--standoff", args.standoff,
                   "fingertip grasps: palm-to-object distance where the approach stops, metres "
-                  "(default: the hand sidecar's grasp.standoff, else 0)")
+                  "(default: the hand sidecar's grasp.standoff, else a tenth of the hand's "
+                  "palm-to-fingertip length, which keeps the palm off the object)")
       ->check(CLI::Range(0.0, 0.5));
   cmd->add_flag("--allow-size", args.allow_size,
                 "build an object whose size is implausible for the hand (over 20 times its "

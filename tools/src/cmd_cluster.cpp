@@ -110,7 +110,7 @@ const CommandRegistrar kRegistrar("cluster", [](CLI::App& app) {
   clusters->excludes(threshold);
   cmd->add_option("--min-size", args->min_size,
                   "smallest cluster kept; smaller ones are outliers (label -1). "
-                  "Default: 2 % of the grasps")
+                  "Default: 3 % of the grasps, at least 3")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--method", args->method,
                   "linkage: single (any size), average or complete (up to 20000 grasps). "

@@ -34,7 +34,7 @@ struct ImportArgs {
   double rotation_scale = kDefaultRotationScale;
   std::optional<double> threshold;
   std::optional<int> clusters;
-  double min_size_fraction = 0.02;
+  double min_size_fraction = kDefaultMinSizeFraction;
   AcronymFrameArgs frame;
   bool force = false;
 };

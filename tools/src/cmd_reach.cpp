@@ -22,6 +22,7 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/pose.hpp"
 #include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/plan_report.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
 namespace taskmap::cli {
@@ -97,12 +98,19 @@ int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot
   if (args.hand != "none") {
     const std::string hand_path =
         std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
-    HandMount mount = RobotModel::humanoidMountOnPanda();
-    if (!args.flange.empty()) mount.flange = args.flange;
     if (!panda && args.flange.empty())
       throw Error("--flange LINK is needed to mount a hand on " + args.robot);
-    if (!args.mount.empty()) mount.palm_in_flange = parsePose(args.mount, "--mount");
-    robot.mountHand(HandModel::load(hand_path), mount);
+    const std::string flange = args.flange.empty() ? "fer_link8" : args.flange;
+    const HandModel hand = HandModel::load(hand_path);
+    // The mount: --mount, else the hand sidecar's (never another hand's adapter).
+    HandMount mount;
+    if (args.mount.empty()) {
+      mount = mountFromSidecar(hand, flange);
+    } else {
+      mount.flange = flange;
+      mount.palm_in_flange = parsePose(args.mount, "--mount");
+    }
+    robot.mountHand(hand, mount);
   }
   addSceneTo(scene, robot);
   if (robot.palmBody() >= 0) return robot.palmBody();
@@ -147,6 +155,8 @@ nlohmann::json toJson(const ReachArgs& args, const ReachResult& r, const Collisi
     j["min_clearance_m"] = r.min_clearance;
     j["min_clearance_pair"] = r.min_clearance_pair;
     j["min_clearance_step"] = r.min_clearance_step;
+    if (r.min_clearance < 0.0)
+      j["warning"] = clearanceWarning(r.min_clearance, r.min_clearance_pair);
   } else {
     j["min_clearance_m"] = nullptr;
   }
@@ -164,8 +174,11 @@ void printText(const ReachResult& r, const CollisionModel& pairs, const std::str
   std::printf("final error       %.3g m, %.3g rad (target in the %s frame)\n", r.position_error,
               r.orientation_error, frame.c_str());
   if (std::isfinite(r.min_clearance))
-    std::printf("min clearance     %.4f m (%s, step %d; %zu pairs)\n", r.min_clearance,
-                r.min_clearance_pair.c_str(), r.min_clearance_step, pairs.pairs().size());
+    std::printf("min clearance     %.4f m (%s, step %d; %zu pairs)%s\n", r.min_clearance,
+                r.min_clearance_pair.c_str(), r.min_clearance_step, pairs.pairs().size(),
+                r.min_clearance < 0.0
+                    ? ("  <- " + clearanceWarning(r.min_clearance, r.min_clearance_pair)).c_str()
+                    : "");
   std::printf("joint-limit margin %.4f (rad or m)\n", r.joint_limit_margin);
 }
 
@@ -251,8 +264,8 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
   cmd->add_option("--flange", args->flange, "link the hand is mounted on (default fer_link8)");
   addPackagePathOption(cmd);
   cmd->add_option("--mount", args->mount,
-                  "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the humanoid "
-                  "adapter: palm facing flange x, fingers along flange z, wrist 2 cm out)");
+                  "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the hand "
+                  "sidecar's \"mount\"; a hand without one needs this option)");
   cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
   cmd->add_option("--map", args->map.map,
                   "task map of the mounted hand (a file or a bundled map name, e.g. "

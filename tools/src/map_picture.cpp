@@ -245,7 +245,9 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
                             " hand, " + std::to_string(summary.grasps) + " grasps, " +
                             std::to_string(summary.clusters.size()) + " clusters";
   text(cr, 20, 34, title, 22, true);
-  text(cr, 20, 58, summary.path, 13, false, 0.0, Rgb{0.35, 0.35, 0.35});
+  // The file name only: a picture checked into docs/ must not show the machine's directories.
+  text(cr, 20, 58, std::filesystem::path(summary.path).filename().string(), 13, false, 0.0,
+       Rgb{0.35, 0.35, 0.35});
 
   const double legend_w = 300;
   const Box area{20, 72, W - 40 - legend_w - 10, H - 72 - 20};

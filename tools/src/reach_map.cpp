@@ -56,11 +56,12 @@ void printText(const GraspPlan& plan, double plan_ms) {
   for (const ClusterPlan& c : plan.plans)
     std::printf(
         "from cluster %-4d -> cluster %d grasp %lld: %d iterations (manifold %d, quality "
-        "%d), clearance %.4f m, joint margin %.4f rad, %.1f ms/iteration\n",
+        "%d), clearance %.4f m, joint margin %.4f rad, %.1f ms/iteration%s\n",
         c.cluster, c.grasp_cluster, static_cast<long long>(c.grasp_index),
         c.optimization.iterations, c.iterations_to_manifold, c.iterations_to_quality,
         c.min_clearance, c.joint_limit_margin,
-        c.milliseconds / std::max(1, c.optimization.iterations));
+        c.milliseconds / std::max(1, c.optimization.iterations),
+        c.min_clearance < 0.0 ? ("  <- " + clearanceWarning(c.min_clearance)).c_str() : "");
   std::printf("plan time         %.1f ms\n", plan_ms);
 }
 

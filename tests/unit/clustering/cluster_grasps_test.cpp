@@ -94,7 +94,7 @@ TEST(ClusterGrasps, BlobsBecomeClustersAndStragglersOutliers) {
   const Grasps g = blobGrasps({300, 200, 120}, 8, 21);
   const ClusteringResult r = clusterGrasps(g.poses, g.epsilon);
   const int n = static_cast<int>(g.poses.size());
-  EXPECT_EQ(r.min_size, static_cast<int>(std::ceil(0.02 * n)));
+  EXPECT_EQ(r.min_size, std::max(3, static_cast<int>(std::ceil(0.03 * n))));
   ASSERT_EQ(r.clusters.size(), 3u);
   ASSERT_EQ(r.labels.size(), g.poses.size());
   // Largest first: blob b has label b; outliers are -1.
@@ -227,9 +227,9 @@ TEST(ClusteringOptions, Validation) {
   EXPECT_EQ(errorMessage([&] { o.validate(); }),
             "clustering option min_size must be >= 0 (0: use min_size_fraction), got -2");
   o = ClusteringOptions{};
-  EXPECT_EQ(resolveMinSize(o, 1000), 20);
-  EXPECT_EQ(resolveMinSize(o, 1001), 21);
-  EXPECT_EQ(resolveMinSize(o, 10), 1);
+  EXPECT_EQ(resolveMinSize(o, 1000), 30);
+  EXPECT_EQ(resolveMinSize(o, 1001), 31);
+  EXPECT_EQ(resolveMinSize(o, 10), 3);
   o.min_size = 7;
   EXPECT_EQ(resolveMinSize(o, 1000), 7);
 }
@@ -276,8 +276,9 @@ TEST(DefaultCut, CoverageThresholdMatchesBruteForce) {
           // or cuts a continuum at the coverage floor: both lower, never below the lower of
           // the two (default_cut_test.cpp checks those cases).
           const double cut = defaultCut(z, m, budget), gap = defaultThreshold(z, m);
-          EXPECT_LE(cut, std::max(gap, t));
-          EXPECT_GE(cut, std::min(gap, t));
+          // Then moved to the middle of its merge gap (midGapCut, non-decreasing).
+          EXPECT_LE(cut, midGapCut(z, std::max(gap, t)));
+          EXPECT_GE(cut, midGapCut(z, std::min(gap, t)));
         }
       }
     }
@@ -300,7 +301,7 @@ TEST(DefaultCut, OutlierBudgetBoundsTheGapRule) {
   gap_only.outlier_budget = 1.0;
   const ClusteringResult gap = clusterGrasps(g.poses, g.epsilon, gap_only);
   EXPECT_EQ(gap.method, Linkage::kAverage);
-  EXPECT_EQ(gap.threshold, defaultThreshold(gap.linkage, gap.min_size));
+  EXPECT_EQ(gap.threshold, midGapCut(gap.linkage, defaultThreshold(gap.linkage, gap.min_size)));
   ASSERT_EQ(gap.clusters.size(), 2u);
   for (int i = 0; i < n; ++i) EXPECT_EQ(gap.labels[i], g.blob[i]) << "grasp " << i;
 
@@ -325,9 +326,60 @@ TEST(DefaultCut, OutlierBudgetBoundsTheGapRule) {
   ClusteringOptions roomy;
   roomy.outlier_budget = 0.3;
   const ClusteringResult loose = clusterGrasps(g.poses, g.epsilon, roomy);
-  EXPECT_EQ(loose.threshold,
-            std::max(gap.threshold, coverageThreshold(loose.linkage, loose.min_size, 0.3)));
+  EXPECT_EQ(
+      loose.threshold,
+      midGapCut(loose.linkage, std::max(defaultThreshold(loose.linkage, loose.min_size),
+                                        coverageThreshold(loose.linkage, loose.min_size, 0.3))));
   EXPECT_EQ(loose.clusters.size(), 2u);
+}
+
+// The cut moves to the middle of the gap between the merge heights around it: the same
+// partition, never on a merge height (issue 30: scipy's own linkage, 5e-17 away, split a
+// cluster there).
+TEST(DefaultCut, MidGapCutKeepsThePartitionOffMergeHeights) {
+  PointMatrix points(5, 1);
+  points << 0.0, 0.1, 0.3, 0.5, 1.0;  // single linkage merges at 0.1, 0.2, 0.2, 0.5
+  const LinkageMatrix z = computeLinkage(points, Linkage::kSingle);
+  ASSERT_NEAR(z(0, 2), 0.1, 1e-15);
+  ASSERT_NEAR(z(3, 2), 0.5, 1e-15);
+  const double h1 = z(0, 2), h2 = z(2, 2), h3 = z(3, 2);
+  EXPECT_DOUBLE_EQ(midGapCut(z, h2), 0.5 * (h2 + h3));    // on a merge height: up to the middle
+  EXPECT_DOUBLE_EQ(midGapCut(z, 0.15), 0.5 * (h1 + h2));  // inside a gap: its middle
+  EXPECT_DOUBLE_EQ(midGapCut(z, 0.05), 0.5 * h1);         // below every merge
+  EXPECT_DOUBLE_EQ(midGapCut(z, h3), 1.5 * h3);           // at the top: one cluster, clear of it
+  for (double t : {0.0, 0.05, h1, 0.15, h2, 0.3, h3, 0.9}) {
+    const double m = midGapCut(z, t);
+    EXPECT_EQ(cutAtDistance(z, m), cutAtDistance(z, t)) << t;
+    for (Eigen::Index k = 0; k < z.rows(); ++k) EXPECT_NE(m, z(k, 2)) << t;
+    // A dendrogram whose heights differ by rounding cuts the same way at m.
+    LinkageMatrix nudged = z;
+    for (Eigen::Index k = 0; k < z.rows(); ++k) nudged(k, 2) *= 1.0 - 1e-15;
+    EXPECT_EQ(cutAtDistance(nudged, m), cutAtDistance(z, t)) << t;
+  }
+  EXPECT_EQ(errorMessage([&] { midGapCut(z, -1.0); }),
+            "midGapCut: the cut distance must be finite and >= 0 (metres), got -1.000000");
+  // The default cut of clusterGrasps is never a merge height.
+  const Grasps g = blobGrasps({60, 60, 30}, 20, 31);
+  const ClusteringResult r = clusterGrasps(g.poses, g.epsilon);
+  for (Eigen::Index k = 0; k < r.linkage.rows(); ++k) EXPECT_NE(r.threshold, r.linkage(k, 2));
+}
+
+// No cluster under max(3 grasps, 3 % of the map) by default (issue 30: clusters of two).
+TEST(ClusteringOptions, DefaultMinSizeIsThreeGraspsOrThreePercent) {
+  const ClusteringOptions o;
+  EXPECT_EQ(resolveMinSize(o, 1000), 30);
+  EXPECT_EQ(resolveMinSize(o, 150), 5);
+  EXPECT_EQ(resolveMinSize(o, 100), 3);
+  EXPECT_EQ(resolveMinSize(o, 50), 3);
+  EXPECT_EQ(resolveMinSize(o, 2), 2);  // a map of two grasps is one cluster, not outliers
+  EXPECT_EQ(resolveMinSize(o, 1), 1);
+  ClusteringOptions fixed;
+  fixed.min_size = 2;
+  EXPECT_EQ(resolveMinSize(fixed, 1000), 2);
+  // 50 grasps in pairs: no cluster of two survives the default.
+  const Grasps g = blobGrasps(std::vector<int>(25, 2), 0, 5);
+  const ClusteringResult r = clusterGrasps(g.poses, g.epsilon);
+  for (const ClusterSummary& c : r.clusters) EXPECT_GE(c.size, 3);
 }
 
 TEST(ClusteringOptions, DefaultMethodIsAverageUpToTheLimit) {

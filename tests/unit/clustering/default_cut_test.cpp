@@ -34,17 +34,18 @@ TEST(DefaultCut, ContinuumIsSplitAtTheCoverageFloor) {
       2.5, 8;
   EXPECT_EQ(defaultThreshold(l, 2), 2.5);  // the gap rule alone: one cluster
   EXPECT_EQ(coverageThreshold(l, 2, kDefaultOutlierBudget), 1.3);
-  EXPECT_EQ(defaultCut(l, 2, kDefaultOutlierBudget), 1.3);  // four clusters of two
+  // Four clusters of two, the cut in the middle of the gap 1.3 .. 1.8.
+  EXPECT_EQ(defaultCut(l, 2, kDefaultOutlierBudget), 0.5 * (1.3 + 1.8));
   std::vector<Pose> poses;
   for (int i = 0; i < 8; ++i) poses.push_back(at(0.1 * i, 0));
   ClusteringOptions o;
   o.min_size = 2;
   const ClusteringResult r = clusterFromLinkage(poses, std::vector<double>(8, 0.1), l, o);
-  EXPECT_EQ(r.threshold, 1.3);
+  EXPECT_EQ(r.threshold, 0.5 * (1.3 + 1.8));
   ASSERT_EQ(r.clusters.size(), 4u);
   EXPECT_EQ(clustered(r), 8);
   // With a min_size no cut can reach twice (5 of 8), the one-cluster cut stays.
-  EXPECT_EQ(defaultCut(l, 5, kDefaultOutlierBudget), 2.5);
+  EXPECT_EQ(defaultCut(l, 5, kDefaultOutlierBudget), 1.5 * 2.5);  // clear of the root merge
 }
 
 TEST(DefaultCut, StragglersDoNotUndoAClearSplit) {

@@ -44,6 +44,32 @@ TEST(RobotModel, PandaHasSevenJointsWithFrankaLimitsAndCapsules) {
   EXPECT_EQ(robot.bodies()[robot.requireBody("fer_link7")].chain_depth, 7);
 }
 
+// The mount comes from the hand's sidecar (issue 30: reach used the humanoid's adapter for every
+// hand). The humanoid's sidecar mount is the adapter pandaWithHumanoidHand uses; the bundled
+// panda sits on the flange as Franka's hand does (palm 5.84 cm out, turned -45 degrees); a hand
+// whose sidecar has no mount (the real Franka hand's, written from the README) is asked for one.
+TEST(RobotModel, MountComesFromTheSidecarOrIsAskedFor) {
+  const std::string hands = TASKMAP_HANDS_DIR;
+  const HandModel humanoid = HandModel::load(hands + "/humanoid/humanoid.urdf");
+  const HandMount m = mountFromSidecar(humanoid, "fer_link8");
+  EXPECT_EQ(m.flange, "fer_link8");
+  EXPECT_TRUE(m.palm_in_flange.isApprox(RobotModel::humanoidMountOnPanda().palm_in_flange, 1e-12));
+  const HandMount panda = mountFromSidecar(HandModel::load(hands + "/panda/panda.urdf"), "link7");
+  EXPECT_EQ(panda.flange, "link7");
+  EXPECT_TRUE(panda.palm_in_flange.translation().isApprox(Eigen::Vector3d(0, 0, 0.0584), 1e-12));
+  EXPECT_NEAR(Eigen::AngleAxisd(panda.palm_in_flange.linear()).angle(), M_PI / 4, 1e-12);
+  const std::string franka =
+      std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf";
+  if (!std::filesystem::exists(franka)) GTEST_SKIP() << franka << " not present";
+  const HandModel hand = HandModel::load(franka);
+  ASSERT_FALSE(hand.mount());
+  const std::string e = errorOf([&] { mountFromSidecar(hand, "fer_link8"); });
+  EXPECT_NE(e.find("does not say how it is mounted"), std::string::npos) << e;
+  EXPECT_NE(e.find("\"mount\": {\"xyz\""), std::string::npos) << e;
+  EXPECT_NE(e.find("franka_hand.hand.json"), std::string::npos) << e;
+  EXPECT_NE(e.find("--mount"), std::string::npos) << e;
+}
+
 TEST(RobotModel, HumanoidHandPerLinkBoxesBecomeSweptRectangles) {
   RobotModel robot = RobotModel::load(test::robotsDir() + "/panda/panda.urdf");
   HandMount mount = RobotModel::humanoidMountOnPanda();

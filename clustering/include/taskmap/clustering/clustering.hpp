@@ -81,16 +81,18 @@ double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outl
 /// split: then the cut is the highest merge below that distance (the families stay apart, as
 /// few outliers as that allows). Without one (a continuum of
 /// grasps): the coverage floor when it leaves at least two clusters of min_size, else the gap
-/// rule's one-cluster cut. No prior on the number of clusters: the gap rule finds the natural
+/// rule's one-cluster cut. The chosen distance is then moved to the middle of its merge gap
+/// (midGapCut), so the stored threshold never sits on a merge height. No prior on the number
+/// of clusters: the gap rule finds the natural
 /// split; the coverage floor stops it from cutting so low that many grasps fall into fragments
 /// below min_size. One cluster over a continuum of orientations would be summarised by a mean
 /// pose that no grasp has: measured on real maps (the YCB mug with the humanoid hand, ACRONYM's
 /// mug), the handle grasps then fall into clusters of their own, mixed with body grasps only
-/// where orientations overlap. Measured on the paper's basket map (1000
-/// grasps, Barrett hand, seed 1, average linkage): the gap rule alone leaves 351 outliers; the
-/// default cut gives 15 clusters and 95 outliers, each cluster on one bar of the handle (or
-/// the rim). The bars split into several clusters each because rho weighs orientation: grasps
-/// on one bar with different approach directions are further apart than the bars' spacing.
+/// where orientations overlap. Measured on the paper's basket map (1000 grasps, Barrett hand,
+/// seed 1, average linkage, min size 30): 12 clusters and 88 outliers, each cluster on one bar
+/// of the handle or the rim (docs/METHOD.md, "Default cut"). The bars split into several clusters
+/// each because rho weighs orientation: grasps on one bar with different approach directions are
+/// further apart than the bars' spacing.
 double defaultCut(const LinkageMatrix& linkage, int min_size, double outlier_budget);
 
 /// Largest number of points average and complete linkage accept (memory O(n^2)).
@@ -100,12 +102,29 @@ constexpr int kMaxPairwiseLinkagePoints = 20000;
 /// outliers.
 constexpr double kDefaultOutlierBudget = 0.1;
 
+/// Default share of the grasps below which a cluster is an outlier group (ClusteringOptions).
+constexpr double kDefaultMinSizeFraction = 0.03;
+
+/// Smallest cluster the default options keep, in grasps: a cluster of two is not a family of
+/// grasps a person would name (issue 30 measured 18-25 clusters per 100 grasps without it).
+constexpr int kDefaultMinClusterSize = 3;
+
+/// Moves a cut distance into the middle of the gap between the merge heights around it: the
+/// result is halfway between the highest merge distance <= threshold and the lowest one above
+/// it (threshold itself when no merge lies above; the top merge distance plus half of it when
+/// every merge is below and the threshold equals the top). Cutting at the result gives the same
+/// partition as cutting at threshold, but a dendrogram recomputed by another implementation,
+/// whose merge heights differ by rounding (1e-16 relative), cuts the same way. Throws Error for
+/// a negative or non-finite threshold.
+double midGapCut(const LinkageMatrix& linkage, double threshold);
+
 /// Options for clustering grasps.
 /// Default: average linkage (single beyond kMaxPairwiseLinkagePoints grasps, see
-/// fallback_to_single), cut at defaultCut with min size 2 % of the grasps and outlier budget
-/// 10 %. Average rather than single linkage because single linkage chains the three bars of the
-/// paper's basket handle through the grasps at the handle's corners (measured on the basket
-/// map: one cluster holding all 1000 grasps at the gap-rule cut).
+/// fallback_to_single), cut at defaultCut with min size max(3 grasps, 3 % of the grasps) and
+/// outlier budget 10 %, moved to the middle of its merge gap (midGapCut). Average rather than
+/// single linkage because single linkage chains the three bars of the paper's basket handle through
+/// the grasps at the handle's corners (measured on the basket map: one cluster holding all 1000
+/// grasps at the gap-rule cut).
 struct ClusteringOptions {
   Linkage method = Linkage::kAverage;
   /// Average/complete with more than kMaxPairwiseLinkagePoints grasps: true uses single
@@ -116,14 +135,17 @@ struct ClusteringOptions {
   double rotation_scale = kDefaultRotationScale;  ///< rho, metres per radian, > 0
   std::optional<double> threshold;  ///< cut distance (metres); neither set: defaultCut
   std::optional<int> num_clusters;  ///< cut to this many clusters (exclusive with threshold)
-  double min_size_fraction = 0.02;  ///< clusters smaller than this share of grasps are outliers
-  int min_size = 0;                 ///< absolute minimum size; 0 uses min_size_fraction
+  /// Clusters smaller than this share of grasps are outliers (with min_size 0).
+  double min_size_fraction = kDefaultMinSizeFraction;
+  /// Absolute minimum size; 0 uses max(kDefaultMinClusterSize, min_size_fraction share).
+  int min_size = 0;
   /// Throws Error naming the option when a value is out of range or both cuts are set.
   void validate() const;
 };
 
 /// Absolute minimum cluster size the options give for n grasps: options.min_size if > 0,
-/// else max(1, ceil(min_size_fraction * n)).
+/// else max(kDefaultMinClusterSize, ceil(min_size_fraction * n)), at most n (a map of fewer than
+/// kDefaultMinClusterSize grasps is one cluster, not all outliers), at least 1.
 int resolveMinSize(const ClusteringOptions& options, int n);
 
 /// Linkage clusterGrasps uses for n grasps: options.method, or single when options.method is

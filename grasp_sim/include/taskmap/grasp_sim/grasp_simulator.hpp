@@ -47,6 +47,7 @@
 /// face is no contact), merged per link within 1 mm keeping the deepest; point on the object
 /// surface, the triangle's outward normal, depth = the EPA penetration depth.
 
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,7 +93,7 @@ struct GraspSimOptions {
   /// Palm or fingertip grasps; empty = the hand sidecar's "grasp.mode" (HandModel::graspMode).
   std::optional<GraspMode> grasp_mode;
   /// Fingertip grasps: palm-to-object distance at which the approach stops, metres; negative =
-  /// the hand sidecar's "grasp.standoff".
+  /// the hand sidecar's "grasp.standoff", else the default of resolveStandoff.
   double standoff = -1.0;
   /// Coupled closing (a closing joint whose links lie on two or more fingers, through URDF
   /// <mimic>, or a sidecar "coupled" group): when one jaw touches, the hand shifts along the
@@ -144,10 +145,14 @@ struct GraspSimOptions {
 
 /// Counters of one trial (deterministic except the seconds, which need options.profile).
 struct GraspStats {
-  int queries = 0;                ///< link-versus-object collision queries
-  int closing_steps = 0;          ///< coarse closing steps and bisection evaluations
-  double retraction = 0.0;        ///< distance moved along -approach, metres (negative: advanced)
-  double standoff = 0.0;          ///< fingertip grasps: extra distance backed off, metres
+  int queries = 0;          ///< link-versus-object collision queries
+  int closing_steps = 0;    ///< coarse closing steps and bisection evaluations
+  double retraction = 0.0;  ///< distance moved along -approach, metres (negative: advanced)
+  double standoff = 0.0;    ///< fingertip grasps: extra distance backed off, metres
+  /// Fingertip grasps: distance of the palm (and links fixed to it) to the object at the final
+  /// pose, metres, +infinity beyond 0.1 m (negative: penetrating); NaN for palm grasps and
+  /// trials that end before contacts are collected.
+  double palm_gap = std::numeric_limits<double>::quiet_NaN();
   double centring_shift = 0.0;    ///< coupled closing: distance the palm shifted, metres
   double retract_seconds = 0.0;   ///< wall time of the retraction (profile only)
   double close_seconds = 0.0;     ///< wall time of closing and squeeze (profile only)
@@ -165,6 +170,18 @@ struct GraspResult {
   bool palm_contact = false;                    ///< a palm (or palm-fixed) link has a contact
   GraspStats stats;                             ///< counters and timing
 };
+
+/// Share of the palm-to-fingertip length (HandModel::rotationScale) that a fingertip grasp
+/// keeps between the palm and the object when neither the options nor the sidecar set a
+/// standoff (resolveStandoff).
+constexpr double kDefaultStandoffShare = 0.1;
+
+/// Standoff in force for fingertip grasps, metres: options.standoff when >= 0, else the
+/// sidecar's "grasp.standoff" when it sets one, else max(kDefaultStandoffShare x the hand's
+/// palm-to-fingertip length, 4 x options.contact_tolerance): a tenth of the fingers' reach
+/// keeps the palm off the object (issue 30: with 0, the approach stopped on the palm) and
+/// leaves nine tenths of the fingers to reach it. Throws Error for invalid options.
+double resolveStandoff(const HandModel& hand, const GraspSimOptions& options);
 
 /// Simulates grasp trials of one hand on one object. Construction builds the object's
 /// bounding-volume hierarchy once; simulate() is const, thread-safe and lock-free (each thread

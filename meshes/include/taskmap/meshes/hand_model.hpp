@@ -4,6 +4,7 @@
 /// plus the grasping sidecar <stem>.hand.json (palm frame, approach axis, preshape, closing
 /// motion, squeeze; format in meshes/hands/README.md). Units: metres, radians.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,11 @@ class HandModel {
   /// Throws Error naming the file and the element on unreadable files, unknown links or
   /// joints, links without collision geometry where the sidecar needs it, and bad values.
   static HandModel load(const std::string& urdf_path, const std::string& sidecar_path = "");
+  /// The URDF alone, without a sidecar (for drafting one, hand_draft.hpp): links, joints,
+  /// limits and collision shapes (default collision options); the palm is the root link with
+  /// the identity palm frame (linkPoses gives root-frame poses), the preshape every joint's
+  /// value nearest 0; no closing motion, no fingers. Throws Error as load does for the URDF.
+  static HandModel loadKinematics(const std::string& urdf_path);
 
   /// Hand name for maps and titles: the sidecar's "name", else the URDF robot name, else (when
   /// that is a generic word such as "hand" or "gripper") the URDF file stem.
@@ -143,8 +149,15 @@ class HandModel {
   /// How the hand grasps (sidecar "grasp.mode", default kPalm).
   GraspMode graspMode() const;
   /// Fingertip grasps: the approach stops when the palm is this far from the object, metres
-  /// (sidecar "grasp.standoff", default 0: only a touching link stops it).
+  /// (sidecar "grasp.standoff"; 0 when the sidecar does not set it, see hasStandoff).
   double standoff() const;
+  /// How the hand sits on an arm (sidecar "mount": {"xyz", "rpy"}): the palm frame in the
+  /// arm's flange frame (the flange's z out of the arm), metres and radians; empty when the
+  /// sidecar does not say (reaching then needs the mount from its caller).
+  const std::optional<Eigen::Isometry3d>& mount() const;
+  /// True when the sidecar sets "grasp.standoff" (else the simulator derives one from the hand:
+  /// resolveStandoff in grasp_sim).
+  bool hasStandoff() const;
   /// Every connected part of every collision mesh and how it became convex shapes (URDF order).
   const std::vector<CollisionMeshInfo>& collisionMeshes() const;
   /// Finger names from the sidecar (HandLink::finger indexes this list).
@@ -190,6 +203,8 @@ class HandModel {
   std::vector<std::vector<int>> coupled_;
   GraspMode grasp_mode_ = GraspMode::kPalm;
   double standoff_ = 0.0;
+  bool has_standoff_ = false;
+  std::optional<Eigen::Isometry3d> mount_;
 
   friend struct HandModelBuilder;
   friend struct HandGraspingKeys;

@@ -74,6 +74,13 @@ struct HandMount {
   bool per_link_shapes = false;
 };
 
+/// The mount of `hand` on the arm body `flange`: the palm frame in the flange frame from the
+/// hand's sidecar "mount" (HandModel::mount). Throws Error naming the hand, its sidecar and
+/// the key to add (or `option`, the caller's way to give a mount) when the sidecar has none:
+/// another hand's adapter would put the palm somewhere else, silently.
+HandMount mountFromSidecar(const HandModel& hand, const std::string& flange,
+                           const std::string& option = "--mount \"x y z qw qx qy qz\"");
+
 /// A robot: bodies, degrees of freedom with limits. Cheap to copy; const methods thread-safe.
 class RobotModel {
  public:
