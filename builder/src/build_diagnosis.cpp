@@ -40,6 +40,10 @@ std::string adviceFor(const std::string& outcome) {
   if (outcome == "not_force_closure")
     return "grasps closed but none reached force closure: check the friction coefficient, the "
            "preshape and the object size against the hand";
+  if (outcome == "unbalanced")
+    return "grasps closed but the hold filter found none whose squeeze holds the free object: "
+           "check the preshape and closing against the object size, or build without "
+           "--hold-filter";
   return "check the hand sidecar and the object";
 }
 

@@ -23,9 +23,11 @@ namespace {
 // Outcome names: the simulator's statuses, with ok split by force closure.
 constexpr const char* kForceClosure = "force_closure";
 constexpr const char* kNotForceClosure = "not_force_closure";
+constexpr const char* kUnbalanced = "unbalanced";
 
 std::string outcomeName(const TrialOutcome& t) {
   if (t.status != GraspStatus::kOk) return toString(t.status);
+  if (t.unbalanced) return kUnbalanced;
   return t.force_closure ? kForceClosure : kNotForceClosure;
 }
 
@@ -204,6 +206,20 @@ std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   j["contact_model"] = toString(o.quality.contact_model);
   j["torsional_friction"] = o.quality.torsional_friction;
   j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
+  if (o.hold_filter.enabled) {  // absent: no filter (maps of earlier builds stay the same bytes)
+    j["hold_filter"] = "squeeze_balance";
+    const HoldFilterOptions& h = o.hold_filter;
+    j["hold_filter_kp_revolute"] = h.kp_revolute;
+    j["hold_filter_kp_prismatic"] = h.kp_prismatic;
+    j["hold_filter_jaw_force"] = h.jaw_force;
+    j["hold_filter_squeeze_fraction"] = h.squeeze_fraction;
+    j["hold_filter_friction"] = h.balance.friction;
+    j["hold_filter_cone_edges"] = h.balance.cone_edges;
+    j["hold_filter_squeeze_tolerance"] = h.balance.squeeze_tolerance;
+    j["hold_filter_push_force"] = h.balance.push_force;
+    j["hold_filter_push_tolerance"] = h.balance.push_tolerance;
+    j["hold_filter_push_joint_weight"] = h.balance.push_joint_weight;
+  }
   j["contact_tolerance"] = o.simulation.contact_tolerance;
   j["max_retraction"] = o.simulation.max_retraction;
   j["squeeze"] = o.simulation.squeeze;

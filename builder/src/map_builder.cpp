@@ -19,6 +19,7 @@ void BuildOptions::validate() const {
   sampler.validate();
   simulation.validate();
   quality.validate();
+  hold_filter.validate();
   if (valid_target < 1) throw Error("valid must be at least 1");
   if (max_trials < 1) throw Error("trials must be at least 1");
   if (valid_target > kMaxBuildCount)

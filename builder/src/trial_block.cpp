@@ -26,6 +26,7 @@ namespace {
 // per contact f64[3] point, f64[3] normal, f64 depth, i32 link.
 constexpr std::uint8_t kFlagForceClosure = 1;
 constexpr std::uint8_t kFlagGrasp = 2;
+constexpr std::uint8_t kFlagUnbalanced = 4;
 
 class Writer {
  public:
@@ -128,7 +129,8 @@ std::string encodeTrialBlock(const TrialBlock& block) {
   for (const TrialOutcome& t : block.trials) {
     w.put<std::uint8_t>(static_cast<std::uint8_t>(t.status));
     const auto flags = static_cast<std::uint8_t>((t.force_closure ? kFlagForceClosure : 0) |
-                                                 (t.grasp ? kFlagGrasp : 0));
+                                                 (t.grasp ? kFlagGrasp : 0) |
+                                                 (t.unbalanced ? kFlagUnbalanced : 0));
     w.put<std::uint8_t>(flags);
     w.put<double>(t.epsilon);
     w.put<double>(t.volume);
@@ -151,8 +153,12 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (status >= statuses) r.fail("unknown grasp status " + std::to_string(status));
     t.status = static_cast<GraspStatus>(status);
     const auto flags = r.get<std::uint8_t>();
-    if ((flags & ~(kFlagForceClosure | kFlagGrasp)) != 0) r.fail("unknown trial flags");
+    if ((flags & ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced)) != 0)
+      r.fail("unknown trial flags");
     t.force_closure = (flags & kFlagForceClosure) != 0;
+    t.unbalanced = (flags & kFlagUnbalanced) != 0;
+    if (t.unbalanced && (t.force_closure || t.status != GraspStatus::kOk))
+      r.fail("unbalanced trial that is force closure or not status ok");
     if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
     t.epsilon = r.get<double>();
     t.volume = r.get<double>();

@@ -72,6 +72,14 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
   t.status = g.status;
   if (g.status != GraspStatus::kOk) return t;
   const double t0 = threadCpuSeconds();
+  if (options.hold_filter.enabled && !holds(g)) {
+    t.unbalanced = true;
+    times.quality += threadCpuSeconds() - t0;
+    if (options.keep_invalid)
+      t.grasp = std::make_unique<TrialGrasp>(
+          TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
+    return t;
+  }
   const QualityResult q = evaluateGrasp(g.contacts, com, torque_scale, options.quality);
   times.quality += threadCpuSeconds() - t0;
   t.force_closure = q.force_closure;
@@ -81,6 +89,12 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
     t.grasp = std::make_unique<TrialGrasp>(
         TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
   return t;
+}
+
+bool Worker::holds(const GraspResult& g) const {
+  const SqueezeDrive drive =
+      squeezeDrive(simulator.hand(), g.pose, g.joints, g.contacts, options.hold_filter);
+  return squeezeBalance(g.contacts, drive, com, torque_scale, options.hold_filter.balance).balanced;
 }
 
 void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming& timing) {

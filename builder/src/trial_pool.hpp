@@ -141,6 +141,8 @@ struct Worker {
   GraspResult simulateTrial(std::uint64_t index);
   /// Scores a simulated trial (the quality of an ok grasp) into its outcome.
   TrialOutcome scoreTrial(GraspResult g);
+  /// The hold filter's verdict on a simulated (status ok) grasp.
+  bool holds(const GraspResult& g) const;
 };
 
 /// Everything runTrialPool needs.

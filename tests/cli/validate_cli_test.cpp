@@ -63,6 +63,24 @@ TEST_F(ValidateCliTest, BuildValidateLabelsAsItBuilds) {
   EXPECT_EQ(m.validation->tested(), m.grasps.size());
 }
 
+TEST_F(ValidateCliTest, BuildKeepHoldingStoresOnlyGraspsThatHold) {
+  // Barrett on the box: about a third of its force-closure grasps hold (docs/VALIDATION.md).
+  const std::string args = "build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                           "/box.obj --hand barrett --valid 8 --seed 4 --threads 1 -o ";
+  const auto r = testing::runTaskmap(args + path("kept.h5") + " --validate --keep-holding");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("--keep-holding: kept"), std::string::npos) << r.out;
+  const TaskMapData m = readMap(path("kept.h5"));
+  ASSERT_TRUE(m.validation);
+  EXPECT_GT(m.grasps.size(), 0u);
+  EXPECT_LT(m.grasps.size(), 8u) << "every grasp held: the test no longer tells";
+  for (std::size_t i = 0; i < m.grasps.size(); ++i) EXPECT_EQ(m.validation->hold[i], 1);
+  const auto refused = testing::runTaskmap(args + path("never.h5") + " --keep-holding");
+  EXPECT_NE(refused.code, 0);
+  EXPECT_NE(refused.out.find("--keep-holding needs --validate"), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(path("never.h5")));
+}
+
 TEST_F(ValidateCliTest, RefusesWhatIsNotAMapAndAnotherHand) {
   std::ofstream(path("junk.h5")) << "not a map";
   const auto junk = testing::runTaskmap("validate " + path("junk.h5"));

@@ -104,6 +104,13 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_flag("--validate", args.validate,
                 "label every stored grasp with the physics hold test before writing "
                 "(taskmap validate; docs/VALIDATION.md)");
+  cmd->add_flag("--keep-holding", args.keep_holding,
+                "with --validate: store only the grasps that hold in the physics test (the "
+                "others are dropped before clustering)");
+  cmd->add_flag("--hold-filter", args.hold_filter,
+                "store only grasps whose squeeze the hold filter finds balanced: the "
+                "position-controlled hand presses the free object into equilibrium and resists "
+                "1 N pushes (docs/METHOD.md 4b; costs trials)");
   cmd->add_flag("--timestamp", args.timestamp,
                 "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
                 "else none, so the same arguments give the same bytes)");
@@ -122,6 +129,7 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.quality.cone_edges = args.cone_edges;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
+  options.hold_filter.enabled = args.hold_filter;
   options.check_size = !args.allow_size;
   if (args.grasp == "palm")
     options.simulation.grasp_mode = GraspMode::kPalm;
@@ -162,6 +170,8 @@ BuildPlan planBuild(const BuildArgs& args) {
   const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
+  if (args.keep_holding && !args.validate)
+    throw Error("--keep-holding needs --validate (the hold labels decide what is kept)");
   requireObjectFile(args.object);
   plan.hand_urdf = resolveHandUrdf(args.hand);
   checkOutputPath(args.output, {args.object, plan.hand_urdf, handSidecarPath(plan.hand_urdf)},

@@ -26,10 +26,12 @@ struct BuildArgs {
   double standoff = -1.0;  ///< metres; negative = the hand sidecar's
   MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
-  bool timestamp = false;   ///< store the current time as created_utc
-  bool allow_size = false;  ///< build an object whose size is implausible for the hand
-  bool validate = false;    ///< label the grasps with the physics hold test before writing
-  bool force = false;       ///< replace an existing output that is not a task map
+  bool timestamp = false;     ///< store the current time as created_utc
+  bool allow_size = false;    ///< build an object whose size is implausible for the hand
+  bool validate = false;      ///< label the grasps with the physics hold test before writing
+  bool keep_holding = false;  ///< with validate: store only the grasps that hold
+  bool hold_filter = false;   ///< refuse grasps the squeeze-balance filter finds unbalanced
+  bool force = false;         ///< replace an existing output that is not a task map
 };
 
 /// With --validate: labels the built map's grasps with the physics hold test (validate stage,

@@ -2,6 +2,9 @@
 // with the physics hold test before the map is written.
 #include <cstdio>
 #include <iostream>
+#include <string>
+
+#include "taskmap/core/error.hpp"
 
 #include "build_command.hpp"
 #include "taskmap/validate/validate_map.hpp"
@@ -14,6 +17,12 @@ void validateIfAsked(const BuildArgs& args, const HandModel& hand, TaskMapData* 
   ValidateOptions options;
   options.threads = args.threads;
   const ValidationSummary s = validateMap(map, hand, options);
+  const std::size_t before = map->grasps.size();
+  const std::size_t kept =
+      args.keep_holding ? keepHoldingGrasps(map, knobOptions(args).clustering) : before;
+  if (kept == 0)
+    throw Error(label + ": --keep-holding: none of the " + std::to_string(before) +
+                " grasps holds in the physics test; nothing written");
   if (args.quiet) return;
   char line[200];
   std::snprintf(
@@ -24,6 +33,9 @@ void validateIfAsked(const BuildArgs& args, const HandModel& hand, TaskMapData* 
       s.tested ? 100.0 * static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0,
       s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0);
   std::cerr << line;
+  if (args.keep_holding)
+    std::cerr << label << ": --keep-holding: kept " << kept << " of " << before
+              << " grasps (the others do not hold)\n";
 }
 
 }  // namespace taskmap::cli

@@ -4,10 +4,12 @@
 #include "taskmap/validate/hold_test.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
@@ -16,6 +18,66 @@
 
 namespace taskmap {
 namespace {
+
+/// The object's convex pieces, kept for the process: decomposing a YCB scan takes 6 to 25 s, and
+/// a map validated twice (or a build that validates after a validation) pays it once. Keyed by
+/// the mesh's exact content and the decomposition options; the last kPieceCacheSize objects.
+class PieceCache {
+ public:
+  /// The pieces of `mesh`, computed or from the cache; *hit tells which.
+  ConvexPieces get(const TriangleMesh& mesh, const ConvexPiecesOptions& o, const std::string& what,
+                   bool* hit) {
+    const std::uint64_t key = hashOf(mesh, o);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const Entry& e : entries_)
+        if (e.key == key && e.max_pieces == o.max_pieces && e.max_faces == o.max_faces &&
+            e.convex_tolerance == o.convex_tolerance && e.wrap == o.wrap &&
+            e.mesh.vertices == mesh.vertices && e.mesh.faces == mesh.faces) {
+          *hit = true;
+          return e.pieces;
+        }
+    }
+    *hit = false;
+    ConvexPieces pieces = convexPieces(mesh, o, what);  // outside the lock: may take seconds
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (entries_.size() >= kPieceCacheSize) entries_.erase(entries_.begin());
+    entries_.push_back(
+        Entry{key, o.max_pieces, o.max_faces, o.convex_tolerance, o.wrap, mesh, pieces});
+    return pieces;
+  }
+
+ private:
+  static constexpr std::size_t kPieceCacheSize = 8;
+  struct Entry {
+    std::uint64_t key;
+    int max_pieces, max_faces;
+    double convex_tolerance;
+    bool wrap;
+    TriangleMesh mesh;
+    ConvexPieces pieces;
+  };
+  /// FNV-1a over the vertex and face bytes and the options.
+  static std::uint64_t hashOf(const TriangleMesh& mesh, const ConvexPiecesOptions& o) {
+    std::uint64_t h = 1469598103934665603ULL;
+    auto mix = [&h](const void* data, std::size_t n) {
+      const auto* b = static_cast<const unsigned char*>(data);
+      for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ULL;
+    };
+    for (const auto& v : mesh.vertices) mix(v.data(), sizeof(double) * 3);
+    for (const auto& f : mesh.faces) mix(f.data(), sizeof(int) * 3);
+    mix(&o.max_pieces, sizeof o.max_pieces);
+    mix(&o.max_faces, sizeof o.max_faces);
+    return h;
+  }
+  std::mutex mutex_;
+  std::vector<Entry> entries_;
+};
+
+PieceCache& pieceCache() {
+  static PieceCache cache;
+  return cache;
+}
 
 /// MuJoCo's fatal errors become exceptions (its default handler exits the process); its
 /// warnings are read from mjData::warning instead of being written to MUJOCO_LOG.TXT.
@@ -267,7 +329,9 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
   s.options = options;
   ConvexPiecesOptions po;
   po.max_pieces = options.object_max_pieces;
-  const ConvexPieces pieces = convexPieces(object.mesh(), po, "object '" + object.name() + "'");
+  bool cached = false;
+  const ConvexPieces pieces =
+      pieceCache().get(object.mesh(), po, "object '" + object.name() + "'", &cached);
   const detail::MjcfScene scene = detail::writeMjcf(hand, object, pieces, options);
   s.xml = scene.xml;
   s.model = compileMjcf(s.xml);
@@ -282,6 +346,7 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
   s.info.object_volume_error = pieces.volumeError();
   s.info.object_decomposed = pieces.decomposed;
   s.info.object_note = pieces.note;
+  s.info.object_pieces_cached = cached;
   s.info.hand_bodies = scene.hand_bodies;
   s.info.hand_geoms = scene.hand_geoms;
   s.info.actuators = scene.actuators;

@@ -166,6 +166,75 @@ std::string recordedHandUrdf(const TaskMapData& map) {
   }
 }
 
+namespace {
+
+/// Copies row i of the grasps (and its contacts) from `in` to the end of `out`.
+void appendRow(const MapGrasps& in, std::size_t i, MapGrasps* out, Eigen::Index row) {
+  out->pose.row(row) = in.pose.row(static_cast<Eigen::Index>(i));
+  out->joints.row(row) = in.joints.row(static_cast<Eigen::Index>(i));
+  out->force_closure.push_back(in.force_closure[i]);
+  out->epsilon.push_back(in.epsilon[i]);
+  out->volume.push_back(in.volume[i]);
+  const auto first = in.contact_offsets[i], last = in.contact_offsets[i + 1];
+  const auto m = static_cast<Eigen::Index>(out->contact_offsets.back());
+  out->contact_points.conservativeResize(m + (last - first), 3);
+  out->contact_normals.conservativeResize(m + (last - first), 3);
+  for (auto r = first; r < last; ++r) {
+    out->contact_points.row(m + (r - first)) = in.contact_points.row(r);
+    out->contact_normals.row(m + (r - first)) = in.contact_normals.row(r);
+    out->contact_depths.push_back(in.contact_depths[static_cast<std::size_t>(r)]);
+    out->contact_links.push_back(in.contact_links[static_cast<std::size_t>(r)]);
+  }
+  out->contact_offsets.push_back(m + (last - first));
+}
+
+}  // namespace
+
+std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& clustering) {
+  if (!map->validation)
+    throw Error("keep holding grasps: the map has no hold labels; validate it first");
+  const MapGrasps& in = map->grasps;
+  const MapValidation& v = *map->validation;
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < in.size(); ++i)
+    if (v.hold[i] == 1) keep.push_back(i);
+  MapGrasps out;
+  out.contacts_available = in.contacts_available;
+  out.rotation_scale = in.rotation_scale;
+  out.pose.resize(static_cast<Eigen::Index>(keep.size()), in.pose.cols());
+  out.joints.resize(static_cast<Eigen::Index>(keep.size()), in.joints.cols());
+  out.contact_points.resize(0, 3);
+  out.contact_normals.resize(0, 3);
+  out.contact_offsets = {0};
+  MapValidation labels = v;
+  labels.hold.clear();
+  labels.status.clear();
+  labels.translation.clear();
+  labels.rotation.clear();
+  labels.direction.clear();
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    const std::size_t i = keep[k];
+    appendRow(in, i, &out, static_cast<Eigen::Index>(k));
+    labels.hold.push_back(v.hold[i]);
+    labels.status.push_back(v.status[i]);
+    labels.translation.push_back(v.translation[i]);
+    labels.rotation.push_back(v.rotation[i]);
+    labels.direction.push_back(v.direction[i]);
+  }
+  const bool clustered = map->clustering.has_value();
+  map->grasps = std::move(out);
+  map->validation = std::move(labels);
+  map->clustering.reset();
+  if (clustered && keep.size() >= 2) {
+    std::vector<Pose> poses;
+    for (std::size_t i = 0; i < keep.size(); ++i) poses.push_back(map->grasps.poseAt(i));
+    ClusteringOptions co = clustering;
+    co.rotation_scale = map->grasps.rotation_scale;
+    map->clustering = clusterGrasps(poses, map->grasps.epsilon, co);
+  }
+  return keep.size();
+}
+
 ObjectModel mapObjectModel(const TaskMapData& map) {
   TriangleMesh mesh;
   const MapObject& o = map.object;

@@ -101,6 +101,26 @@ TEST(HoldTest, RefusesWrongJointCountAndBadOptions) {
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"squeeze_fraction", "[1, 2]"}));
 }
 
+TEST(HoldTest, ObjectPiecesAreComputedOncePerMeshContent) {
+  // A box no other test uses: the first tester decomposes it, the second (another ObjectModel
+  // of the same content) takes the cached pieces; another size is decomposed again.
+  const ObjectModel a = ObjectModel::fromMesh(testing::makeBox(0.041, 0.052, 0.117), "a");
+  const ObjectModel b = ObjectModel::fromMesh(testing::makeBox(0.041, 0.052, 0.117), "b");
+  const ObjectModel c = ObjectModel::fromMesh(testing::makeBox(0.043, 0.052, 0.117), "c");
+  const HoldTester first(testing::pandaHand(), a);
+  const HoldTester second(testing::pandaHand(), b);
+  const HoldTester third(testing::pandaHand(), c);
+  EXPECT_FALSE(first.info().object_pieces_cached);
+  EXPECT_TRUE(second.info().object_pieces_cached);
+  EXPECT_FALSE(third.info().object_pieces_cached);
+  EXPECT_EQ(first.mjcf(), second.mjcf());
+  EXPECT_EQ(first.info().object_pieces, second.info().object_pieces);
+  // Other decomposition options are another entry.
+  HoldTestOptions o;
+  o.object_max_pieces = 3;
+  EXPECT_FALSE(HoldTester(testing::pandaHand(), a, o).info().object_pieces_cached);
+}
+
 struct HandCase {
   std::string urdf;
   int mimic;

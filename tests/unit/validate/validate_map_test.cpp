@@ -45,6 +45,43 @@ TEST(ValidateMap, LabelsDoNotDependOnThreads) {
   EXPECT_GE(a.fc_holding * 2, a.fc_tested) << a.message;
 }
 
+TEST(ValidateMap, KeepHoldingKeepsTheHoldingRowsWithTheirContacts) {
+  TaskMapData map = boxMap();
+  ValidateOptions o;
+  o.threads = 1;
+  o.grasps = 6;  // 6 tested, the rest not tested (dropped too)
+  validateMap(&map, testing::pandaHand(), o);
+  std::vector<std::size_t> holding;
+  for (std::size_t i = 0; i < map.grasps.size(); ++i)
+    if (map.validation->hold[i] == 1) holding.push_back(i);
+  ASSERT_FALSE(holding.empty());
+  map.validation->hold[holding.front()] = 0;  // one more that does not hold
+  map.validation->status[holding.front()] = 3;
+  holding.erase(holding.begin());
+  const TaskMapData before = map;
+  EXPECT_EQ(keepHoldingGrasps(&map), holding.size());
+  ASSERT_EQ(map.grasps.size(), holding.size());
+  EXPECT_NO_THROW(map.validate());
+  for (std::size_t k = 0; k < holding.size(); ++k) {
+    const std::size_t i = holding[k];
+    EXPECT_EQ(map.grasps.pose.row(static_cast<Eigen::Index>(k)),
+              before.grasps.pose.row(static_cast<Eigen::Index>(i)));
+    EXPECT_EQ(map.grasps.epsilon[k], before.grasps.epsilon[i]);
+    EXPECT_EQ(map.validation->hold[k], 1);
+    const auto n = before.grasps.contact_offsets[i + 1] - before.grasps.contact_offsets[i];
+    ASSERT_EQ(map.grasps.contact_offsets[k + 1] - map.grasps.contact_offsets[k], n);
+    EXPECT_EQ(map.grasps.contact_points.row(map.grasps.contact_offsets[k]),
+              before.grasps.contact_points.row(before.grasps.contact_offsets[i]));
+  }
+  EXPECT_EQ(map.clustering.has_value(), holding.size() >= 2);
+  if (map.clustering) {
+    EXPECT_EQ(map.clustering->labels.size(), holding.size());
+  }
+  TaskMapData unlabelled = boxMap();
+  EXPECT_TRUE(testing::throwsError([&] { keepHoldingGrasps(&unlabelled); },
+                                   {"no hold labels", "validate it first"}));
+}
+
 TEST(ValidateMap, LabelsRoundTripThroughTheMapFile) {
   TaskMapData map = boxMap();
   ValidateOptions o;

@@ -14,6 +14,7 @@
 #include <functional>
 #include <string>
 
+#include "taskmap/builder/hold_filter.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
@@ -30,9 +31,12 @@ namespace taskmap {
 constexpr std::uint64_t kMaxBuildCount = 1000000000000000ULL;
 
 struct BuildOptions {
-  SamplerOptions sampler;             ///< sampler kind and standoff (approach_axis is overridden)
-  GraspSimOptions simulation;         ///< simulator knobs
-  QualityOptions quality;             ///< friction, cone edges, contact model
+  SamplerOptions sampler;      ///< sampler kind and standoff (approach_axis is overridden)
+  GraspSimOptions simulation;  ///< simulator knobs
+  QualityOptions quality;      ///< friction, cone edges, contact model
+  /// The hold filter run before quality (off by default): grasps whose squeeze cannot hold the
+  /// free object are not stored (outcome `unbalanced`); hold_filter.hpp, docs/METHOD.md §4b.
+  HoldFilterOptions hold_filter;
   ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
   std::uint64_t seed = 1;             ///< run seed
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)

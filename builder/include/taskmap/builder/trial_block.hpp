@@ -32,8 +32,9 @@ struct TrialGrasp {
 struct TrialOutcome {
   GraspStatus status = GraspStatus::kNoFingerContact;  ///< simulator outcome
   bool force_closure = false;                          ///< status ok and force closure
-  double epsilon = 0.0;                                ///< Ferrari-Canny epsilon (status ok)
-  double volume = 0.0;                                 ///< GWS volume (status ok)
+  bool unbalanced = false;  ///< status ok, refused by the hold filter (no quality computed)
+  double epsilon = 0.0;     ///< Ferrari-Canny epsilon (status ok)
+  double volume = 0.0;      ///< GWS volume (status ok)
   std::unique_ptr<TrialGrasp> grasp;  ///< stored grasp, if any (a pointer: most trials have none)
 };
 

@@ -102,10 +102,12 @@ struct HoldModelInfo {
   double object_volume_error = 0.0;  ///< (pieces - mesh) / mesh volume of the object
   bool object_decomposed = false;    ///< the object was decomposed (not its hull)
   std::string object_note;           ///< why the hull was kept, or ""
-  int hand_bodies = 0;               ///< bodies of the hand
-  int hand_geoms = 0;                ///< collision geoms of the hand
-  int actuators = 0;                 ///< position actuators (one per actuated joint)
-  int mimic_constraints = 0;         ///< joint equality constraints (URDF mimic)
+  /// The pieces came from the process's cache (same mesh content and options seen before).
+  bool object_pieces_cached = false;
+  int hand_bodies = 0;        ///< bodies of the hand
+  int hand_geoms = 0;         ///< collision geoms of the hand
+  int actuators = 0;          ///< position actuators (one per actuated joint)
+  int mimic_constraints = 0;  ///< joint equality constraints (URDF mimic)
 };
 
 /// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text

@@ -68,6 +68,13 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
 /// grasps_per_cpu_second, steps.
 std::string summaryJson(const ValidationSummary& summary);
 
+/// Keeps only the grasps of `map` that hold (labels of validateMap; grasps not tested are
+/// dropped too), with their contacts and labels, and re-clusters them with `clustering` (its
+/// rotation_scale replaced by the map's rho) when the map was clustered and at least two remain;
+/// fewer leave the map unclustered. Returns the grasps kept. Throws Error when the map has no
+/// labels (validate it first).
+std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& clustering = {});
+
 /// The protocol's parameters as a JSON object (what /validation params_json stores).
 std::string holdParamsJson(const HoldTestOptions& options);
 

@@ -1,0 +1,142 @@
+// The build's hold filter: contact Jacobians against finite differences of the hand's
+// kinematics (revolute chains and mimic couplings), efforts from the squeeze target, and a
+// build with the filter on stores only grasps it passes, counts the others as `unbalanced`, and
+// gives the same map for any thread count.
+#include "taskmap/builder/hold_filter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "build_fixtures.hpp"
+#include "error_matchers.hpp"
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/builder/trial_block.hpp"
+
+namespace taskmap {
+namespace {
+
+/// A grasp pose off the identity (rotation and translation) so frames matter.
+Pose somePalm() {
+  Pose p;
+  p.position = Eigen::Vector3d(0.01, -0.02, 0.15);
+  p.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+  return p;
+}
+
+void checkJacobianByFiniteDifferences(const HandModel& hand) {
+  const Pose palm = somePalm();
+  const Eigen::Isometry3d to_object = palm.toIsometry();
+  const Eigen::VectorXd q = 0.5 * (hand.lowerLimits() + hand.upperLimits());
+  const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  std::vector<Contact> contacts;
+  std::vector<Eigen::Vector3d> local;  // contact point in its link frame
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    Contact c;
+    c.link = static_cast<int>(l);
+    local.emplace_back(0.01, 0.02, 0.03);
+    c.point = to_object * poses[l] * local.back();
+    contacts.push_back(c);
+  }
+  const SqueezeDrive drive = squeezeDrive(hand, palm, q, contacts, HoldFilterOptions{});
+  ASSERT_EQ(drive.jacobians.size(), contacts.size());
+  const double h = 1e-6;
+  for (Eigen::Index j = 0; j < q.size(); ++j) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp(j) += h;
+    qm(j) -= h;
+    const auto pp = hand.linkPoses(qp), pm = hand.linkPoses(qm);
+    for (std::size_t l = 0; l < contacts.size(); ++l) {
+      const Eigen::Vector3d dp =
+          (to_object * pp[l] * local[l] - to_object * pm[l] * local[l]) / (2.0 * h);
+      EXPECT_LT((drive.jacobians[l].row(j).transpose() - dp).norm(), 1e-6)
+          << hand.name() << " link " << hand.links()[l].name << " joint " << j;
+    }
+  }
+}
+
+TEST(HoldFilter, JacobiansMatchFiniteDifferences) {
+  checkJacobianByFiniteDifferences(testing::pandaHand());  // prismatic jaws, one mimic
+  checkJacobianByFiniteDifferences(
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"));  // mimic
+  checkJacobianByFiniteDifferences(
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf"));
+}
+
+TEST(HoldFilter, EffortsPushTowardsTheClampedSqueezeTarget) {
+  const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const Eigen::VectorXd q0 = hand.preshape();
+  Eigen::VectorXd q = q0;
+  q(1) = q0(1) + 0.5;            // a proximal joint closed by 0.5 rad
+  q(3) = hand.upperLimits()(3);  // another at its limit: the squeeze target is clamped there
+  HoldFilterOptions o;
+  const SqueezeDrive d = squeezeDrive(hand, Pose{}, q, {}, o);
+  EXPECT_NEAR(d.effort(1), o.kp_revolute * 0.1 * 0.5, 1e-12);  // kp (q0 + 1.1 (q - q0) - q)
+  EXPECT_EQ(d.effort(3), 0.0);
+  EXPECT_TRUE(
+      testing::throwsError([&] { squeezeDrive(hand, Pose{}, Eigen::VectorXd::Zero(2), {}, o); },
+                           {"2 joint values", "actuated joints"}));
+  o.squeeze_fraction = 0.5;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"squeeze_fraction", "[1, 2]"}));
+}
+
+TEST(HoldFilter, ABuildStoresOnlyGraspsThatPassAndCountsTheOthers) {
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  BuildOptions o;
+  o.seed = 5;
+  o.valid_target = 6;
+  o.threads = 1;
+  o.hold_filter.enabled = true;
+  const BuildResult one = buildMap(testing::boxObject(), barrett, o);
+  ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
+  EXPECT_GT(one.map.sampling.outcomes.at("unbalanced"), 0u);
+  const auto& mp = testing::boxObject().massProperties();
+  for (std::size_t i = 0; i < one.map.grasps.size(); ++i) {
+    std::vector<Contact> contacts;
+    const MapGrasps& g = one.map.grasps;
+    for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
+      Contact c;
+      c.point = g.contact_points.row(r).transpose();
+      c.normal = g.contact_normals.row(r).transpose();
+      c.depth = g.contact_depths[static_cast<std::size_t>(r)];
+      c.link = g.contact_links[static_cast<std::size_t>(r)];
+      contacts.push_back(c);
+    }
+    const Eigen::VectorXd q = g.joints.row(static_cast<Eigen::Index>(i)).transpose();
+    const SqueezeDrive d = squeezeDrive(barrett, g.poseAt(i), q, contacts, o.hold_filter);
+    EXPECT_TRUE(
+        squeezeBalance(contacts, d, mp.center_of_mass, mp.torque_scale, o.hold_filter.balance)
+            .balanced)
+        << "grasp " << i;
+  }
+  EXPECT_NE(one.map.sampling.params_json.find("\"hold_filter\":\"squeeze_balance\""),
+            std::string::npos);
+  o.threads = 2;
+  const BuildResult two = buildMap(testing::boxObject(), barrett, o);
+  EXPECT_EQ(one.map.grasps.pose, two.map.grasps.pose);
+  EXPECT_EQ(one.map.sampling.outcomes, two.map.sampling.outcomes);
+  // Off (the default), the map records no filter.
+  o.hold_filter.enabled = false;
+  const BuildResult off = buildMap(testing::boxObject(), barrett, o);
+  EXPECT_EQ(off.map.sampling.outcomes.count("unbalanced"), 0u);
+  EXPECT_EQ(off.map.sampling.params_json.find("hold_filter"), std::string::npos);
+}
+
+TEST(HoldFilter, UnbalancedTrialsRoundTripThroughBlocks) {
+  TrialBlock block;
+  block.first = 3;
+  block.trials.resize(2);
+  block.trials[0].status = GraspStatus::kOk;
+  block.trials[0].unbalanced = true;
+  block.trials[1].status = GraspStatus::kOk;
+  const TrialBlock back = decodeTrialBlock(encodeTrialBlock(block), 2, "block");
+  EXPECT_TRUE(back.trials[0].unbalanced);
+  EXPECT_FALSE(back.trials[1].unbalanced);
+  EXPECT_EQ(back.valid(), 0u);
+}
+
+}  // namespace
+}  // namespace taskmap
