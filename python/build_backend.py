@@ -8,7 +8,7 @@ through their RPATH, $ORIGIN/../../..) and the stage libraries as wheel data in 
 into <venv>/lib).
 
 Settings: TASKMAP_BUILD_DIR (environment) or `--config-settings build-dir=DIR` uses that build
-tree (configured before; only the Python targets are brought up to date there); otherwise
+tree (configured before; brought up to date there); otherwise
 <source>/build-pip is configured (Release, no tests, no tools) and built.
 """
 import base64
@@ -24,7 +24,6 @@ import zipfile
 
 _SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _NAME = "taskmap"
-_TARGETS = ["taskmap_python_core", "taskmap_python_offline"]
 
 
 def _version():
@@ -66,7 +65,9 @@ def _build_tree(config_settings):
         if shutil.which("ccache"):
             cmd.append("-DCMAKE_CXX_COMPILER_LAUNCHER=ccache")
         _run(cmd)
-    _run(["cmake", "--build", build_dir, "-j", str(os.cpu_count() or 1), "--target"] + _TARGETS)
+    # Everything the tree builds (the install step copies every stage library); a no-op for a
+    # tree that is up to date, such as the one the tests run in.
+    _run(["cmake", "--build", build_dir, "-j", str(os.cpu_count() or 1)])
     return build_dir
 
 
@@ -126,6 +127,21 @@ def get_requires_for_build_wheel(config_settings=None):
     return []
 
 
+def _wheel_text(tag):
+    return (f"Wheel-Version: 1.0\nGenerator: taskmap build_backend\n"
+            f"Root-Is-Purelib: false\nTag: {tag}\n").encode()
+
+
+def prepare_metadata_for_build_wheel(metadata_directory, config_settings=None):
+    """The package's metadata without building it (pip asks before build_wheel)."""
+    dist = f"{_NAME}-{_version()}.dist-info"
+    os.makedirs(os.path.join(metadata_directory, dist), exist_ok=True)
+    for name, data in (("METADATA", _metadata()), ("WHEEL", _wheel_text(_tag()))):
+        with open(os.path.join(metadata_directory, dist, name), "wb") as f:
+            f.write(data)
+    return dist
+
+
 def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
     build_dir = _build_tree(config_settings)
     pydir = _check_layout(_cache(build_dir))
@@ -135,8 +151,7 @@ def build_wheel(wheel_directory, config_settings=None, metadata_directory=None):
         files = _wheel_files(stage, pydir)
     dist = f"{_NAME}-{_version()}.dist-info"
     files.append((f"{dist}/METADATA", _metadata()))
-    files.append((f"{dist}/WHEEL", (f"Wheel-Version: 1.0\nGenerator: taskmap build_backend\n"
-                                    f"Root-Is-Purelib: false\nTag: {tag}\n").encode()))
+    files.append((f"{dist}/WHEEL", _wheel_text(tag)))
     record = "".join(f"{n},{_hash(b)},{len(b)}\n" for n, b in files) + f"{dist}/RECORD,,\n"
     files.append((f"{dist}/RECORD", record.encode()))
     wheel = f"{_NAME}-{_version()}-{tag}.whl"
