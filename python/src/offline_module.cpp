@@ -12,7 +12,10 @@ namespace py = pybind11;
 PYBIND11_MODULE(_offline, m) {
   m.doc() = "taskmap's offline stages: Robot, reach, plan_grasp, validate (loaded on first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
-  static py::object error = py::module_::import("taskmap._core").attr("Error");
+  // A handle kept for the process's life: a static py::object would drop its reference at exit,
+  // after the interpreter is gone.
+  static const py::handle error =
+      py::object(py::module_::import("taskmap._core").attr("Error")).release();
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -2,6 +2,7 @@
 /proc/self/maps, as the C++ consumer test checks its link line); the offline names load on first
 use; `pip install .` into a fresh virtual environment (offline, reusing this build tree's objects)
 gives a package that works from anywhere."""
+import json
 import math
 import os
 import subprocess
@@ -41,7 +42,6 @@ QUERY = textwrap.dedent("""
 
 
 def run_query(python, touch="", env=None, cwd=None):
-    import json
     with tempfile.TemporaryDirectory() as d:
         out = subprocess.run([python, "-c", QUERY, d, touch], check=True, capture_output=True,
                              text=True, env=env, cwd=cwd)
