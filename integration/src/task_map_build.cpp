@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "sample_weight.hpp"
 #include "task_map_impl.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
@@ -92,6 +93,10 @@ void TaskMap::Impl::readGrasps() {
   if (!(std::isfinite(g.rotation_scale) && g.rotation_scale > 0))
     throw Error("/grasps rotation_scale is not a finite positive length (metres per radian)");
   rho = g.rotation_scale;
+  options.sample_weight = detail::resolveSampleWeight(data, options.sample_weight);
+  const std::vector<double> margin = options.sample_weight == SampleWeight::kHoldMargin
+                                         ? detail::holdMargins(data)
+                                         : std::vector<double>(n, 1.0);
   pos.resize(n);
   qconj.resize(n);
   weight.resize(n);
@@ -107,7 +112,7 @@ void TaskMap::Impl::readGrasps() {
     const double eps = g.epsilon[i];
     if (!(std::isfinite(eps) && eps >= 0))
       throw Error(grasp(i) + ": epsilon " + std::to_string(eps) + " is not a finite value >= 0");
-    weight[i] = eps;
+    weight[i] = eps * margin[i];
   }
 }
 

@@ -35,7 +35,7 @@ struct TaskMap::Impl {
     std::unique_ptr<detail::NnIndex> index;
     /// Candidates of the cut-off searches; null if it does not apply (ball_tree.hpp).
     std::unique_ptr<detail::PoseBallTree> ball;
-    double total_weight = 0.0;  ///< sum of epsilon over the set
+    double total_weight = 0.0;  ///< sum of the sample weights over the set
     std::size_t size() const { return count; }
     const double* row(std::size_t k) const { return rows.data() + k * kRowStride; }
   };
@@ -53,7 +53,7 @@ struct TaskMap::Impl {
   double rho = kDefaultRotationScale;
   std::vector<Eigen::Vector3d> pos;
   std::vector<Eigen::Quaterniond, Eigen::aligned_allocator<Eigen::Quaterniond>> qconj;
-  std::vector<double> weight;  ///< epsilon
+  std::vector<double> weight;  ///< w_i: epsilon, or epsilon x hold margin (SampleWeight)
   SampleSet all;
   std::vector<SampleSet> clusters;
   double wp = 1.0, wr = 1.0;

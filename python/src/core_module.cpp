@@ -72,13 +72,15 @@ TaskMapOptions makeOptions(const py::kwargs& kw) {
         throw Error("option quality_mode = '" + s + "'; use 'exact' or 'truncated'");
     } else if (k == "quality_tolerance") {
       o.quality_tolerance = v.cast<double>();
+    } else if (k == "sample_weight") {
+      o.sample_weight = sampleWeightFromString(py::str(v));
     } else if (k == "threads") {
       o.threads = v.cast<int>();
     } else {
       throw Error("unknown option '" + k +
                   "'; known: index, trees, checks, linear_weight, angular_weight, "
                   "position_sigma, rotation_sigma, bandwidth_factor, quality_mode, "
-                  "quality_tolerance, threads");
+                  "quality_tolerance, sample_weight, threads");
     }
   }
   return o;
@@ -246,6 +248,10 @@ void bindTaskMap(py::module_& m) {
                              [](const TaskMap& t) { return t.options().linear_weight; })
       .def_property_readonly("angular_weight",
                              [](const TaskMap& t) { return *t.options().angular_weight; })
+      .def_property_readonly(
+          "sample_weight", [](const TaskMap& t) { return toString(t.options().sample_weight); },
+          "What weighs each sample in the quality criterion: 'epsilon' or 'hold_margin' (epsilon "
+          "x the physics hold margin; the default when the map is fully validated)")
       .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius)
       .def_property_readonly("poses", [](const TaskMap& t) { return t.data().grasps.pose; })
       .def_property_readonly("epsilon", [](const TaskMap& t) { return t.data().grasps.epsilon; })

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <future>
 #include <iostream>
-#include <numeric>
 #include <set>
 #include <vector>
 
@@ -84,24 +83,39 @@ TEST(ReachMapCli, BundledMapAndResimulatedGrasp) {
 #else
 const std::string kMap = std::string(TASKMAP_SOURCE_DIR) + "/meshes/maps/basket_humanoid.h5";
 
-/// The checked-in map (meshes/maps/README.md) rebuilt with its recorded commands (build, then
-/// cluster --min-size 6, the clustering the reaching measurements were made with) reproduces it.
+/// The checked-in map (meshes/maps/README.md): 2000 force-closure grasps built, validated in
+/// physics, the holding ones kept. The rebuild here skips the validation of all 2000 (about three
+/// CPU minutes): every checked-in grasp must be a grasp of the rebuilt map, in order, bit for
+/// bit (pose, joints, epsilon), and validating the checked-in grasps again must give their
+/// stored labels (all hold, the same displacements and rotations).
 TEST(ReachMapCliSlow, ReferenceMapRebuildReproducesTheCheckedInFile) {
-  const std::string out = tempPath("basket_rebuilt.h5");
+  const std::string out = tempPath("basket_rebuilt.h5"), labels = tempPath("basket_labels.h5");
   const testing::CliRun r = testing::runShell(
       std::string("cd ") + TASKMAP_SOURCE_DIR + " && " + TASKMAP_BINARY_DIR +
       "/bin/taskmap build --object meshes/objects/basket.obj --hand "
-      "meshes/hands/humanoid/humanoid.urdf --valid 300 --seed 1 --threads 1 -q -o " +
-      out + " && " + TASKMAP_BINARY_DIR + "/bin/taskmap cluster --min-size 6 " + out);
+      "meshes/hands/humanoid/humanoid.urdf --valid 2000 --seed 1 --threads 1 -q --no-cluster -o " +
+      out + " && " + TASKMAP_BINARY_DIR + "/bin/taskmap validate " + kMap + " -o " + labels);
   ASSERT_EQ(r.code, 0) << r.out;
-  const TaskMapData a = readMap(kMap), b = readMap(out);
-  ASSERT_EQ(a.grasps.size(), b.grasps.size());
-  EXPECT_TRUE(a.grasps.pose == b.grasps.pose);
-  EXPECT_EQ(a.grasps.epsilon, b.grasps.epsilon);
-  EXPECT_EQ(a.sampling.trials, b.sampling.trials);
-  ASSERT_TRUE(a.clustering && b.clustering);
-  EXPECT_EQ(a.clustering->labels, b.clustering->labels);
-  EXPECT_EQ(a.sampling.params_json, b.sampling.params_json);
+  const TaskMapData a = readMap(kMap), b = readMap(out), c = readMap(labels);
+  ASSERT_TRUE(a.validation);
+  EXPECT_EQ(a.validation->holding(), a.grasps.size());
+  EXPECT_EQ(b.grasps.size(), 2000u);
+  std::size_t j = 0;  // a's grasps are a subsequence of b's
+  for (std::size_t i = 0; i < a.grasps.size(); ++i) {
+    const auto row = [](const TaskMapData& m, std::size_t k) {
+      return m.grasps.pose.row(static_cast<Eigen::Index>(k));
+    };
+    while (j < b.grasps.size() && row(b, j) != row(a, i)) ++j;
+    ASSERT_LT(j, b.grasps.size()) << "checked-in grasp " << i << " is not in the rebuilt map";
+    EXPECT_TRUE(a.grasps.joints.row(static_cast<Eigen::Index>(i)) ==
+                b.grasps.joints.row(static_cast<Eigen::Index>(j)));
+    EXPECT_EQ(a.grasps.epsilon[i], b.grasps.epsilon[j]);
+    ++j;
+  }
+  ASSERT_TRUE(c.validation);
+  EXPECT_EQ(c.validation->hold, a.validation->hold);
+  EXPECT_EQ(c.validation->translation, a.validation->translation);
+  EXPECT_EQ(c.validation->rotation, a.validation->rotation);
 }
 
 nlohmann::json reach(const std::string& scene, const std::string& pose, const std::string& extra) {
@@ -122,7 +136,8 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
   std::set<int> clusters;
   const std::string png = tempPath("reach_map.png");
   for (const auto& [name, pose] : cases) {
-    const nlohmann::json j = reach("basket_" + name + ".json", pose, "--all-clusters --png " + png);
+    const nlohmann::json j =
+        reach("basket_" + name + ".json", pose, "--all-clusters --hold-test --png " + png);
     ASSERT_TRUE(j.contains("resimulated")) << j.dump();
     const nlohmann::json& s = j["resimulated"];
     std::cout << name << ": cluster " << j["cluster"] << ", grasp " << j["grasp_index"]
@@ -130,7 +145,8 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
               << j["iterations_to_manifold"] << ", to quality " << j["iterations_to_quality"]
               << ", clearance " << j["min_clearance_m"] << " m, " << j["ms_per_iteration"]
               << " ms/iteration, " << j["ms_per_plan"] << " ms/plan, re-simulated " << s["outcome"]
-              << " epsilon " << s["epsilon"] << "\n";
+              << " epsilon " << s["epsilon"] << ", hold test "
+              << (s.contains("hold") ? s["hold"].dump() : "none") << "\n";
     EXPECT_EQ(j["status"], "planned");
     EXPECT_TRUE(j["collision_free"].get<bool>());
     EXPECT_GE(j["min_clearance_m"].get<double>(), 0.0);
@@ -141,6 +157,9 @@ TEST(ReachMapCliSlow, ThreeBasketPositionsMeetTheAcceptanceMeasures) {
     EXPECT_GE(j["iterations_to_quality"].get<int>(), 0);
     EXPECT_LE(j["iterations_to_quality"].get<int>(), 25);
     EXPECT_TRUE(s["force_closure"].get<bool>()) << name << ": " << s.dump();
+    EXPECT_EQ(j["sample_weight"], "hold_margin");
+    ASSERT_TRUE(s.contains("hold")) << s.dump();
+    EXPECT_TRUE(s["hold"]["holds"].get<bool>()) << name << ": " << s.dump();
     EXPECT_EQ(j["cost_history"].size(), j["iterations"].get<std::size_t>() + 1);
     const auto& h = j["cost_history"];
     EXPECT_LT(h.back()["total"].get<double>(), h.front()["total"].get<double>());
@@ -164,14 +183,16 @@ double median(std::vector<double> v) {
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
-/// The g_q comparison (docs/REACHING.md "Quality on and off"): same weights, quality on and off.
-TEST(ReachMapCliSlow, QualityTermRaisesTheResimulatedEpsilonOnTheGrid) {
+/// The grid of docs/REACHING.md "Grasps that hold": 25 basket positions, the best cluster, the
+/// quality term on and off (same weights otherwise); every planned final grasp re-simulated and
+/// tested in physics. Success: planned, and the re-simulated grasp holds.
+TEST(ReachMapCliSlow, QualityTermPicksGraspsThatHoldOnTheGrid) {
   std::vector<std::future<nlohmann::json> > runs;
   for (int k = 0; k < 50; ++k) {
     const int cell = k / 2, on = 1 - k % 2;
     runs.push_back(std::async(std::launch::deferred, [cell, on] {
       return reach("basket_reference.json", gridPose(cell / 5, cell % 5),
-                   "--quality-weight " + std::to_string(on));
+                   "--hold-test --quality-weight " + std::to_string(on));
     }));
   }
   // Two CLI processes at a time (their results do not depend on it).
@@ -181,38 +202,32 @@ TEST(ReachMapCliSlow, QualityTermRaisesTheResimulatedEpsilonOnTheGrid) {
     result[k] = runs[k].get();
     result[k + 1] = second.get();
   }
+  const auto holds = [](const nlohmann::json& j) {
+    return j["status"] == "planned" && j["resimulated"].contains("hold") &&
+           j["resimulated"]["hold"]["holds"].get<bool>();
+  };
   std::vector<double> with, without;
-  int planned_with = 0, planned_without = 0, wins = 0, losses = 0, closure_with = 0;
+  int planned_with = 0, hold_with = 0, hold_without = 0;
   for (std::size_t k = 0; k < result.size(); k += 2) {
     const nlohmann::json &a = result[k], &b = result[k + 1];
     ASSERT_TRUE(a.contains("resimulated") && b.contains("resimulated")) << a.dump() << b.dump();
     planned_with += a["status"] == "planned";
-    planned_without += b["status"] == "planned";
-    const double ea = a["resimulated"]["epsilon"].get<double>();
-    const double eb = b["resimulated"]["epsilon"].get<double>();
-    closure_with += a["resimulated"]["force_closure"].get<bool>();
-    with.push_back(ea);
-    without.push_back(eb);
-    wins += ea > eb;
-    losses += ea < eb;
+    hold_with += holds(a);
+    hold_without += holds(b);
+    with.push_back(a["resimulated"]["epsilon"].get<double>());
+    without.push_back(b["resimulated"]["epsilon"].get<double>());
     std::cout << "cell " << k / 2 << " ("
               << gridPose(static_cast<int>(k / 2) / 5, static_cast<int>(k / 2) % 5)
-              << "): g_q on grasp " << a["grasp_index"] << " epsilon " << ea << ", off grasp "
-              << b["grasp_index"] << " epsilon " << eb << "\n";
+              << "): g_q on grasp " << a["grasp_index"] << " epsilon " << with.back() << " hold "
+              << holds(a) << ", off grasp " << b["grasp_index"] << " epsilon " << without.back()
+              << " hold " << holds(b) << "\n";
   }
-  const auto mean = [](const std::vector<double>& v) {
-    return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
-  };
-  std::cout << "planned " << planned_with << " / " << planned_without << " of 25; force closure "
-            << "with g_q " << closure_with << "; epsilon mean " << mean(with) << " / "
-            << mean(without) << ", median " << median(with) << " / " << median(without)
-            << "; g_q on wins " << wins << ", loses " << losses << "\n";
-  EXPECT_GE(planned_with, 23);  // >= 90% of 25
-  EXPECT_GE(planned_without, 23);
-  EXPECT_GE(closure_with, 23);  // success counted as a re-simulated force-closure grasp
-  EXPECT_GT(mean(with), mean(without));
-  EXPECT_GE(median(with), median(without));
-  EXPECT_GT(wins, losses);
+  std::cout << "planned " << planned_with << " of 25; the re-simulated grasp holds: with g_q "
+            << hold_with << ", without " << hold_without << "; epsilon median " << median(with)
+            << " / " << median(without) << "\n";
+  EXPECT_GE(planned_with, 23);  // >= 90 % of 25
+  EXPECT_GE(hold_with, 23);     // >= 90 % hold (issue 28 part 3)
+  EXPECT_GT(hold_with, hold_without);
 }
 #endif
 

@@ -3,6 +3,7 @@
 Maps come from taskmap.TaskMap.from_arrays (synthetic grasps on three bars), from its save()
 (writeMap) and, when the CLI can build maps, from `taskmap build ... --valid 30`.
 """
+import json
 import os
 import shutil
 import subprocess
@@ -212,6 +213,43 @@ class IntegrationTest(unittest.TestCase):
                 self.assertAlmostEqual(got, expected, delta=1e-9 * abs(expected) + 1e-300)
                 near += expected < -1e-6 / z
             self.assertGreater(near, 10)  # the comparison is not vacuous
+
+    def test_validated_map_weighs_samples_by_hold_margin(self):
+        """The checked-in reference map carries physics hold labels for every grasp: its quality
+        weights are epsilon x hold margin (docs/METHOD.md "Sample weights"), checked against
+        numpy with the labels read by h5py; sample_weight="epsilon" restores the paper's."""
+        import h5py
+        path = os.path.join(os.environ.get("TASKMAP_SOURCE_DIR", ""), "meshes", "maps",
+                            "basket_humanoid.h5")
+        if not os.path.exists(path):
+            self.skipTest("the checked-in map is not available")
+        with h5py.File(path, "r") as f:
+            eps = f["grasps/epsilon"][:]
+            hold = f["grasps/hold"][:]
+            d, a = f["grasps/hold_translation"][:], f["grasps/hold_rotation"][:]
+            params = json.loads(f["validation"].attrs["params_json"])
+        margin = np.where(hold == 1, np.clip(np.minimum(1 - d / params["max_translation"],
+                                                        1 - a / params["max_rotation"]), 0, 1), 0)
+        by_margin = taskmap.load(path)
+        by_eps = taskmap.load(path, sample_weight="epsilon")
+        self.assertEqual(by_margin.sample_weight, "hold_margin")
+        self.assertEqual(by_eps.sample_weight, "epsilon")
+        poses = by_margin.poses
+        for weights, m in ((eps * margin, by_margin), (eps, by_eps)):
+            sp, sr = m.position_sigma, m.rotation_sigma
+            z = (2 * np.pi) ** 3 * (sp * sr) ** 3
+            rs = np.array([rotation_matrix(p[3:]) for p in poses])
+            for q in poses[::7]:
+                r = rotation_matrix(q[3:])
+                dd = (np.sum((poses[:, :3] - q[:3]) ** 2, axis=1) / sp ** 2
+                      + np.sum((rs - r) ** 2, axis=(1, 2)) / (2 * sr ** 2))
+                expected = -np.sum(weights * np.exp(-0.5 * dd)) / z / np.sum(weights)
+                got = m.quality(q, mode="exact")["value"]
+                self.assertAlmostEqual(got, expected, delta=1e-9 * abs(expected) + 1e-300)
+        self.assertNotAlmostEqual(by_margin.quality(poses[0], mode="exact")["value"],
+                                  by_eps.quality(poses[0], mode="exact")["value"], delta=1e-12)
+        with self.assertRaisesRegex(taskmap.Error, "hold_margin"):
+            taskmap.load(path, sample_weight="holding")
 
     def test_session_equals_evaluate_on_a_trajectory(self):
         m = self.map

@@ -293,6 +293,14 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
   cmd->add_flag("--resimulate,!--no-resimulate", args->map.resimulate,
                 "with --map: re-simulate the final grasp with grasp_sim on the map's hand and "
                 "object (JSON \"resimulated\"; default on)");
+  cmd->add_option("--sample-weight", args->map.sample_weight,
+                  "with --map: what weighs each map sample in the quality term: 'epsilon', "
+                  "'hold_margin' (epsilon x physics hold margin; needs a validated map) or "
+                  "'auto' (hold_margin when every grasp has a hold label)")
+      ->capture_default_str();
+  cmd->add_flag("--hold-test", args->map.hold_test,
+                "with --map: also test the re-simulated grasp in physics (the validator's "
+                "protocol, docs/VALIDATION.md; JSON \"resimulated\".\"hold\")");
   cmd->add_option("--via", args->via,
                   "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
                   "attractor point passes through; repeat for several");

@@ -20,6 +20,7 @@
 #include "reach_picture.hpp"
 #include "reach_resimulate.hpp"
 #include "reach_trajectory.hpp"
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/plan_report.hpp"
@@ -133,6 +134,14 @@ void printResimulation(const Resimulation& r) {
   std::printf("re-simulated      %s, %s, epsilon %.4f, %d contacts (%zu fingers)\n",
               r.outcome.c_str(), r.force_closure ? "force closure" : "no force closure", r.epsilon,
               r.contacts, r.fingers.size());
+  if (!r.hold) return;
+  const HoldResult& h = *r.hold;
+  std::printf("hold test         %s (object moved %.1f mm, turned %.1f deg%s%s)\n",
+              holdStatusName(h.status), 1000.0 * h.max_translation, h.max_rotation * 180.0 / kPi,
+              h.failed_direction >= 0 ? ", push " : "",
+              h.failed_direction >= 0
+                  ? pushDirectionNames()[static_cast<std::size_t>(h.failed_direction)]
+                  : "");
 }
 
 }  // namespace
@@ -141,9 +150,13 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
                  const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,
                  const ReachOptions& options, bool json, const std::string& png) {
   if (args.iterations < 1) throw Error("--iterations must be >= 1");
+  if (args.hold_test && !args.resimulate)
+    throw Error("--hold-test tests the re-simulated grasp: drop --no-resimulate");
   if (args.descent != "bfgs" && args.descent != "gradient")
     throw Error("--descent must be 'bfgs' or 'gradient', not '" + args.descent + "'");
-  const TaskMap map = TaskMap::load(resolveMapPath(args.map));
+  TaskMapOptions map_options;
+  map_options.sample_weight = sampleWeightFromString(args.sample_weight);
+  const TaskMap map = TaskMap::load(resolveMapPath(args.map), map_options);
   TrajectoryProblem p;
   p.robot = &robot;
   p.collisions = &collisions;
@@ -169,8 +182,10 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   if (args.resimulate && plan.best >= 0)
     resim =
         resimulateGrasp(map.data(), finalPalmInObject(robot, plan.plans[plan.best], palm, object));
+  if (resim && args.hold_test) holdTestResimulated(map.data(), &*resim);
   if (json) {
     nlohmann::json j = nlohmann::json::parse(graspPlanReport(plan, ms, movement));
+    j["sample_weight"] = toString(map.options().sample_weight);
     if (resim) j["resimulated"] = resimulationJson(*resim);
     std::cout << j.dump(2) << "\n";
   } else {

@@ -16,14 +16,16 @@ struct MapReachArgs {
   std::string object_pose;    ///< "x y z yaw" of the object body in the world (metres, radians)
   bool all_clusters = false;  ///< optimise from every reachable cluster
   int iterations = 40;        ///< optimiser iterations
-  double proximity_weight = 1.0e4;  ///< w_map,p (docs/REACHING.md "Chosen weights")
-  double quality_weight = 1.0;      ///< w_map,q
-  bool resimulate = true;           ///< re-simulate the final grasp with grasp_sim
-  std::string descent = "bfgs";     ///< "bfgs" or "gradient"
-  std::string output;               ///< trajectory file to write (mapstore/TRAJECTORY.md), or ""
-  std::string glb;                  ///< GLB file to write (tools/src/glb_export.hpp), or ""
-  std::string robot = "panda";      ///< --robot, recorded in the trajectory file
-  std::string hand = "humanoid";    ///< --hand, recorded in the trajectory file
+  double proximity_weight = 1.0e4;     ///< w_map,p (docs/REACHING.md "Chosen weights")
+  double quality_weight = 1.0;         ///< w_map,q
+  bool resimulate = true;              ///< re-simulate the final grasp with grasp_sim
+  bool hold_test = false;              ///< and test the re-simulated grasp in physics (validate)
+  std::string sample_weight = "auto";  ///< quality weights: "auto", "epsilon", "hold_margin"
+  std::string descent = "bfgs";        ///< "bfgs" or "gradient"
+  std::string output;                  ///< trajectory file to write (mapstore/TRAJECTORY.md), or ""
+  std::string glb;                     ///< GLB file to write (tools/src/glb_export.hpp), or ""
+  std::string robot = "panda";         ///< --robot, recorded in the trajectory file
+  std::string hand = "humanoid";       ///< --hand, recorded in the trajectory file
 };
 
 /// --map as a file: the path itself when it exists, else the bundled map of that name

@@ -10,6 +10,7 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
+#include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -125,6 +126,7 @@ Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object)
   r.outcome = toString(g.status);
   r.message = g.message;
   r.final_pose = g.pose;
+  r.joints = g.joints;
   r.fingers = g.fingers_in_contact;
   r.retraction_m = g.stats.retraction;
   r.contacts = static_cast<int>(g.contacts.size());
@@ -136,17 +138,36 @@ Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object)
   return r;
 }
 
+void holdTestResimulated(const TaskMapData& map, Resimulation* r) {
+  if (r->outcome != "ok") return;
+  const HoldTester tester(HandModel::load(r->hand_urdf), mapObjectModel(map));
+  r->hold = tester.test(r->final_pose, r->joints);
+}
+
 nlohmann::json resimulationJson(const Resimulation& r) {
-  return {{"outcome", r.outcome},
-          {"message", r.message},
-          {"force_closure", r.force_closure},
-          {"epsilon", r.epsilon},
-          {"contacts", r.contacts},
-          {"fingers", r.fingers},
-          {"retraction_m", r.retraction_m},
-          {"start", poseJson(r.start)},
-          {"final", poseJson(r.final_pose)},
-          {"hand", r.hand_urdf}};
+  nlohmann::json j = {{"outcome", r.outcome},
+                      {"message", r.message},
+                      {"force_closure", r.force_closure},
+                      {"epsilon", r.epsilon},
+                      {"contacts", r.contacts},
+                      {"fingers", r.fingers},
+                      {"retraction_m", r.retraction_m},
+                      {"start", poseJson(r.start)},
+                      {"final", poseJson(r.final_pose)},
+                      {"hand", r.hand_urdf}};
+  if (r.hold) {
+    const HoldResult& h = *r.hold;
+    j["hold"] = {
+        {"holds", h.holds},
+        {"status", holdStatusName(h.status)},
+        {"max_translation_m", h.max_translation},
+        {"max_rotation_rad", h.max_rotation},
+        {"failed_direction",
+         h.failed_direction < 0
+             ? nlohmann::json(nullptr)
+             : nlohmann::json(pushDirectionNames()[static_cast<std::size_t>(h.failed_direction)])}};
+  }
+  return j;
 }
 
 }  // namespace taskmap::cli

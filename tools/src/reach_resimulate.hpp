@@ -8,8 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
+
+#include <Eigen/Core>
+
 #include "taskmap/core/pose.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/validate/hold_test.hpp"
 
 namespace taskmap::cli {
 
@@ -24,7 +29,10 @@ struct Resimulation {
   double retraction_m = 0.0;         ///< distance the simulator moved the palm out (+) or in (-)
   Pose start;                        ///< palm pose the trial started from (object frame)
   Pose final_pose;                   ///< palm pose after closing (object frame)
+  Eigen::VectorXd joints;            ///< joints after closing (HandModel::jointNames() order)
   std::string hand_urdf;             ///< the hand file used
+  /// The physics hold test of the re-simulated grasp (holdTestResimulated), when it ran.
+  std::optional<HoldResult> hold;
 };
 
 /// The URDF of the map's hand: the path the build recorded (params_json "hand") when its SHA-256
@@ -37,7 +45,14 @@ std::string mapHandUrdf(const TaskMapData& map);
 /// params_json (defaults for keys a map does not record). Throws Error when the hand is not found.
 Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object);
 
-/// {outcome, message, force_closure, epsilon, contacts, fingers, retraction_m, start, final}.
+/// Runs the physics hold test (validate/hold_test.hpp, the protocol's defaults) on a
+/// re-simulated grasp whose outcome is "ok": its final palm pose and joints, the map's hand
+/// (r->hand_urdf) and the map's object; stores the result in r->hold. Does nothing otherwise.
+void holdTestResimulated(const TaskMapData& map, Resimulation* r);
+
+/// {outcome, message, force_closure, epsilon, contacts, fingers, retraction_m, start, final,
+/// hand, and hold {holds, status, max_translation_m, max_rotation_rad, failed_direction} when
+/// the hold test ran}.
 nlohmann::json resimulationJson(const Resimulation& r);
 
 }  // namespace taskmap::cli

@@ -43,6 +43,25 @@ enum class QualityMode {
   kTruncated,  ///< samples within the cut-off radius found by the index, error bound reported
 };
 
+/// What weighs a sample's Gaussian in the quality criterion (w_i of eq. 1.20; docs/METHOD.md
+/// §4 "Sample weights").
+enum class SampleWeight {
+  /// kHoldMargin when the map carries physics hold labels (taskmap validate) for every grasp,
+  /// else kEpsilon. Resolved at construction (TaskMap::options()).
+  kAuto,
+  kEpsilon,  ///< the grasp's Ferrari-Canny epsilon (the paper)
+  /// epsilon x hold margin: 0 for a grasp that does not hold; for one that holds
+  /// min(1 - d / d_max, 1 - a / a_max) of the object's largest displacement d (m) and rotation a
+  /// (rad) in the hold test, with the test's limits d_max, a_max (/validation params_json).
+  /// Needs hold labels for every grasp.
+  kHoldMargin,
+};
+
+/// "auto", "epsilon", "hold_margin".
+const char* toString(SampleWeight weight);
+/// Parses a sample weight name; throws Error listing the valid names on an unknown one.
+SampleWeight sampleWeightFromString(const std::string& name);
+
 /// Options of TaskMap; unset optionals take documented defaults derived from the map.
 struct TaskMapOptions {
   IndexKind index = IndexKind::kExactKdTree;
@@ -61,6 +80,9 @@ struct TaskMapOptions {
   std::optional<double> rotation_sigma;
   double bandwidth_factor = 1.0;  ///< scales the default sigma_p (> 0)
   QualityMode quality_mode = QualityMode::kTruncated;
+  /// What weighs each sample in the quality criterion (default: hold margin when the map is
+  /// fully validated, else epsilon).
+  SampleWeight sample_weight = SampleWeight::kAuto;
   /// Truncated mode: bound on the omitted mixture value RELATIVE to the peak density 1/Z,
   /// in (0, 1). The absolute bound tol / Z * (omitted weight / total weight) is reported.
   double quality_tolerance = 1e-3;
