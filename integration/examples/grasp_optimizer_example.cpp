@@ -98,7 +98,12 @@ int main(int argc, char** argv) {
       if (!s.success) s.message = "outside the workspace";
       return s;
     };
-    const auto ranks = rankClusters(map, object, ik, makeComfort(lower, upper));
+    // End-state comfort (the caller's; reaching's makeComfort adds collision costs): the
+    // joint-limit cost of eq. 1.8 of the toy posture.
+    const ComfortFunction comfort = [&](const Eigen::VectorXd& q) {
+      return 0.5 * (q - 0.5 * (lower + upper)).cwiseQuotient(upper - lower).squaredNorm();
+    };
+    const auto ranks = rankClusters(map, object, ik, comfort);
     for (const auto& r : ranks)
       std::printf("cluster %d: %s, comfort %.4f\n", r.cluster,
                   r.reachable ? "reachable" : "unreachable", r.comfort);

@@ -456,14 +456,6 @@ void bindFunctions(py::module_& m) {
       py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"), py::arg("hand_jacobian"),
       py::arg("object_jacobian") = py::none());
   m.def(
-      "joint_limit_cost",
-      [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
-        return jointLimitCost(q, lo, hi);
-      },
-      py::arg("q"), py::arg("lower"), py::arg("upper"));
-  m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"),
-        py::arg("scale") = 1.0);
-  m.def(
       "pose_distance",
       [](const Vec7& a, const Vec7& b, double rho) {
         return poseDistance(toPose(a), toPose(b), rho);

@@ -21,6 +21,7 @@
 #include "taskmap/reaching/movement_terms.hpp"
 #include "taskmap/reaching/plan_report.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
+#include "taskmap/reaching/robot_costs.hpp"
 
 namespace py = pybind11;
 
@@ -287,9 +288,26 @@ void bindPlanning(py::module_& m) {
 
 }  // namespace
 
+/// End-state comfort costs (robot_costs.hpp).
+void bindCosts(py::module_& m) {
+  m.def(
+      "joint_limit_cost",
+      [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
+        return jointLimitCost(q, lo, hi);
+      },
+      py::arg("q"), py::arg("lower"), py::arg("upper"),
+      "Joint-limit cost (eq. 1.8): 1/2 sum(((q - mid) / (upper - lower))**2), q and the limits "
+      "in radians or metres.");
+  m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"),
+        py::arg("scale") = 1.0,
+        "Collision cost (eq. 1.9-1.10) summed over closest-point distances (metres, negative "
+        "when penetrating) with zone distance d_B = zone (metres) and slope scale.");
+}
+
 void bindReaching(py::module_& m) {
   bindRobot(m);
   bindPlanning(m);
+  bindCosts(m);
 }
 
 }  // namespace taskmap

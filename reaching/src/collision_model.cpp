@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/reaching/robot_costs.hpp"
 
 namespace taskmap {
 namespace {
@@ -113,17 +114,7 @@ double CollisionModel::minimumDistance(const Kinematics& kin, int* pair) const {
 }
 
 double CollisionModel::closestPointCost(double d, double* derivative) const {
-  const double s = options_.slope, db = options_.boundary_distance;
-  if (d < 0.0) {
-    if (derivative) *derivative = -2.0 * s * db;
-    return s * db * (db - 2.0 * d);
-  }
-  if (d < db) {
-    if (derivative) *derivative = 2.0 * s * (d - db);
-    return s * (d - db) * (d - db);
-  }
-  if (derivative) *derivative = 0.0;
-  return 0.0;
+  return collisionPairCost(d, options_.boundary_distance, options_.slope, derivative);
 }
 
 double CollisionModel::centerPointCost(double dp, double dc, double* d_dp, double* d_dc) const {

@@ -8,6 +8,7 @@
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/pose.hpp"
+#include "taskmap/reaching/robot_costs.hpp"
 
 namespace taskmap {
 
@@ -28,10 +29,7 @@ void IkOptions::validate(int dofs) const {
 
 double jointLimitCost(const RobotModel& robot, const Eigen::VectorXd& q,
                       Eigen::VectorXd* gradient) {
-  const Eigen::VectorXd range = robot.upper() - robot.lower();
-  const Eigen::VectorXd x = (q - robot.midConfiguration()).cwiseQuotient(range);
-  if (gradient) *gradient = x.cwiseQuotient(range);
-  return 0.5 * x.squaredNorm();
+  return jointLimitCost(q, robot.lower(), robot.upper(), gradient);
 }
 
 double jointLimitMargin(const RobotModel& robot, const Eigen::VectorXd& q) {
