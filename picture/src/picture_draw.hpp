@@ -8,12 +8,12 @@
 #include <cairo.h>
 #include <Eigen/Core>
 
-#include "map_hand.hpp"
-#include "map_summary.hpp"
 #include "taskmap/core/constants.hpp"
+#include "taskmap/inspect/map_hand.hpp"
+#include "taskmap/inspect/map_summary.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 
-namespace taskmap::cli::draw {
+namespace taskmap::picture_draw {
 
 /// RGB colour, components in [0, 1].
 struct Rgb {
@@ -78,6 +78,8 @@ class Canvas {
   cairo_surface_t* surface() const { return surface_; }  ///< the image
   /// Flushes, checks that drawing succeeded and writes the PNG atomically (writePng).
   void write() const;
+  /// Flushes, checks that drawing succeeded and returns the PNG bytes (the bytes write() writes).
+  std::string png() const;
 
  private:
   std::string path_;
@@ -94,4 +96,4 @@ void drawHistogram(cairo_t* cr, const Scene& s, const Box& cell);
 /// Legend: cluster colours and sizes, marker meanings, map facts.
 void drawLegend(cairo_t* cr, const Scene& s, const Box& box);
 
-}  // namespace taskmap::cli::draw
+}  // namespace taskmap::picture_draw

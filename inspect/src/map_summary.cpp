@@ -1,11 +1,17 @@
-#include "map_summary.hpp"
+#include "taskmap/inspect/map_summary.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
-namespace taskmap::cli {
+#include <nlohmann/json.hpp>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+
+namespace taskmap {
 namespace {
 
 std::string fixed(double v, int digits) {
@@ -217,6 +223,8 @@ std::string formatSummary(const MapSummary& s) {
   return o.str();
 }
 
+namespace {
+
 nlohmann::json summaryToJson(const MapSummary& s) {
   using nlohmann::json;
   auto vec = [](const auto& v) {
@@ -266,4 +274,27 @@ nlohmann::json summaryToJson(const MapSummary& s) {
   return j;
 }
 
-}  // namespace taskmap::cli
+}  // namespace
+
+std::string summaryJson(const MapSummary& summary) {
+  return summaryToJson(summary).dump(2);
+}
+
+void InspectOptions::validate() const {
+  if (!std::filesystem::exists(map))
+    throw Error("map file '" + map + "' does not exist; give the path of a task map (.h5)");
+}
+
+InspectResult inspectMap(const InspectOptions& options) {
+  options.validate();
+  InspectResult r;
+  r.map = readMap(options.map);
+  r.summary = summarizeMap(r.map, options.map);
+  if (!r.summary.clustered) {
+    r.status = InspectResult::Status::kNotClustered;
+    r.message = "the map holds no clustering";
+  }
+  return r;
+}
+
+}  // namespace taskmap

@@ -1,4 +1,4 @@
-#include "map_picture.hpp"
+#include "taskmap/picture/map_picture.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,10 +17,10 @@
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>
 
-#include "map_picture_draw.hpp"
+#include "picture_draw.hpp"
 #endif
 
-namespace taskmap::cli {
+namespace taskmap {
 
 void PictureOptions::validate() const {
   if (width < 800 || width > 8000) {
@@ -43,6 +43,12 @@ void writeMapPicture(const TaskMapData&, const MapSummary&, const std::string& p
               "': this taskmap was built without cairo; install libcairo2-dev and rebuild");
 }
 
+std::string mapPicturePng(const TaskMapData&, const MapSummary& summary, const PictureOptions&,
+                          const HandModel*) {
+  throw Error("cannot draw the picture of '" + summary.path +
+              "': this taskmap was built without cairo; install libcairo2-dev and rebuild");
+}
+
 #else
 
 bool pictureSupported() {
@@ -51,7 +57,7 @@ bool pictureSupported() {
 
 namespace {
 
-using namespace draw;  // NOLINT: the private drawing helpers
+using namespace picture_draw;  // NOLINT: the private drawing helpers
 
 // One orthographic view: screen right = axis u, screen up = axis v, viewer looks along -w.
 struct View {
@@ -182,11 +188,9 @@ void drawView(cairo_t* cr, const Scene& s, const View& view, const Box& cell, do
   text(cr, bx + bar_px / 2, by - 8, lengthLabel(bar_m), 12, false, 0.5);
 }
 
-}  // namespace
-
-void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
-                     const PictureOptions& options, const HandModel* hand) {
-  options.validate();
+/// Draws the map picture on canvas (options.width x options.height).
+void drawMapPicture(const Canvas& canvas, const TaskMapData& map, const MapSummary& summary,
+                    const PictureOptions& options, const HandModel* hand) {
   Scene s;
   s.map = &map;
   s.summary = &summary;
@@ -236,7 +240,6 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   s.hi += Eigen::Vector3d::Constant(s.arrow_length);
 
   const double W = options.width, H = options.height;
-  const Canvas canvas(options.width, options.height, CAIRO_FORMAT_RGB24, path);
   cairo_t* cr = canvas.cr();
 
   cairo_set_source_rgb(cr, 0.96, 0.96, 0.95);
@@ -270,9 +273,26 @@ void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const st
   drawView(cr, s, kViews[2], cells[2], scale);
   drawHistogram(cr, s, cells[3]);
   drawLegend(cr, s, Box{W - 20 - legend_w, area.y, legend_w, area.h});
+}
+
+}  // namespace
+
+void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
+                     const PictureOptions& options, const HandModel* hand) {
+  options.validate();
+  const Canvas canvas(options.width, options.height, CAIRO_FORMAT_RGB24, path);
+  drawMapPicture(canvas, map, summary, options, hand);
   canvas.write();
+}
+
+std::string mapPicturePng(const TaskMapData& map, const MapSummary& summary,
+                          const PictureOptions& options, const HandModel* hand) {
+  options.validate();
+  const Canvas canvas(options.width, options.height, CAIRO_FORMAT_RGB24, summary.path);
+  drawMapPicture(canvas, map, summary, options, hand);
+  return canvas.png();
 }
 
 #endif  // TASKMAP_HAVE_CAIRO
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

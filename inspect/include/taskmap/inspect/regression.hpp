@@ -9,11 +9,9 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "taskmap/mapstore/task_map_data.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// One case of the suite (an entry of tests/regression/cases.json).
 struct RegressionCase {
@@ -28,7 +26,7 @@ struct RegressionCase {
 
 /// Statistics that say what a map says; what the golden files hold.
 struct MapStatistics {
-  std::uint64_t trials = 0;
+  std::uint64_t trials = 0;                                        ///< trials simulated
   std::map<std::string, std::uint64_t> outcomes;                   ///< trials per outcome status
   std::uint64_t valid = 0;                                         ///< force-closure grasps
   double valid_rate = 0.0;                                         ///< valid / trials
@@ -40,15 +38,40 @@ struct MapStatistics {
 
 /// One compared statistic.
 struct ComparisonRow {
-  std::string case_name, statistic, golden, now;
-  bool pass = true;
+  std::string case_name;  ///< the case (RegressionCase::name)
+  std::string statistic;  ///< e.g. "valid rate", "cluster 0 representative"
+  std::string golden;     ///< the golden value as printed
+  std::string now;        ///< this build's value as printed
+  bool pass = true;       ///< within the suite's tolerance
 };
 
 /// Reduces a map to its statistics (quantiles: linear interpolation, numpy's default).
 MapStatistics computeStatistics(const TaskMapData& map);
-/// Statistics to and from the golden JSON layout.
-nlohmann::json toJson(const MapStatistics& s);
-MapStatistics statisticsFromJson(const nlohmann::json& j, const std::string& source);
+/// The golden file of case c: the statistics (keys trials, outcomes, valid, valid_rate,
+/// epsilon_quantiles {q10, q50, q90}, clusters, cluster_sizes, outliers, representatives) and
+/// "case" (object, hand, [sidecar,] sampler, seed, trials), JSON indented by 2, newline-ended.
+std::string goldenFileText(const MapStatistics& s, const RegressionCase& c);
+
+/// Statistics read from a golden file; nullopt when the file cannot be opened. Throws Error
+/// naming the file when it is not valid JSON or lacks a statistic.
+std::optional<MapStatistics> readGoldenFile(const std::string& path);
+
+/// Statistics parsed from golden JSON text; `source` names it in the Error thrown when the
+/// text is not valid JSON or lacks a statistic.
+MapStatistics statisticsFromJsonText(const std::string& text, const std::string& source);
+
+/// Outcome of a comparison with the golden statistics.
+struct RegressionResult {
+  /// kPass: every statistic within tolerance; kFail: at least one is not.
+  enum class Status { kPass, kFail };
+  Status status = Status::kPass;    ///< the verdict
+  std::string message;              ///< "<n> statistic(s) failed" or empty
+  std::vector<ComparisonRow> rows;  ///< one per statistic, in the printed order
+};
+
+/// compareStatistics with a verdict.
+RegressionResult compareWithGolden(const std::string& case_name, const MapStatistics& golden,
+                                   const MapStatistics& now);
 
 /// Compares now against golden with the suite's stated tolerances (see regression.cpp).
 std::vector<ComparisonRow> compareStatistics(const std::string& case_name,
@@ -57,4 +80,4 @@ std::vector<ComparisonRow> compareStatistics(const std::string& case_name,
 /// Reads the case list; throws Error naming the file on a bad entry.
 std::vector<RegressionCase> readCases(const std::string& path);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,5 +1,5 @@
 // taskmap hand-info --png: preshape and closed hand in three views (hand_picture.hpp).
-#include "hand_picture.hpp"
+#include "taskmap/picture/hand_picture.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,17 +10,17 @@
 
 #include <unistd.h>
 
-#include "hand_check.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/inspect/hand_check.hpp"
 
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>
 
-#include "map_picture_draw.hpp"
+#include "picture_draw.hpp"
 #endif
 
-namespace taskmap::cli {
+namespace taskmap {
 
 #ifndef TASKMAP_HAVE_CAIRO
 
@@ -33,7 +33,7 @@ void writeHandPicture(const HandModel&, const std::string& path) {
 
 namespace {
 
-using namespace draw;  // NOLINT: the drawing helpers of the map picture
+using namespace picture_draw;  // NOLINT: the drawing helpers of the map picture
 
 /// An orthographic view of the palm frame: axes shown right (u) and up (v).
 struct HandView {
@@ -149,4 +149,4 @@ void writeHandPicture(const HandModel& hand, const std::string& path) {
 
 #endif  // TASKMAP_HAVE_CAIRO
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

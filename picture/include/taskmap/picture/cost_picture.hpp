@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// One curve: its name and a value per iteration.
 using CostSeries = std::pair<std::string, std::vector<double>>;
@@ -21,7 +21,7 @@ struct CostPanel {
 };
 
 /// Draws the panels side by side and writes the PNG atomically. Throws Error naming the file
-/// when it cannot be written or when the tool was built without cairo.
+/// when it cannot be written or when the library was built without cairo.
 void writeCostPicture(const std::vector<CostPanel>& panels, const std::string& path);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,11 +1,11 @@
 // Closed configuration, shape points and set-up warnings of a hand (hand_check.hpp).
-#include "hand_check.hpp"
+#include "taskmap/inspect/hand_check.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
-namespace taskmap::cli {
+namespace taskmap {
 
 Eigen::VectorXd closedConfiguration(const HandModel& hand) {
   Eigen::VectorXd q = hand.preshape();
@@ -111,4 +111,4 @@ HandReport checkHand(const HandModel& hand) {
   return out;
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -7,11 +7,11 @@
 
 #include <string>
 
-#include "map_summary.hpp"
+#include "taskmap/inspect/map_summary.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// Size of the picture.
 struct PictureOptions {
@@ -21,7 +21,7 @@ struct PictureOptions {
   void validate() const;
 };
 
-/// True when the tool was built with cairo (otherwise writeMapPicture throws).
+/// True when the library was built with cairo (otherwise the picture functions throw).
 bool pictureSupported();
 
 /// Draws the map and writes a PNG atomically (temporary file beside path, then rename).
@@ -32,4 +32,9 @@ bool pictureSupported();
 void writeMapPicture(const TaskMapData& map, const MapSummary& summary, const std::string& path,
                      const PictureOptions& options = {}, const HandModel* hand = nullptr);
 
-}  // namespace taskmap::cli
+/// The PNG bytes writeMapPicture writes (the same picture, drawn in memory). Throws Error
+/// naming summary.path when cairo cannot draw it or the library has no cairo.
+std::string mapPicturePng(const TaskMapData& map, const MapSummary& summary,
+                          const PictureOptions& options = {}, const HandModel* hand = nullptr);
+
+}  // namespace taskmap

@@ -10,15 +10,15 @@
 
 #include "taskmap/reaching/attractor.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// Draws the robot at the configurations `frames` (indices into result.q, earliest first,
 /// later ones darker) over the environment, the path of `body` (the palm) over every step and
 /// the target position, and writes a PNG atomically. target_world: the target pose of `body`
 /// in the world frame. Throws Error naming
-/// the file when it cannot be written or when the tool was built without cairo.
+/// the file when it cannot be written or when the library was built without cairo.
 void writeReachPicture(const RobotModel& robot, const ReachResult& result, int body,
                        const std::vector<int>& frames, const Eigen::Isometry3d& target_world,
                        const std::string& path);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,6 +1,6 @@
 // Fig. 1.16: cost terms per iteration of the trajectory optimisation and the map terms over
 // the movement, drawn with cairo.
-#include "cost_picture.hpp"
+#include "taskmap/picture/cost_picture.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -10,10 +10,10 @@
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>
 
-#include "map_picture_draw.hpp"
+#include "picture_draw.hpp"
 #endif
 
-namespace taskmap::cli {
+namespace taskmap {
 
 #ifndef TASKMAP_HAVE_CAIRO
 void writeCostPicture(const std::vector<CostPanel>&, const std::string& path) {
@@ -23,8 +23,8 @@ void writeCostPicture(const std::vector<CostPanel>&, const std::string& path) {
 namespace {
 
 constexpr int kPanelWidth = 640, kHeight = 480, kMargin = 60;
-const draw::Rgb kColors[] = {{0.1, 0.1, 0.1}, {0.0, 0.45, 0.75}, {0.85, 0.35, 0.0},
-                             {0.0, 0.6, 0.3}, {0.6, 0.2, 0.7},   {0.8, 0.1, 0.1}};
+const picture_draw::Rgb kColors[] = {{0.1, 0.1, 0.1}, {0.0, 0.45, 0.75}, {0.85, 0.35, 0.0},
+                                     {0.0, 0.6, 0.3}, {0.6, 0.2, 0.7},   {0.8, 0.1, 0.1}};
 
 void drawPanel(cairo_t* cr, double x0, const CostPanel& panel) {
   const std::vector<CostSeries>& series = panel.series;
@@ -41,20 +41,21 @@ void drawPanel(cairo_t* cr, double x0, const CostPanel& panel) {
     return left + (right - left) * i / std::max<std::size_t>(1, n - 1);
   };
   const auto py = [&](double v) { return bottom - (bottom - top) * (v - lo) / (hi - lo); };
-  draw::setColor(cr, draw::Rgb{0.5, 0.5, 0.5});
+  picture_draw::setColor(cr, picture_draw::Rgb{0.5, 0.5, 0.5});
   cairo_set_line_width(cr, 1.0);
   cairo_rectangle(cr, left, top, right - left, bottom - top);
   cairo_stroke(cr);
-  draw::text(cr, left, 28, panel.title, 16, true);
-  draw::text(cr, x0 + 4, top + 10, draw::format("%.3g", hi), 12);
-  draw::text(cr, x0 + 4, bottom, draw::format("%.3g", lo), 12);
-  draw::text(cr, left, bottom + 20, "0", 12);
-  draw::text(cr, right - 30, bottom + 20, draw::format("%.4g", (n - 1) * panel.x_scale), 12);
-  draw::text(cr, (left + right) / 2 - 30, bottom + 36, panel.x_label, 13);
+  picture_draw::text(cr, left, 28, panel.title, 16, true);
+  picture_draw::text(cr, x0 + 4, top + 10, picture_draw::format("%.3g", hi), 12);
+  picture_draw::text(cr, x0 + 4, bottom, picture_draw::format("%.3g", lo), 12);
+  picture_draw::text(cr, left, bottom + 20, "0", 12);
+  picture_draw::text(cr, right - 30, bottom + 20,
+                     picture_draw::format("%.4g", (n - 1) * panel.x_scale), 12);
+  picture_draw::text(cr, (left + right) / 2 - 30, bottom + 36, panel.x_label, 13);
   for (std::size_t k = 0; k < series.size(); ++k) {
     const auto& v = series[k].second;
     if (v.empty()) continue;
-    draw::setColor(cr, kColors[k % 6]);
+    picture_draw::setColor(cr, kColors[k % 6]);
     cairo_set_line_width(cr, 2.0);
     cairo_move_to(cr, px(0), py(v[0]));
     for (std::size_t i = 1; i < v.size(); ++i) cairo_line_to(cr, px(i), py(v[i]));
@@ -63,7 +64,7 @@ void drawPanel(cairo_t* cr, double x0, const CostPanel& panel) {
     cairo_move_to(cr, right - 190, ly - 4);
     cairo_line_to(cr, right - 174, ly - 4);
     cairo_stroke(cr);
-    draw::text(cr, right - 170, ly, series[k].first, 13);
+    picture_draw::text(cr, right - 170, ly, series[k].first, 13);
   }
 }
 
@@ -71,7 +72,7 @@ void drawPanel(cairo_t* cr, double x0, const CostPanel& panel) {
 
 void writeCostPicture(const std::vector<CostPanel>& panels, const std::string& path) {
   const int width = kPanelWidth * static_cast<int>(std::max<std::size_t>(1, panels.size()));
-  const draw::Canvas canvas(width, kHeight, CAIRO_FORMAT_ARGB32, path);
+  const picture_draw::Canvas canvas(width, kHeight, CAIRO_FORMAT_ARGB32, path);
   cairo_t* cr = canvas.cr();
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
@@ -81,4 +82,4 @@ void writeCostPicture(const std::vector<CostPanel>& panels, const std::string& p
 }
 #endif
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

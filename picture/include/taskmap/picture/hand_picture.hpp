@@ -8,10 +8,10 @@
 
 #include "taskmap/meshes/hand_model.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// Draws the hand and writes a 1500 x 1000 PNG atomically (temporary file, then rename).
-/// Throws Error naming the file when it cannot be written or the tool has no cairo.
+/// Throws Error naming the file when it cannot be written or the library has no cairo.
 void writeHandPicture(const HandModel& hand, const std::string& path);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,6 +1,6 @@
 // taskmap reach --png: capsules as round-capped strokes (the exact outline of a projected
 // capsule), swept rectangles as round-joined stroked polygons, three orthographic views.
-#include "reach_picture.hpp"
+#include "taskmap/picture/reach_picture.hpp"
 
 #include <algorithm>
 #include <array>
@@ -11,10 +11,10 @@
 #ifdef TASKMAP_HAVE_CAIRO
 #include <cairo.h>
 
-#include "map_picture_draw.hpp"
+#include "picture_draw.hpp"
 #endif
 
-namespace taskmap::cli {
+namespace taskmap {
 
 #ifndef TASKMAP_HAVE_CAIRO
 void writeReachPicture(const RobotModel&, const ReachResult&, int, const std::vector<int>&,
@@ -24,7 +24,7 @@ void writeReachPicture(const RobotModel&, const ReachResult&, int, const std::ve
 #else
 namespace {
 
-using draw::Rgb;
+using picture_draw::Rgb;
 
 struct View {
   int u, v;          // world axes drawn right and up
@@ -65,7 +65,7 @@ void drawPrimitive(cairo_t* cr, const Panel& panel, const Primitive& p,
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
   cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
   cairo_set_line_width(cr, std::max(1.0, 2.0 * p.radius * panel.scale));
-  draw::setColor(cr, color, alpha);
+  picture_draw::setColor(cr, color, alpha);
   if (corners.size() > 2) cairo_fill_preserve(cr);
   cairo_stroke(cr);
 }
@@ -110,9 +110,9 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
   for (const View& v : kViews)
     scale = std::min({scale, (cell - 2 * margin) / std::max(1e-6, hi[v.u] - lo[v.u]),
                       (kHeight - title - 2 * margin) / std::max(1e-6, hi[v.v] - lo[v.v])});
-  const draw::Canvas canvas(kWidth, kHeight, CAIRO_FORMAT_ARGB32, path);
+  const picture_draw::Canvas canvas(kWidth, kHeight, CAIRO_FORMAT_ARGB32, path);
   cairo_t* cr = canvas.cr();
-  draw::setColor(cr, Rgb{1, 1, 1});
+  picture_draw::setColor(cr, Rgb{1, 1, 1});
   cairo_paint(cr);
   Kinematics kin(robot);
   std::vector<Eigen::Vector3d> trail;
@@ -126,7 +126,7 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
     const double y0 =
         kHeight - margin - 0.5 * (kHeight - title - 2 * margin - (hi[v.v] - lo[v.v]) * scale);
     const Panel panel{v, x0, y0, scale, lo};
-    draw::text(cr, i * cell + cell / 2, 28, v.name, 18, true, 0.5);
+    picture_draw::text(cr, i * cell + cell / 2, 28, v.name, 18, true, 0.5);
     drawBodies(cr, panel, robot, kin, true, Rgb{0.75, 0.75, 0.75}, 1.0);
     for (size_t k = 0; k < frames.size(); ++k) {
       kin.update(result.q[frames[k]]);
@@ -134,13 +134,13 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
       drawBodies(cr, panel, robot, kin, false, Rgb{0.2 + 0.7 * s, 0.45 - 0.2 * s, 0.85 - 0.7 * s},
                  0.25 + 0.55 * s);
     }
-    draw::setColor(cr, Rgb{0.1, 0.1, 0.1}, 0.9);
+    picture_draw::setColor(cr, Rgb{0.1, 0.1, 0.1}, 0.9);
     cairo_set_line_width(cr, 1.5);
     cairo_move_to(cr, panel.px(trail[0]), panel.py(trail[0]));
     for (const Eigen::Vector3d& p : trail) cairo_line_to(cr, panel.px(p), panel.py(p));
     cairo_stroke(cr);
     const Eigen::Vector3d t = target_world.translation();
-    draw::setColor(cr, Rgb{0.85, 0.0, 0.0});
+    picture_draw::setColor(cr, Rgb{0.85, 0.0, 0.0});
     cairo_set_line_width(cr, 2.5);
     cairo_move_to(cr, panel.px(t) - 8, panel.py(t) - 8);
     cairo_line_to(cr, panel.px(t) + 8, panel.py(t) + 8);
@@ -148,7 +148,7 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
     cairo_line_to(cr, panel.px(t) + 8, panel.py(t) - 8);
     cairo_stroke(cr);
   }
-  draw::text(
+  picture_draw::text(
       cr, 10, kHeight - 8,
       "robot at steps " +
           [&] {
@@ -162,4 +162,4 @@ void writeReachPicture(const RobotModel& robot, const ReachResult& result, int b
 }
 #endif
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

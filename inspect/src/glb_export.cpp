@@ -1,6 +1,6 @@
 // GLB export of a trajectory (glTF 2.0 binary): JSON chunk written with nlohmann-json, one
 // binary chunk holding every accessor's data (float32 positions, uint32 indices, keyframes).
-#include "glb_export.hpp"
+#include "taskmap/inspect/glb_export.hpp"
 
 #include <algorithm>
 #include <array>
@@ -15,7 +15,7 @@
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 constexpr int kFloat = 5126, kUnsignedInt = 5125;  // glTF componentType
@@ -243,4 +243,4 @@ void writeGlb(const TrajectoryRecord& record, const std::string& path) {
   writeFileAtomically(path, glbBytes(record), "cannot write GLB '" + path + "'");
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -10,7 +10,7 @@
 
 #include "taskmap/meshes/hand_model.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// Joint values (jointNames() order) with every closing joint at its closed limit and the
 /// other joints at their preshape value.
@@ -44,4 +44,4 @@ struct HandReport {
 /// Checks a hand (a few forward-kinematics passes: milliseconds).
 HandReport checkHand(const HandModel& hand);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

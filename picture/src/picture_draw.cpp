@@ -1,7 +1,7 @@
 // Drawing helpers and the histogram and legend panels of `taskmap inspect --png`.
 #ifdef TASKMAP_HAVE_CAIRO
 
-#include "map_picture_draw.hpp"
+#include "picture_draw.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,7 +14,7 @@
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli::draw {
+namespace taskmap::picture_draw {
 
 Rgb rgbOf(int cluster) {
   const auto c = clusterColor(cluster);
@@ -191,6 +191,21 @@ void Canvas::write() const {
   writePng(surface_, path_);
 }
 
+std::string Canvas::png() const {
+  cairo_surface_flush(surface_);
+  checkStatus(cairo_status(cr_), path_);
+  std::string bytes;
+  const cairo_status_t st = cairo_surface_write_to_png_stream(
+      surface_,
+      [](void* closure, const unsigned char* data, unsigned int length) {
+        static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+        return CAIRO_STATUS_SUCCESS;
+      },
+      &bytes);
+  checkStatus(st, path_);
+  return bytes;
+}
+
 void writePng(cairo_surface_t* surface, const std::string& path) {
   const std::string tmp = path + ".tmp" + std::to_string(::getpid());
   const cairo_status_t st = cairo_surface_write_to_png(surface, tmp.c_str());
@@ -361,6 +376,6 @@ void drawLegend(cairo_t* cr, const Scene& s, const Box& box) {
   if (m.clustered) line(m.linkage + " linkage, cut " + lengthLabel(m.threshold));
 }
 
-}  // namespace taskmap::cli::draw
+}  // namespace taskmap::picture_draw
 
 #endif  // TASKMAP_HAVE_CAIRO

@@ -1,14 +1,17 @@
-#include "regression.hpp"
+#include "taskmap/inspect/regression.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <optional>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 // Tolerances, per statistic, and why:
@@ -89,6 +92,8 @@ MapStatistics computeStatistics(const TaskMapData& map) {
   return s;
 }
 
+namespace {
+
 nlohmann::json toJson(const MapStatistics& s) {
   nlohmann::json j;
   j["trials"] = s.trials;
@@ -124,6 +129,50 @@ MapStatistics statisticsFromJson(const nlohmann::json& j, const std::string& sou
     throw Error(source + ": not a golden statistics file (" + e.what() +
                 "); regenerate it with `taskmap regress --update`");
   }
+}
+
+}  // namespace
+
+MapStatistics statisticsFromJsonText(const std::string& text, const std::string& source) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(source + ": not valid JSON (" + e.what() + ")");
+  }
+  return statisticsFromJson(j, source);
+}
+
+std::optional<MapStatistics> readGoldenFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return statisticsFromJsonText(text.str(), path);
+}
+
+std::string goldenFileText(const MapStatistics& s, const RegressionCase& c) {
+  nlohmann::json j = toJson(s);
+  j["case"] = {{"object", c.object},
+               {"hand", c.hand},
+               {"sampler", c.sampler},
+               {"seed", c.seed},
+               {"trials", c.trials}};
+  if (!c.sidecar.empty()) j["case"]["sidecar"] = c.sidecar;
+  return j.dump(2) + "\n";
+}
+
+RegressionResult compareWithGolden(const std::string& case_name, const MapStatistics& golden,
+                                   const MapStatistics& now) {
+  RegressionResult r;
+  r.rows = compareStatistics(case_name, golden, now);
+  const auto failed = std::count_if(r.rows.begin(), r.rows.end(),
+                                    [](const ComparisonRow& row) { return !row.pass; });
+  if (failed > 0) {
+    r.status = RegressionResult::Status::kFail;
+    r.message = std::to_string(failed) + " statistic(s) failed";
+  }
+  return r;
 }
 
 std::vector<ComparisonRow> compareStatistics(const std::string& c, const MapStatistics& g,
@@ -210,4 +259,4 @@ std::vector<RegressionCase> readCases(const std::string& path) {
   return cases;
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap
