@@ -1,8 +1,11 @@
-// taskmap._offline: the offline stages (reaching planner, physics validation), which load the
+// taskmap._offline: the offline stages (reaching planner, physics validation, map and hand
+// reports, pictures), which load the
 // simulators and the mesh and URDF libraries. `import taskmap` does not load it; the package
 // imports it on first use of one of its names (python/taskmap/__init__.py).
 #include <pybind11/pybind11.h>
 
+#include "inspect_bindings.hpp"
+#include "picture_bindings.hpp"
 #include "reaching_bindings.hpp"
 #include "taskmap/core/error.hpp"
 #include "validate_bindings.hpp"
@@ -10,7 +13,9 @@
 namespace py = pybind11;
 
 PYBIND11_MODULE(_offline, m) {
-  m.doc() = "taskmap's offline stages: Robot, reach, plan_grasp, validate (loaded on first use).";
+  m.doc() =
+      "taskmap's offline stages: Robot, reach, plan_grasp, validate, summary, hand_info, picture "
+      "(loaded on first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
   // A handle kept for the process's life: a static py::object would drop its reference at exit,
   // after the interpreter is gone.
@@ -25,4 +30,6 @@ PYBIND11_MODULE(_offline, m) {
   });
   taskmap::bindReaching(m);
   taskmap::bindValidate(m);
+  taskmap::bindInspect(m);
+  taskmap::bindPicture(m);
 }

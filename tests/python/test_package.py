@@ -18,7 +18,8 @@ BUILD = os.environ["TASKMAP_BUILD_DIR"]
 OFFLINE_LIBS = ("libBullet", "libLinearMath", "libassimp", "libqhull", "liburdfdom", "libmujoco",
                 "libmpfr", "libtinyxml", "libconsole_bridge", "libcairo", "libtaskmap_meshes",
                 "libtaskmap_grasp_sim", "libtaskmap_quality", "libtaskmap_builder",
-                "libtaskmap_reaching", "libtaskmap_validate", "libtaskmap_viz")
+                "libtaskmap_reaching", "libtaskmap_validate", "libtaskmap_viz",
+                "libtaskmap_inspect", "libtaskmap_picture")
 
 QUERY = textwrap.dedent("""
     import json, os, sys
@@ -66,8 +67,15 @@ class PackageTest(unittest.TestCase):
         libs = offline_libs(r["maps"])
         self.assertTrue(any("libmujoco" in m for m in libs), libs)
         self.assertTrue(any("libtaskmap_validate" in m for m in libs), libs)
+        # The map and hand reports and the pictures: inspect, picture and cairo on first use.
+        r = run_query(sys.executable, touch="summary")
+        libs = offline_libs(r["maps"])
+        for lib in ("libtaskmap_inspect", "libtaskmap_picture", "libcairo"):
+            self.assertTrue(any(lib in m for m in libs), (lib, libs))
         import taskmap
         self.assertIn("reach", dir(taskmap))
+        for name in ("summary", "hand_info", "picture"):
+            self.assertIn(name, dir(taskmap))
         with self.assertRaises(AttributeError):
             taskmap.no_such_name
 

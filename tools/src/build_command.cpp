@@ -12,9 +12,9 @@
 #include <nlohmann/json.hpp>
 
 #include "data_dir.hpp"
-#include "hand_check.hpp"
 #include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/inspect/hand_check.hpp"
 #include "taskmap/sampler/sampler.hpp"
 
 namespace taskmap::cli {

@@ -1,13 +1,13 @@
 // taskmap export-glb TRAJECTORY.h5 -o out.glb: a reaching trajectory (`taskmap reach --map
 // ... -o`) as glTF 2.0 binary for Blender: robot, hand and table primitives, the object mesh,
-// and the movement as an animation (tools/src/glb_export.hpp).
+// and the movement as an animation (taskmap/inspect/glb_export.hpp).
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "command.hpp"
-#include "glb_export.hpp"
 #include "output_guard.hpp"
+#include "taskmap/inspect/glb_export.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
 
 namespace taskmap::cli {

@@ -1,17 +1,14 @@
 // taskmap inspect MAP.h5 [--json] [--png OUT.png]: summary and picture of a task map.
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "command.hpp"
-#include "map_hand.hpp"
-#include "map_picture.hpp"
-#include "map_summary.hpp"
+#include "map_hand_cli.hpp"
 #include "output_guard.hpp"
-#include "taskmap/core/error.hpp"
-#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/inspect/map_summary.hpp"
+#include "taskmap/picture/map_picture.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -26,21 +23,20 @@ struct InspectArgs {
 };
 
 void runInspect(const InspectArgs& args) {
-  if (!std::filesystem::exists(args.map)) {
-    throw Error("map file '" + args.map + "' does not exist; give the path of a task map (.h5)");
-  }
+  InspectOptions options;
+  options.map = args.map;
+  options.validate();
   if (!args.png.empty()) args.picture.validate();
   checkOutputPath(args.png, {args.map}, OutputKind::kPng, args.force, "--png");
-  const TaskMapData map = readMap(args.map);
-  const MapSummary summary = summarizeMap(map, args.map);
+  const InspectResult r = inspectMap(options);
   if (args.json) {
-    std::cout << summaryToJson(summary).dump(2) << "\n";
+    std::cout << summaryJson(r.summary) << "\n";
   } else {
-    std::cout << formatSummary(summary);
+    std::cout << formatSummary(r.summary);
   }
   if (!args.png.empty()) {
-    const std::optional<HandModel> hand = mapHand(map, args.hand, "taskmap inspect");
-    writeMapPicture(map, summary, args.png, args.picture, hand ? &*hand : nullptr);
+    const std::optional<HandModel> hand = mapHand(r.map, args.hand, "taskmap inspect");
+    writeMapPicture(r.map, r.summary, args.png, args.picture, hand ? &*hand : nullptr);
     if (!args.json) std::cout << "picture    " << args.png << "\n";
   }
 }

@@ -2,16 +2,16 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "command.hpp"
 #include "data_dir.hpp"
-#include "regression.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/inspect/regression.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -72,33 +72,20 @@ int run(const RegressArgs& args) {
               << std::fixed << std::setprecision(1) << built.timing.wall_seconds << " s)\n";
     if (args.update) {
       fs::create_directories(golden_dir);
-      nlohmann::json j = toJson(now);
-      j["case"] = {{"object", c.object},
-                   {"hand", c.hand},
-                   {"sampler", c.sampler},
-                   {"seed", c.seed},
-                   {"trials", c.trials}};
-      if (!c.sidecar.empty()) j["case"]["sidecar"] = c.sidecar;
-      writeFileAtomically(golden_path.string(), j.dump(2) + "\n",
+      writeFileAtomically(golden_path.string(), goldenFileText(now, c),
                           "cannot write golden file '" + golden_path.string() + "'");
       std::cout << "updated " << golden_path.string() << "\n";
       continue;
     }
-    std::ifstream in(golden_path);
-    if (!in) {
+    const std::optional<MapStatistics> golden = readGoldenFile(golden_path.string());
+    if (!golden) {
       std::cout << golden_path.string() << ": no golden file; run `taskmap regress --update`\n";
       ++failures;
       continue;
     }
-    nlohmann::json j;
-    try {
-      in >> j;
-    } catch (const nlohmann::json::exception& e) {
-      throw Error(golden_path.string() + ": not valid JSON (" + e.what() + ")");
-    }
-    const auto rows = compareStatistics(c.name, statisticsFromJson(j, golden_path.string()), now);
-    printTable(rows, object.name(), hand.name());
-    for (const auto& r : rows) failures += r.pass ? 0 : 1;
+    const RegressionResult result = compareWithGolden(c.name, *golden, now);
+    printTable(result.rows, object.name(), hand.name());
+    for (const auto& r : result.rows) failures += r.pass ? 0 : 1;
   }
   if (ran == 0) throw Error("no regression case matched; see " + cases_path.string());
   if (args.update) {

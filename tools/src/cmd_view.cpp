@@ -8,7 +8,7 @@
 #include <string>
 
 #include "command.hpp"
-#include "reach_resimulate.hpp"
+#include "map_hand_cli.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
@@ -28,20 +28,11 @@ std::string defaultOutput(const std::string& file) {
   return std::filesystem::path(file).filename().replace_extension(".html").string();
 }
 
-/// The map's hand: --hand, else the recorded or bundled URDF with the map's SHA-256; none
-/// (palms only, with a warning) when neither is found.
-std::optional<HandModel> mapHand(const TaskMapData& map, const ViewArgs& args) {
-  if (!args.hand.empty()) return HandModel::load(args.hand);
-  try {
-    return HandModel::load(mapHandUrdf(map));
-  } catch (const Error& e) {
-    std::cerr << "taskmap view: warning: drawing palms only: " << e.what() << "\n";
-    return std::nullopt;
-  }
-}
-
 void viewMap(const TaskMapData& map, const ViewArgs& args, const std::string& out) {
-  const std::optional<HandModel> hand = mapHand(map, args);
+  MapHandResult found = findCommandMapHand(map, args.hand);
+  if (!found.hand)
+    std::cerr << "taskmap view: warning: drawing palms only: " << found.message << "\n";
+  const std::optional<HandModel>& hand = found.hand;
   MapPageInput input;
   input.map = &map;
   input.hand = hand ? &*hand : nullptr;

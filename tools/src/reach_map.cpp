@@ -14,14 +14,14 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "cost_picture.hpp"
 #include "data_dir.hpp"
-#include "glb_export.hpp"
-#include "reach_picture.hpp"
 #include "reach_resimulate.hpp"
 #include "reach_trajectory.hpp"
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/inspect/glb_export.hpp"
+#include "taskmap/picture/cost_picture.hpp"
+#include "taskmap/picture/reach_picture.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/plan_report.hpp"
 

@@ -1,0 +1,68 @@
+#pragma once
+/// @file map_hand.hpp
+/// The hand of a task map for its pictures, pages and scene files (`inspect --png`, `view`,
+/// `export --format ply|glb`): the caller's hand, or the map's own found by its URDF SHA-256;
+/// and its links posed by a grasp of the map.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "taskmap/core/triangle_mesh.hpp"
+#include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+
+namespace taskmap {
+
+/// Where findMapHand looks for the map's hand.
+struct MapHandOptions {
+  /// URDF of the hand to use (its sidecar beside it); empty: the map's own hand, found below.
+  std::string hand;
+  /// Folder of bundled hands (`<name>/<name>.urdf`), searched for a URDF with the map's SHA-256
+  /// when the path the build recorded does not hold it; empty: only the recorded path is tried.
+  std::string hands_dir;
+  /// Throws Error when `hand` is given and is not a file.
+  void validate() const;
+};
+
+/// The map's hand, or why there is none.
+struct MapHandResult {
+  /// kLoaded: `hand` holds it; kNotFound: no URDF with the map's SHA-256 was found;
+  /// kOtherJoints: the hand found or given has other actuated joints than the map's hand.
+  enum class Status { kLoaded, kNotFound, kOtherJoints };
+  Status status = Status::kNotFound;  ///< see Status
+  std::string message;                ///< why there is no hand (empty when kLoaded)
+  std::optional<HandModel> hand;      ///< set when kLoaded
+};
+
+/// The URDF of the map's hand: the path the build recorded (params_json "hand") when its
+/// SHA-256 matches the map's, else the first (by name) `<hands_dir>/<name>/<name>.urdf` with
+/// that SHA-256. Throws Error naming the map's hand and what was tried when none matches.
+std::string findMapHandUrdf(const TaskMapData& map, const std::string& hands_dir);
+
+/// The map's hand: options.hand when given (throws Error when it does not load), else the URDF
+/// of findMapHandUrdf. A hand whose actuated joints differ from the map's is not returned
+/// (kOtherJoints): the map's joint values would not fit it.
+MapHandResult findMapHand(const TaskMapData& map, const MapHandOptions& options);
+
+/// Grasp i's stored pose (palm frame -> object frame) and joint values (jointNames() order).
+struct GraspPosture {
+  Eigen::Isometry3d palm_pose;  ///< palm frame -> object frame, metres
+  Eigen::VectorXd joints;       ///< radians or metres
+};
+/// The posture of grasp i; throws Error when i is out of range.
+GraspPosture graspPosture(const TaskMapData& map, std::size_t i);
+
+/// Boundary points of every collision shape of `hand` at posture p, in the object frame
+/// (shapePoints of each shape, metres), with the index of the shape's link.
+struct PosedShapePoints {
+  int link;                             ///< index into hand.links()
+  std::vector<Eigen::Vector3d> points;  ///< object frame, metres
+};
+/// Every collision shape of `hand` posed by p (links() order, then shape order).
+std::vector<PosedShapePoints> posedShapePoints(const HandModel& hand, const GraspPosture& p);
+
+}  // namespace taskmap

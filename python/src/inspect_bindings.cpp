@@ -1,0 +1,135 @@
+// taskmap.summary and taskmap.hand_info: the numbers `taskmap inspect` prints about a map and
+// what `taskmap hand-info` reports about a hand, as dicts (the CLI's --json, parsed), with the
+// keyword arguments of the commands.
+#include "inspect_bindings.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/inspect/hand_info.hpp"
+#include "taskmap/inspect/map_summary.hpp"
+#include "taskmap/integration/task_map.hpp"
+#include "taskmap/picture/hand_picture.hpp"
+#include "taskmap/viz/hand_page.hpp"
+
+namespace py = pybind11;
+
+namespace taskmap {
+namespace {
+
+py::dict jsonDict(const std::string& text) {
+  return py::module_::import("json").attr("loads")(text).cast<py::dict>();
+}
+
+/// Sets ROS_PACKAGE_PATH to `dirs` before its old value for the object's life (the CLI's
+/// --package-path), and restores it after.
+class PackagePath {
+ public:
+  explicit PackagePath(const std::vector<std::string>& dirs) {
+    if (dirs.empty()) return;
+    const char* old = std::getenv("ROS_PACKAGE_PATH");
+    if (old != nullptr) old_ = old;
+    std::string value;
+    for (const std::string& d : dirs) value += (value.empty() ? "" : ":") + d;
+    if (old_ && !old_->empty()) value += ":" + *old_;
+    ::setenv("ROS_PACKAGE_PATH", value.c_str(), 1);
+    set_ = true;
+  }
+  PackagePath(const PackagePath&) = delete;
+  PackagePath& operator=(const PackagePath&) = delete;
+  ~PackagePath() {
+    if (!set_) return;
+    if (old_)
+      ::setenv("ROS_PACKAGE_PATH", old_->c_str(), 1);
+    else
+      ::unsetenv("ROS_PACKAGE_PATH");
+  }
+
+ private:
+  std::optional<std::string> old_;
+  bool set_ = false;
+};
+
+py::dict summary(const py::object& map) {
+  std::string text;
+  if (py::isinstance<TaskMap>(map)) {
+    text = summaryJson(summarizeMap(map.cast<const TaskMap&>().data(), ""));
+  } else {
+    InspectOptions options;
+    options.map = py::str(py::module_::import("os").attr("fspath")(map)).cast<std::string>();
+    text = summaryJson(inspectMap(options).summary);
+  }
+  return jsonDict(text);
+}
+
+py::dict handInfoDict(const std::string& hand, const std::string& png, const std::string& html,
+                      const std::vector<std::string>& package_path) {
+  const PackagePath scope(package_path);
+  HandInfoOptions options;
+  options.hand = pythonHandUrdf(hand);
+  options.validate();
+  const HandModel model = HandModel::load(options.hand);
+  const HandInfo info = handInfo(model);
+  if (!png.empty()) writeHandPicture(model, png);
+  if (!html.empty()) writeHandPage(model, html);
+  return jsonDict(info.json);
+}
+
+}  // namespace
+
+std::string pythonHandsDir() {
+  const char* dir = std::getenv("TASKMAP_DATA_DIR");
+  if (dir == nullptr || *dir == '\0') return "";
+  return (std::filesystem::path(dir) / "hands").string();
+}
+
+std::string pythonHandUrdf(const std::string& hand) {
+  if (hand.empty()) throw Error("hand is empty; give a hand URDF or a bundled hand name");
+  if (std::filesystem::exists(hand)) return hand;
+  const std::string dir = pythonHandsDir();
+  if (!dir.empty() && hand.find('/') == std::string::npos) {
+    const std::filesystem::path urdf = std::filesystem::path(dir) / hand / (hand + ".urdf");
+    if (std::filesystem::is_regular_file(urdf)) return urdf.string();
+  }
+  throw Error("hand '" + hand + "' is neither a file nor a bundled hand" +
+              (dir.empty() ? std::string(" (set TASKMAP_DATA_DIR for bundled hand names)")
+                           : " under " + dir) +
+              "; give the path of a hand URDF");
+}
+
+void bindInspect(py::module_& m) {
+  m.def("summary", &summary, py::arg("map"),
+        R"(What `taskmap inspect --json MAP` prints, as a dict.
+
+map: the path of a task map file (.h5), or a TaskMap (then "path" is "").
+Keys: path, generator, created_utc, object {name, vertices, faces, volume (m^3), bounds_min,
+bounds_max (m, object frame)}, hand {name, joints}, sampling {sampler, seed, trials, outcomes},
+grasps {count, force_closure, valid_rate, contacts_available, rotation_scale (m/rad)},
+epsilon {count, min, median, max} over force-closure grasps, clustering (None or {linkage,
+threshold (m), min_size, outliers, clusters [{id, size, representative, pose [x y z qw qx qy
+qz] (palm in the object frame, m), approach (palm +z axis, object frame), mean_epsilon,
+best_epsilon, color}]}).
+Raises taskmap.Error naming the file when it is missing or not a task map.)");
+  m.def("hand_info", &handInfoDict, py::arg("hand"), py::kw_only(), py::arg("png") = "",
+        py::arg("html") = "", py::arg("package_path") = std::vector<std::string>{},
+        R"(What `taskmap hand-info --json HAND` reports, as a dict.
+
+hand: a hand URDF (its <stem>.hand.json sidecar beside it), or a bundled hand name (looked up in
+$TASKMAP_DATA_DIR/hands). png: also draw the hand in its preshape and fully closed, three views
+each (PNG, written atomically). html: also write the interactive 3-D page. package_path: folders
+where package:// mesh paths are looked up before ROS_PACKAGE_PATH (the CLI's --package-path).
+Keys: name, robot_name, urdf, sidecar, urdf_sha256, joints [{name, type, parent, child, lower,
+upper (rad or m), axis, mimic | actuated, preshape, closed}], closing, palm_link, palm_frame
+{xyz (m), rpy (rad)} in the palm link, root_to_palm {xyz, rpy} in the URDF root, approach_axis
+(palm frame), rotation_scale (m/rad), reach (m), squeeze, fingers, links, collision_meshes
+(volumes in m^3), warnings (set-ups that cannot grasp), notes.
+Raises taskmap.Error naming the file when the hand does not load.)");
+}
+
+}  // namespace taskmap

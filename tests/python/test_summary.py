@@ -1,0 +1,119 @@
+"""taskmap.summary, taskmap.hand_info and taskmap.picture (the inspect and picture stages) against
+the command-line tool on the same inputs: the same numbers as `taskmap inspect --json` and
+`taskmap hand-info --json`, the same PNG bytes as `inspect --png` and `hand-info --png`, and the
+same errors for bad input."""
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+import warnings
+
+CLI = os.environ["TASKMAP_CLI"]
+SRC = os.environ["TASKMAP_SOURCE_DIR"]
+BUILD = os.environ["TASKMAP_BUILD_DIR"]
+MAP = os.path.join(SRC, "meshes", "maps", "basket_humanoid.h5")  # checked-in reference map
+HANDS = os.path.join(SRC, "meshes", "hands")
+# The bundled hands, for the CLI and for the package's bundled hand names alike.
+os.environ["TASKMAP_DATA_DIR"] = os.path.join(BUILD, "share", "taskmap")
+
+import taskmap  # noqa: E402  (after TASKMAP_DATA_DIR is set)
+
+
+def cli(*args):
+    r = subprocess.run([CLI, *args], capture_output=True, text=True)
+    return r.returncode, r.stdout, r.stderr
+
+
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+class SummaryTest(unittest.TestCase):
+    def test_summary_is_what_inspect_json_prints(self):
+        code, out, err = cli("inspect", "--json", MAP)
+        self.assertEqual(code, 0, err)
+        s = taskmap.summary(MAP)
+        self.assertEqual(s, json.loads(out))
+        self.assertEqual(s["grasps"]["count"], 300)
+        self.assertEqual(len(s["clustering"]["clusters"]), 22)
+        # A loaded TaskMap gives the same numbers; it has no path.
+        from_map = taskmap.summary(taskmap.load(MAP))
+        self.assertEqual(from_map["path"], "")
+        self.assertEqual({k: v for k, v in from_map.items() if k != "path"},
+                         {k: v for k, v in s.items() if k != "path"})
+
+    def test_summary_of_a_missing_file_names_it(self):
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.summary("/nonexistent/m.h5")
+        self.assertIn("map file '/nonexistent/m.h5' does not exist", str(e.exception))
+        with tempfile.NamedTemporaryFile(suffix=".h5") as f:
+            f.write(b"not a map")
+            f.flush()
+            with self.assertRaises(taskmap.Error) as e:
+                taskmap.summary(f.name)
+            self.assertIn(f.name, str(e.exception))
+
+
+class HandInfoTest(unittest.TestCase):
+    def test_hand_info_is_what_hand_info_json_prints(self):
+        with tempfile.TemporaryDirectory() as d:
+            for name in ("barrett", "humanoid", "panda"):
+                urdf = os.path.join(HANDS, name, name + ".urdf")
+                code, out, err = cli("hand-info", "--json", "--png", os.path.join(d, "cli.png"),
+                                     urdf)
+                self.assertEqual(code, 0, err)
+                info = taskmap.hand_info(urdf, png=os.path.join(d, "py.png"))
+                self.assertEqual(info, json.loads(out), name)
+                self.assertEqual(read(os.path.join(d, "py.png")), read(os.path.join(d, "cli.png")))
+            # A bundled name, as the CLI takes it.
+            self.assertEqual(taskmap.hand_info("barrett")["name"], "barrett_bh8_282")
+
+    def test_bad_hand_names_the_input(self):
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.hand_info("no_such_hand")
+        self.assertIn("hand 'no_such_hand' is neither a file nor a bundled hand", str(e.exception))
+        with tempfile.TemporaryDirectory() as d:
+            bad = os.path.join(d, "bad.urdf")
+            with open(bad, "w") as f:
+                f.write("<robot name='x'><link name='a'/>")
+            with self.assertRaises(taskmap.Error) as e:
+                taskmap.hand_info(bad)
+            self.assertIn(bad, str(e.exception))
+
+
+class PictureTest(unittest.TestCase):
+    def test_picture_is_what_inspect_png_draws(self):
+        with tempfile.TemporaryDirectory() as d:
+            code, _, err = cli("inspect", "--png", os.path.join(d, "cli.png"), "--width", "1000",
+                               "--height", "700", MAP)
+            self.assertEqual(code, 0, err)
+            out = taskmap.picture(MAP, png=os.path.join(d, "py.png"), width=1000, height=700)
+            self.assertEqual(out, os.path.join(d, "py.png"))
+            self.assertEqual(read(out), read(os.path.join(d, "cli.png")))
+            self.assertEqual(read(out)[:8], b"\x89PNG\r\n\x1a\n")
+            # Another hand than the map's: a warning, no hand drawn, as the CLI does.
+            code, _, err = cli("inspect", "--png", os.path.join(d, "cli2.png"), "--hand",
+                               "barrett", MAP)
+            self.assertIn("other actuated joints", err)
+            with warnings.catch_warnings(record=True) as w:
+                warnings.simplefilter("always")
+                taskmap.picture(MAP, png=os.path.join(d, "py2.png"), hand="barrett")
+            self.assertTrue(any("other actuated joints" in str(x.message) for x in w), w)
+            self.assertEqual(read(os.path.join(d, "py2.png")), read(os.path.join(d, "cli2.png")))
+
+    def test_bad_sizes_and_paths_leave_nothing(self):
+        with tempfile.TemporaryDirectory() as d:
+            png = os.path.join(d, "x.png")
+            with self.assertRaises(taskmap.Error) as e:
+                taskmap.picture(MAP, png=png, width=10)
+            self.assertIn("--width 10 is out of range", str(e.exception))
+            with self.assertRaises(taskmap.Error) as e:
+                taskmap.picture(MAP, png="/nonexistent/dir/x.png")
+            self.assertIn("/nonexistent/dir/x.png", str(e.exception))
+            self.assertEqual(os.listdir(d), [])
+
+
+if __name__ == "__main__":
+    unittest.main()
