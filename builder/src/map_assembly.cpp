@@ -194,6 +194,17 @@ std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   j["sampler"] = toString(o.sampler.kind);
   j["standoff_min"] = o.sampler.standoff_min;
   j["standoff_max"] = o.sampler.standoff_max;
+  if (o.sampler.kind == SamplerKind::kEnclose) j["attempts"] = o.sampler.attempts;
+  if (o.sampler.kind == SamplerKind::kAntipodal) {
+    const SamplerOptions so = samplerOptionsFor(o, hand);
+    j["attempts"] = so.attempts;
+    j["antipodal_friction"] = so.friction;
+    j["width_margin"] = so.width_margin;
+    if (so.jaws) {
+      j["jaw_open_width"] = so.jaws->open_width;
+      j["jaw_closed_width"] = so.jaws->closed_width;
+    }
+  }
   const Eigen::Vector3d a = hand.approachAxis();
   j["approach_axis"] = {a.x(), a.y(), a.z()};
   j["seed"] = o.seed;

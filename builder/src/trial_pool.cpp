@@ -30,6 +30,10 @@ int threadCount(int requested) {
 SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand) {
   SamplerOptions o = options.sampler;
   o.approach_axis = hand.approachAxis().normalized();
+  o.friction = options.quality.friction;
+  if (!o.jaws) o.jaws = jawGeometry(hand);
+  if (o.kind == SamplerKind::kEnclose && o.finger_points.empty())
+    o.finger_points = openFingerPoints(hand);
   return o;
 }
 

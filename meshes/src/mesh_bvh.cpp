@@ -280,6 +280,49 @@ double MeshBvh::closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest,
   return std::sqrt(best2);
 }
 
+double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min,
+                         double t_max, int* face) const {
+  double best = std::numeric_limits<double>::infinity();
+  int best_face = -1;
+  if (!nodes_.empty()) {
+    const Eigen::Vector3d inv = d.cwiseInverse();
+    int stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (!rayHitsBox(p, inv, node.lo, node.hi)) continue;
+      if (node.left >= 0) {
+        stack[top++] = node.left;
+        stack[top++] = node.right;
+        continue;
+      }
+      for (int i = node.begin; i < node.end; ++i) {
+        // Moller-Trumbore; parallel rays (det ~ 0) do not cross the triangle.
+        const Eigen::Vector3d e1 = b_[i] - a_[i], e2 = c_[i] - a_[i];
+        const Eigen::Vector3d pvec = d.cross(e2);
+        const double det = e1.dot(pvec);
+        if (std::abs(det) <= 1e-12 * e1.norm() * e2.norm()) continue;
+        const double inv_det = 1.0 / det;
+        const Eigen::Vector3d s = p - a_[i];
+        const double u = s.dot(pvec) * inv_det;
+        if (u < -kBaryTol || u > 1 + kBaryTol) continue;
+        const Eigen::Vector3d qvec = s.cross(e1);
+        const double v = d.dot(qvec) * inv_det;
+        if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
+        const double t = e2.dot(qvec) * inv_det;
+        if (t <= t_min || t > t_max) continue;
+        if (t < best || (t == best && order_[i] < best_face)) {
+          best = t;
+          best_face = order_[i];
+        }
+      }
+    }
+  }
+  if (face != nullptr) *face = best_face;
+  return best;
+}
+
 double MeshBvh::windingNumber(const Eigen::Vector3d& p) const {
   double total = 0;
   for (std::size_t i = 0; i < a_.size(); ++i) {

@@ -36,6 +36,13 @@ class MeshBvh {
   double closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest = nullptr,
                       int* face = nullptr) const;
 
+  /// Nearest crossing of the ray p + t d (d unit) with a triangle for t in (t_min, t_max]:
+  /// returns t and sets *face (original face index), or returns +infinity and sets -1. A ray
+  /// through an edge or a vertex hits one of the triangles that share it (barycentric tolerance
+  /// 1e-9), so a ray cannot slip between two triangles of a closed mesh.
+  double firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min, double t_max,
+                  int* face) const;
+
   /// Generalized winding number of the surface around p (1 inside, 0 outside), O(n).
   double windingNumber(const Eigen::Vector3d& p) const;
 

@@ -216,6 +216,24 @@ double ObjectModel::distanceToSurface(const Eigen::Vector3d& p) const {
   return impl_->bvh->closestPoint(p);
 }
 
+std::optional<RayHit> ObjectModel::castRay(const Eigen::Vector3d& origin,
+                                           const Eigen::Vector3d& direction, double min_distance,
+                                           double max_distance) const {
+  if (!origin.allFinite() || !direction.allFinite() || std::abs(direction.norm() - 1.0) > 1e-9)
+    throw Error("castRay needs a finite origin and a finite unit direction");
+  if (!(min_distance >= 0.0) || !(max_distance > min_distance))
+    throw Error("castRay needs 0 <= min_distance < max_distance (metres)");
+  int face = -1;
+  const double t = impl_->bvh->firstHit(origin, direction, min_distance, max_distance, &face);
+  if (face < 0) return std::nullopt;
+  RayHit hit;
+  hit.distance = t;
+  hit.point = origin + t * direction;
+  hit.normal = impl_->normals[static_cast<std::size_t>(face)];
+  hit.face = face;
+  return hit;
+}
+
 Eigen::Vector3d ObjectModel::sampleInside(Rng& rng) const {
   const Eigen::Vector3d lo = impl_->mass.bounds_min;
   const Eigen::Vector3d size = impl_->mass.bounds_max - lo;

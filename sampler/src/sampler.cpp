@@ -1,5 +1,6 @@
 #include "taskmap/sampler/sampler.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -18,6 +19,10 @@ const char* toString(SamplerKind kind) {
       return "surface";
     case SamplerKind::kMixed:
       return "mixed";
+    case SamplerKind::kAntipodal:
+      return "antipodal";
+    case SamplerKind::kEnclose:
+      return "enclose";
   }
   return "mixed";
 }
@@ -26,7 +31,19 @@ SamplerKind samplerKindFromString(const std::string& name) {
   if (name == "volume") return SamplerKind::kVolume;
   if (name == "surface") return SamplerKind::kSurface;
   if (name == "mixed") return SamplerKind::kMixed;
-  throw Error("unknown sampler '" + name + "': use volume, surface or mixed");
+  if (name == "antipodal") return SamplerKind::kAntipodal;
+  if (name == "enclose") return SamplerKind::kEnclose;
+  throw Error("unknown sampler '" + name + "': use volume, surface, mixed, antipodal or enclose");
+}
+
+void JawGeometry::validate() const {
+  if (!closing_axis.allFinite() || std::abs(closing_axis.norm() - 1.0) > 1e-6)
+    throw Error("jaw closing_axis must be a finite unit vector");
+  if (!pad_midpoint.allFinite()) throw Error("jaw pad_midpoint must be finite (metres)");
+  if (!std::isfinite(open_width) || !(open_width > 0.0))
+    throw Error("jaw open_width must be a positive length in metres");
+  if (!std::isfinite(closed_width) || closed_width >= open_width)
+    throw Error("jaw closed_width must be finite and below open_width (metres)");
 }
 
 void SamplerOptions::validate() const {
@@ -35,11 +52,163 @@ void SamplerOptions::validate() const {
   if (!std::isfinite(standoff_min) || !std::isfinite(standoff_max))
     throw Error("sampler standoff_min and standoff_max must be finite (metres)");
   if (standoff_min > standoff_max) throw Error("sampler standoff_min must not exceed standoff_max");
+  if (!std::isfinite(friction) || friction < 0.0)
+    throw Error("sampler friction must be a finite coefficient >= 0");
+  if (attempts < 1) throw Error("sampler attempts must be at least 1");
+  if (!std::isfinite(width_margin) || width_margin < 0.0)
+    throw Error("sampler width_margin must be a finite length >= 0 in metres");
+  if (jaws) jaws->validate();
+  for (const Eigen::Vector3d& p : finger_points)
+    if (!p.allFinite()) throw Error("sampler finger_points must be finite (metres)");
+}
+
+namespace {
+
+/// Points spanning a collision shape, in its link frame: box corners, hull points, the
+/// extreme points of spheres and cylinders along the shape's axes.
+void shapePoints(const CollisionShape& s, std::vector<Eigen::Vector3d>* out) {
+  std::vector<Eigen::Vector3d> local;
+  switch (s.type) {
+    case ShapeType::kBox:
+      for (int i = 0; i < 8; ++i)
+        local.push_back(0.5 * Eigen::Vector3d((i & 1) ? s.box_size.x() : -s.box_size.x(),
+                                              (i & 2) ? s.box_size.y() : -s.box_size.y(),
+                                              (i & 4) ? s.box_size.z() : -s.box_size.z()));
+      break;
+    case ShapeType::kSphere:
+      for (int k = 0; k < 3; ++k)
+        for (double sign : {-1.0, 1.0}) local.push_back(sign * s.radius * Eigen::Vector3d::Unit(k));
+      break;
+    case ShapeType::kCylinder:
+      for (int k = 0; k < 8; ++k) {
+        const double phi = 2.0 * M_PI * k / 8.0;
+        for (double sign : {-1.0, 1.0})
+          local.emplace_back(s.radius * std::cos(phi), s.radius * std::sin(phi),
+                             0.5 * sign * s.length);
+      }
+      break;
+    case ShapeType::kConvex:
+      local = s.points;
+      break;
+  }
+  for (const Eigen::Vector3d& p : local) out->push_back(s.origin * p);
+}
+
+/// Every point of every shape of each finger, palm frame, at joint values q.
+std::vector<std::vector<Eigen::Vector3d>> fingerPoints(const HandModel& hand,
+                                                       const Eigen::VectorXd& q) {
+  std::vector<std::vector<Eigen::Vector3d>> fingers(hand.fingerNames().size());
+  const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    const HandLink& link = hand.links()[l];
+    if (link.finger < 0) continue;
+    std::vector<Eigen::Vector3d> pts;
+    for (const CollisionShape& s : link.shapes) shapePoints(s, &pts);
+    for (const Eigen::Vector3d& p : pts)
+      fingers[static_cast<std::size_t>(link.finger)].push_back(poses[l] * p);
+  }
+  return fingers;
+}
+
+Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& pts) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : pts) c += p / static_cast<double>(pts.size());
+  return c;
+}
+
+/// Inner faces of the two fingers along `axis`: the largest coordinate of the first finger and
+/// the smallest of the second.
+std::pair<double, double> innerFaces(const std::vector<std::vector<Eigen::Vector3d>>& f,
+                                     const Eigen::Vector3d& axis) {
+  double a = -1e300, b = 1e300;
+  for (const Eigen::Vector3d& p : f[0]) a = std::max(a, axis.dot(p));
+  for (const Eigen::Vector3d& p : f[1]) b = std::min(b, axis.dot(p));
+  return {a, b};
+}
+
+/// Centroid of a finger's points within `band` of its inner face `face` along `axis`.
+Eigen::Vector3d padCentre(const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& axis,
+                          double face, double band) {
+  std::vector<Eigen::Vector3d> pad;
+  for (const Eigen::Vector3d& p : pts)
+    if (std::abs(axis.dot(p) - face) <= band) pad.push_back(p);
+  return centroid(pad);
+}
+
+constexpr double kPadBand = 0.002;  ///< metres: a pad is the finger's points this near its face
+
+}  // namespace
+
+std::optional<JawGeometry> jawGeometry(const HandModel& hand) {
+  if (hand.fingerNames().size() != 2 || hand.closing().empty()) return std::nullopt;
+  const Eigen::VectorXd open = hand.preshape();
+  const auto fingers = fingerPoints(hand, open);
+  if (fingers[0].empty() || fingers[1].empty()) return std::nullopt;
+  const Eigen::Vector3d a = hand.approachAxis().normalized();
+  Eigen::Vector3d c = centroid(fingers[1]) - centroid(fingers[0]);
+  c -= c.dot(a) * a;
+  if (!(c.norm() > 1e-6)) return std::nullopt;
+  c.normalize();
+  const auto [face0, face1] = innerFaces(fingers, c);
+  Eigen::VectorXd closed = open;
+  for (const ClosingJoint& j : hand.closing()) closed[j.joint] = j.target;
+  const auto [closed0, closed1] = innerFaces(fingerPoints(hand, closed), c);
+  JawGeometry g;
+  g.closing_axis = c;
+  g.open_width = face1 - face0;
+  g.closed_width = closed1 - closed0;
+  if (!(g.open_width > 0.0) || !(g.closed_width < g.open_width)) return std::nullopt;
+  const Eigen::Vector3d pad0 = padCentre(fingers[0], c, face0, kPadBand);
+  const Eigen::Vector3d pad1 = padCentre(fingers[1], c, face1, kPadBand);
+  g.pad_midpoint = 0.5 * (pad0 + pad1);
+  // On the axis: halfway between the faces; across it: the pads' mean.
+  g.pad_midpoint += (0.5 * (face0 + face1) - c.dot(g.pad_midpoint)) * c;
+  return g;
+}
+
+std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand) {
+  std::vector<Eigen::Vector3d> out;
+  for (const std::vector<Eigen::Vector3d>& f : fingerPoints(hand, hand.preshape()))
+    out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rng, double friction,
+                                              double min_width, double max_width) {
+  const SurfaceSample s = object.sampleSurface(rng);
+  // Direction uniform in solid angle in the cone of half-angle atan(mu) about -n1.
+  const double cos_cone = 1.0 / std::sqrt(1.0 + friction * friction);
+  const double cos_t = rng.uniform(cos_cone, 1.0);
+  const double phi = rng.uniform(0.0, 2.0 * M_PI);
+  const Eigen::Vector3d inward = -s.normal;
+  const Eigen::Vector3d e1 = inward.unitOrthogonal(), e2 = inward.cross(e1);
+  const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+  const Eigen::Vector3d d =
+      (cos_t * inward + sin_t * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+  // Start a hair inside so that the ray does not hit its own triangle.
+  const double start = 1e-7;
+  const std::optional<RayHit> hit = object.castRay(s.point, d, start, max_width + start);
+  if (!hit) return std::nullopt;
+  AntipodalPair p{s.point, s.normal, hit->point, hit->normal};
+  const Eigen::Vector3d axis = p.p2 - p.p1;
+  const double w = axis.norm();
+  if (w < min_width || w > max_width || !(w > 0.0)) return std::nullopt;
+  const Eigen::Vector3d u = axis / w;
+  if (-p.n1.dot(u) < cos_cone || p.n2.dot(u) < cos_cone) return std::nullopt;
+  return p;
 }
 
 Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
     : object_(std::move(object)), options_(options) {
   options_.validate();
+  if (options_.kind == SamplerKind::kAntipodal && !options_.jaws)
+    throw Error(
+        "the antipodal sampler needs a parallel-jaw hand (two fingers whose pads face each "
+        "other); use --sampler mixed, surface or volume for this hand");
+  if (options_.kind == SamplerKind::kEnclose && options_.finger_points.empty())
+    throw Error(
+        "the enclose sampler needs the points of the hand's open fingers (openFingerPoints); "
+        "the hand has no finger links with collision shapes: use --sampler mixed");
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
@@ -54,20 +223,85 @@ Eigen::Quaterniond alignAxis(const Eigen::Vector3d& axis, const Eigen::Vector3d&
   return (spin * align).normalized();
 }
 
+Pose Sampler::surfacePose(Rng& rng) const {
+  const SurfaceSample s = object_.sampleSurface(rng);
+  const double roll = rng.uniform(0.0, 2.0 * M_PI);
+  const double standoff = rng.uniform(options_.standoff_min, options_.standoff_max);
+  Pose pose;
+  pose.orientation = alignAxis(options_.approach_axis, -s.normal, roll);
+  pose.position = s.point + standoff * s.normal;
+  return pose;
+}
+
+std::optional<AntipodalPair> Sampler::drawPair(Rng& rng) const {
+  const JawGeometry& jaws = *options_.jaws;
+  const double min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
+  const double max_w = jaws.open_width - options_.width_margin;
+  if (max_w <= min_w) return std::nullopt;
+  for (int k = 0; k < options_.attempts; ++k) {
+    std::optional<AntipodalPair> p =
+        antipodalAttempt(object_, rng, options_.friction, min_w, max_w);
+    if (p) return p;
+  }
+  return std::nullopt;
+}
+
+// Palm orientation R maps the palm-frame closing axis c onto the pair's axis u and the approach
+// axis a onto a direction across u at angle `spin`; the pads' midpoint goes to the pair's.
+Pose Sampler::jawPose(const AntipodalPair& pair, double spin) const {
+  const JawGeometry& jaws = *options_.jaws;
+  const Eigen::Vector3d a = options_.approach_axis;
+  const Eigen::Vector3d c = (jaws.closing_axis - jaws.closing_axis.dot(a) * a).normalized();
+  const Eigen::Vector3d u = (pair.p2 - pair.p1).normalized();
+  const Eigen::Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+  const Eigen::Vector3d w = std::cos(spin) * e1 + std::sin(spin) * e2;
+  Eigen::Matrix3d palm, world;
+  palm << c, a, c.cross(a);
+  world << u, w, u.cross(w);
+  const Eigen::Matrix3d r = world * palm.transpose();
+  Pose pose;
+  pose.orientation = Eigen::Quaterniond(r).normalized();
+  pose.position = 0.5 * (pair.p1 + pair.p2) - r * jaws.pad_midpoint;
+  return pose;
+}
+
+bool Sampler::fingersOutside(const Pose& palm) const {
+  const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
+  for (const Eigen::Vector3d& p : options_.finger_points)
+    if (object_.contains(palm.position + r * p)) return false;
+  return true;
+}
+
+std::optional<AntipodalPair> Sampler::antipodalPair(std::uint64_t seed, std::uint64_t trial) const {
+  if (kindOfTrial(trial) != SamplerKind::kAntipodal) return std::nullopt;
+  Rng rng(seed, trial);
+  return drawPair(rng);
+}
+
 Pose Sampler::sample(std::uint64_t seed, std::uint64_t trial) const {
   Rng rng(seed, trial);
-  Pose pose;
-  if (kindOfTrial(trial) == SamplerKind::kVolume) {
+  const SamplerKind kind = kindOfTrial(trial);
+  if (kind == SamplerKind::kVolume) {
+    Pose pose;
     pose.position = object_.sampleInside(rng);
     pose.orientation = rng.rotation();
     return pose;
   }
-  const SurfaceSample s = object_.sampleSurface(rng);
-  const double roll = rng.uniform(0.0, 2.0 * M_PI);
-  const double standoff = rng.uniform(options_.standoff_min, options_.standoff_max);
-  pose.orientation = alignAxis(options_.approach_axis, -s.normal, roll);
-  pose.position = s.point + standoff * s.normal;
-  return pose;
+  if (kind == SamplerKind::kAntipodal) {
+    const std::optional<AntipodalPair> pair = drawPair(rng);
+    if (pair) return jawPose(*pair, rng.uniform(0.0, 2.0 * M_PI));
+  }
+  if (kind == SamplerKind::kEnclose) {
+    // Each attempt draws a point and a roll; the palm origin sits on the surface.
+    for (int k = 0; k < options_.attempts; ++k) {
+      const SurfaceSample s = object_.sampleSurface(rng);
+      Pose pose;
+      pose.orientation = alignAxis(options_.approach_axis, -s.normal, rng.uniform(0.0, 2.0 * M_PI));
+      pose.position = s.point;
+      if (fingersOutside(pose)) return pose;
+    }
+  }
+  return surfacePose(rng);
 }
 
 }  // namespace taskmap

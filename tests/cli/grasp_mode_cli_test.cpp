@@ -1,6 +1,6 @@
 // `taskmap build --grasp / --standoff` and coupled jaws through the CLI (label cli: runs the
 // real binary): fingertip grasps of the Robotiq-2F-85-style test hand store no palm contact and
-// both jaws; option mistakes exit non-zero with a message naming the option.
+// both jaws; option mistakes exit non-zero with a message naming the option; --sampler antipodal.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -95,6 +95,26 @@ TEST_F(GraspModeCli, OptionsOverrideAndMistakes) {
   const CliRun range = runBuild(base + out("bad.h5") + " --grasp fingertip --standoff 2");
   EXPECT_NE(range.exit_code, 0);
   EXPECT_NE(range.out.find("--standoff"), std::string::npos) << range.out;
+}
+
+// --sampler antipodal: the jaw hand stores grasps and the map records the sampler and the jaws;
+// a three-finger hand is refused with a message naming the sampler, nothing written.
+TEST_F(GraspModeCli, AntipodalSamplerIsSelectableAndRecorded) {
+  const CliRun run =
+      runBuild("--object " + kCylinder + " --hand " + kRobotiq + " -o " + out("anti.h5") +
+               " --sampler antipodal --valid 5 --trials 400 --threads 2 "
+               "--no-cluster -q");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const TaskMapData map = readMap(out("anti.h5"));
+  EXPECT_EQ(map.sampling.sampler, "antipodal");
+  const auto params = nlohmann::json::parse(map.sampling.params_json);
+  EXPECT_EQ(params.at("sampler"), "antipodal");
+  EXPECT_GT(params.at("jaw_open_width").get<double>(), 0.07);
+  const CliRun barrett = runBuild("--object " + kCylinder + " --hand barrett -o " + out("bad.h5") +
+                                  " --sampler antipodal --valid 5 -q");
+  EXPECT_NE(barrett.exit_code, 0);
+  EXPECT_NE(barrett.out.find("parallel-jaw hand"), std::string::npos) << barrett.out;
+  EXPECT_FALSE(std::filesystem::exists(out("bad.h5")));
 }
 
 }  // namespace

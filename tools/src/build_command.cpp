@@ -63,8 +63,10 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                   "(approach along the inward normal of an area-weighted "
                   "surface point, random "
                   "roll and standoff; finds handles), mixed (even trials "
-                  "volume, odd surface)")
-      ->check(CLI::IsMember({"volume", "surface", "mixed"}))
+                  "volume, odd surface), antipodal (parallel jaws: the pads on two surface "
+                  "points whose normals lie in each other's friction cones), enclose (palm on a "
+                  "surface point, no open finger inside the object)")
+      ->check(CLI::IsMember({"volume", "surface", "mixed", "antipodal", "enclose"}))
       ->capture_default_str();
   cmd->add_option("--valid", args.valid, "stop after this many force-closure grasps")
       ->check(CLI::PositiveNumber)

@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -233,6 +235,82 @@ TEST(ObjectModelTest, Sha256AndNames) {
   EXPECT_EQ(model.sourceSha256(), sha256File(object("box")));
   EXPECT_EQ(model.sourceSha256().size(), 64u);
   EXPECT_THROW(sha256File("/nonexistent/file"), Error);
+}
+
+/// Independent oracle for castRay: every triangle intersected by the plane-then-inside test
+/// (the ray meets the triangle's plane at t; the point lies inside when its three edge cross
+/// products point along the normal), the smallest t in the range.
+double bruteForceRay(const TriangleMesh& mesh, const Eigen::Vector3d& o, const Eigen::Vector3d& d,
+                     double t_min) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& f : mesh.faces) {
+    const Eigen::Vector3d a = mesh.vertices[f[0]], b = mesh.vertices[f[1]], c = mesh.vertices[f[2]];
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double nd = n.dot(d);
+    if (std::abs(nd) < 1e-15) continue;
+    const double t = n.dot(a - o) / nd;
+    if (t <= t_min || t >= best) continue;
+    const Eigen::Vector3d q = o + t * d;
+    if ((b - a).cross(q - a).dot(n) >= 0 && (c - b).cross(q - b).dot(n) >= 0 &&
+        (a - c).cross(q - c).dot(n) >= 0)
+      best = t;
+  }
+  return best;
+}
+
+TEST(ObjectModelTest, CastRayMatchesABruteForceOracle) {
+  // Rays from inside along the inward normal (the antipodal sampler's use), from random outside
+  // points toward the object and in random directions, on a fine curved mesh and a box.
+  for (const std::string name : {"mug", "box"}) {
+    SCOPED_TRACE(name);
+    const ObjectModel model = ObjectModel::load(object(name));
+    const TriangleMesh& mesh = model.mesh();
+    Rng rng(5, 0);
+    int hits = 0;
+    for (int i = 0; i < 300; ++i) {
+      Eigen::Vector3d o, d;
+      if (i % 3 == 0) {
+        const SurfaceSample s = model.sampleSurface(rng);
+        o = s.point;
+        d = -s.normal;
+      } else {
+        const Eigen::Vector3d c = model.massProperties().center_of_mass;
+        o = c + 0.3 * rng.direction();
+        d = i % 3 == 1 ? Eigen::Vector3d((c - o).normalized()) : rng.direction();
+      }
+      const double t_min = i % 3 == 0 ? 1e-7 : 0.0;
+      const double expected = bruteForceRay(mesh, o, d, t_min);
+      const std::optional<RayHit> hit = model.castRay(o, d, t_min);
+      if (!std::isfinite(expected)) {
+        EXPECT_FALSE(hit.has_value()) << "ray " << i;
+        continue;
+      }
+      ASSERT_TRUE(hit.has_value()) << "ray " << i;
+      ++hits;
+      EXPECT_NEAR(hit->distance, expected, 1e-9) << "ray " << i;
+      EXPECT_LT((hit->point - (o + expected * d)).norm(), 1e-9);
+      const auto& f = mesh.faces[static_cast<std::size_t>(hit->face)];
+      const Eigen::Vector3d n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                                    .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+      EXPECT_LT((hit->normal - n.normalized()).norm(), 1e-9);
+      if (i % 3 == 0) {
+        EXPECT_GT(hit->normal.dot(d), 0.0) << "a ray from the surface inward leaves";
+      }
+    }
+    EXPECT_GT(hits, 150);
+    // The range bounds the answer.
+    const SurfaceSample s = model.sampleSurface(rng);
+    const std::optional<RayHit> far = model.castRay(s.point, -s.normal, 1e-7);
+    ASSERT_TRUE(far.has_value());
+    EXPECT_FALSE(model.castRay(s.point, -s.normal, 1e-7, 0.5 * far->distance).has_value());
+  }
+}
+
+TEST(ObjectModelTest, CastRayRefusesBadArguments) {
+  const ObjectModel model = ObjectModel::load(object("box"));
+  EXPECT_THROW(model.castRay(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 0)), Error);
+  EXPECT_THROW(model.castRay(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.1, 0.1), Error);
+  EXPECT_THROW(model.castRay(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), -1.0), Error);
 }
 
 }  // namespace

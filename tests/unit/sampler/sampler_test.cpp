@@ -28,10 +28,11 @@ SamplerOptions optionsOf(SamplerKind kind) {
 }
 
 TEST(SamplerTest, KindNamesRoundTrip) {
-  for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed})
+  for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed,
+                 SamplerKind::kAntipodal, SamplerKind::kEnclose})
     EXPECT_EQ(samplerKindFromString(toString(k)), k);
-  EXPECT_TRUE(
-      testing::throwsError([&] { samplerKindFromString("random"); }, {"volume, surface or mixed"}));
+  EXPECT_TRUE(testing::throwsError([&] { samplerKindFromString("random"); },
+                                   {"volume, surface, mixed, antipodal or enclose"}));
 }
 
 TEST(SamplerTest, InvalidOptionsAreRefused) {

@@ -3,7 +3,9 @@
 /// An object as a closed solid: loaded, validated, with mass properties, inside test and
 /// deterministic volume and surface sampling. Implementation (assimp, CGAL) stays private.
 
+#include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,6 +60,14 @@ struct SurfaceSample {
   int face = -1;           ///< index of the triangle sampled
 };
 
+/// Where a ray first crosses the surface.
+struct RayHit {
+  double distance = 0.0;                              ///< metres along the unit direction
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< metres, object frame
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< outward unit normal of the face hit
+  int face = -1;                                      ///< index of the triangle hit
+};
+
 /// A closed, outward-oriented triangle mesh treated as a solid. Immutable after construction;
 /// copies share state; every const method is thread-safe.
 class ObjectModel {
@@ -87,6 +97,13 @@ class ObjectModel {
   bool contains(const Eigen::Vector3d& p) const;
   /// Unsigned distance from p to the surface, metres.
   double distanceToSurface(const Eigen::Vector3d& p) const;
+  /// Nearest surface crossing of the ray origin + t direction for t in (min_distance,
+  /// max_distance] (metres, object frame; direction unit). Empty when the ray meets no face
+  /// there. Throws Error when direction is not a finite unit vector or the range is not
+  /// 0 <= min_distance < max_distance.
+  std::optional<RayHit> castRay(
+      const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double min_distance = 0.0,
+      double max_distance = std::numeric_limits<double>::infinity()) const;
   /// Uniform point inside the volume (rejection sampling in the bounds).
   Eigen::Vector3d sampleInside(Rng& rng) const;
   /// Area-weighted uniform point on the surface with its outward normal.

@@ -4,11 +4,14 @@
 /// with s draws only from Rng(s, i), so the set of trials never depends on thread count.
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "taskmap/core/pose.hpp"
+#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
@@ -24,12 +27,49 @@ enum class SamplerKind {
   kSurface,
   /// Even trial indices volume, odd trial indices surface.
   kMixed,
+  /// Parallel jaws (Dex-Net's antipodal sampler, docs/METHOD.md §2 "Antipodal sampling"): a
+  /// surface point p1, a ray into the object from it inside the friction cone about -n1 to
+  /// the exit point p2; accepted when both normals lie in the friction cones about the jaw
+  /// axis p2 - p1 and |p2 - p1| fits the jaws' opening. The jaws close along p2 - p1, the
+  /// approach is uniform about that axis, the pads' midpoint at (p1 + p2) / 2. Needs
+  /// SamplerOptions::jaws; a trial whose attempts all fail falls back to kSurface.
+  kAntipodal,
+  /// Multi-finger hands (docs/METHOD.md §2 "Enclosing approach"): as kSurface with the palm
+  /// origin on the surface point (no standoff), accepted only when no point of the open
+  /// fingers (SamplerOptions::finger_points) lies inside the object, so that the palm, not a
+  /// fingertip, meets the surface and the fingers enclose the part. Needs finger_points; a
+  /// trial whose attempts all fail falls back to kSurface.
+  kEnclose,
 };
 
-/// "volume", "surface", "mixed".
+/// "volume", "surface", "mixed", "antipodal", "enclose".
 const char* toString(SamplerKind kind);
 /// Parses a sampler name; throws Error listing the valid names on an unknown one.
 SamplerKind samplerKindFromString(const std::string& name);
+
+/// Where the pads of a parallel-jaw hand are, in the palm frame (jawGeometry()).
+struct JawGeometry {
+  /// Unit, palm frame, perpendicular to the approach axis: from the first finger's pad toward
+  /// the second's.
+  Eigen::Vector3d closing_axis = Eigen::Vector3d::UnitX();
+  /// Palm frame, metres: midpoint between the two pads' inner faces in the open preshape.
+  Eigen::Vector3d pad_midpoint = Eigen::Vector3d::Zero();
+  double open_width = 0.0;    ///< metres between the pads' inner faces in the preshape, > 0
+  double closed_width = 0.0;  ///< metres between them with the closing joints at their targets
+  /// Throws Error naming the field when a value is out of range.
+  void validate() const;
+};
+
+/// The pads of a hand with exactly two fingers, from its collision shapes: closing axis from
+/// the first finger's shapes toward the second's (across the approach axis), each pad the
+/// finger's points within 2 mm of its inner face (preshape), widths from the inner faces in
+/// the preshape and with every closing joint at its target. Empty for other hands (more or
+/// fewer fingers, fingers without shapes, pads that do not face each other).
+std::optional<JawGeometry> jawGeometry(const HandModel& hand);
+
+/// Points spanning the collision shapes of every finger link in the open preshape, palm frame,
+/// metres: box corners, hull points, the extremes of spheres and cylinders along their axes.
+std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand);
 
 /// Options of the sampler.
 struct SamplerOptions {
@@ -43,24 +83,59 @@ struct SamplerOptions {
   /// inside (the simulator retracts it out of the object).
   double standoff_min = 0.0;
   double standoff_max = 0.02;  ///< metres, >= standoff_min
+  /// Antipodal sampler: the jaws' pads (from jawGeometry of the hand); required by kAntipodal.
+  std::optional<JawGeometry> jaws;
+  /// Antipodal sampler: Coulomb friction coefficient of the cones (the build's
+  /// QualityOptions::friction), >= 0; half-angle atan(friction).
+  double friction = 0.5;
+  /// Antipodal and enclose samplers: candidates tried per trial before the fallback, >= 1.
+  int attempts = 16;
+  /// Enclose sampler: points of the open fingers' collision shapes, palm frame, metres
+  /// (openFingerPoints of the hand); required by kEnclose.
+  std::vector<Eigen::Vector3d> finger_points;
+  /// Antipodal sampler: a pair is kept when closed_width + margin <= |p2 - p1| <=
+  /// open_width - margin, metres, >= 0.
+  double width_margin = 0.002;
   /// Throws Error naming the option when a value is out of range (non-unit axis, bad range).
   void validate() const;
 };
 
+/// An antipodal pair of surface points (object frame).
+struct AntipodalPair {
+  Eigen::Vector3d p1, n1;  ///< first contact and its outward unit normal
+  Eigen::Vector3d p2, n2;  ///< second contact (where the ray leaves) and its outward unit normal
+};
+
+/// One antipodal attempt: a surface point from `rng`, a direction uniform in the cone of
+/// half-angle atan(friction) about its inward normal, the ray's exit point. Returns the pair when
+/// both normals lie in the friction cones about the axis and the width is in [min_width,
+/// max_width] (metres); empty otherwise. Draws the same number of values from `rng` either way.
+std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rng, double friction,
+                                              double min_width, double max_width);
+
 /// Draws initial palm poses (palm frame in the object frame). Immutable, thread-safe.
 class Sampler {
  public:
-  /// @param object the solid to sample (copies share state). Throws Error on invalid options.
+  /// @param object the solid to sample (copies share state). Throws Error on invalid options
+  /// and for kAntipodal without jaws or kEnclose without finger points.
   Sampler(ObjectModel object, const SamplerOptions& options);
 
   /// Initial pose of trial `trial` of a run seeded with `seed`: a pure function of both.
   Pose sample(std::uint64_t seed, std::uint64_t trial) const;
-  /// The concrete kind (kVolume or kSurface) trial `trial` uses.
+  /// Antipodal sampler: the pair trial `trial` grasps, empty when it fell back to kSurface (or
+  /// the sampler is of another kind). A pure function of seed and trial, as sample().
+  std::optional<AntipodalPair> antipodalPair(std::uint64_t seed, std::uint64_t trial) const;
+  /// The concrete kind (kVolume, kSurface, kAntipodal or kEnclose) trial `trial` uses.
   SamplerKind kindOfTrial(std::uint64_t trial) const;
   /// The options given at construction.
   const SamplerOptions& options() const { return options_; }
 
  private:
+  Pose surfacePose(Rng& rng) const;
+  std::optional<AntipodalPair> drawPair(Rng& rng) const;
+  bool fingersOutside(const Pose& palm) const;
+  Pose jawPose(const AntipodalPair& pair, double spin) const;
+
   ObjectModel object_;
   SamplerOptions options_;
 };

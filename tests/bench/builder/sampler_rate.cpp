@@ -1,0 +1,210 @@
+// sampler_rate: stored grasps per CPU-second of a one-thread build, the previous sampler against
+// the new one, in one process, per hand x object of the reference set (bundled hands, the
+// Robotiq 2F-85 style test hand; bundled objects and the YCB banana of tests/data/real) and the
+// real set (--real DIR, default $TASKMAP_REAL_DIR or ../shared/real: the Franka and Allegro
+// hands; YCB banana, YCB mug, ACRONYM mug). Default build options otherwise (clustering off: it is
+// not part of the trial CPU time). Parallel-jaw hands (jawGeometry) compare `mixed` with
+// `antipodal`, other hands `mixed` with --multi (default `enclose`).
+// Prints per pair: stored grasps per CPU-second old and new (the build's own CPU time: sampling
+// + simulation + quality, summed over its worker thread), their ratio, trials per stored grasp,
+// the share of each trial outcome, old -> new, and the share of the first --hold (60) stored grasps
+// that hold in the physics test (validateMap, what `taskmap validate MAP --grasps 60` runs).
+// Rates are medians over --rounds interleaved builds (old, new, old, new, ...).
+//   sampler_rate [--real DIR] [--valid N] [--rounds R] [--only SUBSTRING] [--multi KIND]
+//                [--hold N]
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/validate/validate_map.hpp"
+
+namespace taskmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Item {
+  std::string name, path, sidecar;
+  double scale = 1.0;
+};
+
+struct Run {
+  double rate = 0.0;                       ///< stored grasps per CPU-second
+  double simulation = 0.0, quality = 0.0;  ///< CPU seconds (sampling counted with simulation)
+  std::uint64_t trials = 0, stored = 0;
+  std::map<std::string, std::uint64_t> outcomes;
+  std::size_t tested = 0, holding = 0;  ///< physics hold test of the first --hold grasps
+};
+
+Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, std::uint64_t valid,
+          std::size_t hold) {
+  BuildOptions o;
+  o.threads = 1;
+  o.valid_target = valid;
+  o.cluster = false;
+  o.sampler.kind = kind;
+  const BuildResult r = buildMap(object, hand, o);
+  const BuildTiming& t = r.timing;
+  const double cpu = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
+  Run run;
+  run.stored = r.map.grasps.size();
+  run.trials = r.map.sampling.trials;
+  run.rate = cpu > 0 ? static_cast<double>(run.stored) / cpu : 0.0;
+  run.simulation = t.sampling_seconds + t.simulation_seconds;
+  run.quality = t.quality_seconds;
+  run.outcomes = r.map.sampling.outcomes;
+  if (hold > 0 && run.stored > 0) {
+    // What `taskmap validate MAP --grasps N --threads 1` computes.
+    TaskMapData map = r.map;
+    ValidateOptions v;
+    v.threads = 1;
+    v.grasps = hold;
+    const ValidationSummary s = validateMap(&map, hand, v);
+    run.tested = s.tested;
+    run.holding = s.holding;
+  }
+  return run;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+std::string shares(const Run& a, const Run& b) {
+  std::map<std::string, int> names;
+  for (const auto& [n, c] : a.outcomes) names[n] = 1;
+  for (const auto& [n, c] : b.outcomes) names[n] = 1;
+  std::string out;
+  for (const auto& [n, unused] : names) {
+    const auto share = [&](const Run& r) {
+      const auto it = r.outcomes.find(n);
+      return r.trials && it != r.outcomes.end()
+                 ? 100.0 * static_cast<double>(it->second) / static_cast<double>(r.trials)
+                 : 0.0;
+    };
+    char s[96];
+    std::snprintf(s, sizeof s, " %s %.1f->%.1f%%", n.c_str(), share(a), share(b));
+    out += s;
+  }
+  return out;
+}
+
+int benchMain(int argc, char** argv) {
+  const char* env = std::getenv("TASKMAP_REAL_DIR");
+  std::string real = env != nullptr ? env : std::string(TASKMAP_SOURCE_DIR) + "/../shared/real";
+  std::uint64_t valid = 300;
+  int rounds = 1;
+  std::size_t hold = 60;
+  std::string only, multi = "enclose";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string a = argv[i], v = argv[i + 1];
+    if (a == "--real")
+      real = v;
+    else if (a == "--valid")
+      valid = std::stoull(v);
+    else if (a == "--rounds")
+      rounds = std::max(1, std::stoi(v));
+    else if (a == "--only")
+      only = v;
+    else if (a == "--multi")
+      multi = v;
+    else if (a == "--hold")
+      hold = std::stoull(v);
+    else
+      throw Error("unknown option " + a + " (--real, --valid, --rounds, --only, --multi, --hold)");
+  }
+  const SamplerKind multi_kind = samplerKindFromString(multi);
+  const std::string src = TASKMAP_SOURCE_DIR;
+  std::vector<std::pair<Item, std::vector<Item>>> sets;
+  const std::vector<Item> reference_objects = {
+      {"cylinder", src + "/meshes/objects/cylinder.obj", "", 1.0},
+      {"box", src + "/meshes/objects/box.obj", "", 1.0},
+      {"basket", src + "/meshes/objects/basket.obj", "", 1.0},
+      {"mug", src + "/meshes/objects/mug.obj", "", 1.0},
+      {"ycb_banana", src + "/tests/data/real/objects/ycb_011_banana.obj", "", 1.0}};
+  for (const std::string h : {"panda", "barrett", "humanoid"})
+    sets.push_back(
+        {{h, src + "/meshes/hands/" + h + "/" + h + ".urdf", "", 1.0}, reference_objects});
+  sets.push_back({{"robotiq_2f85_style",
+                   src + "/tests/data/hands/robotiq_2f85_style/robotiq_2f85_style.urdf", "", 1.0},
+                  reference_objects});
+  const std::vector<Item> real_objects = {
+      {"ycb_banana", real + "/objects/ycb_011_banana.obj", "", 1.0},
+      {"ycb_mug", real + "/objects/ycb_025_mug.obj", "", 1.0},
+      {"acronym_mug", real + "/objects/acronym_mug_10f6e09036350e92b3f21f1137c3c347.obj", "",
+       0.0002682457830986903}};
+  if (fs::exists(real)) {
+    sets.push_back(
+        {{"franka", real + "/hands/franka_hand/franka_hand.urdf", "", 1.0}, real_objects});
+    sets.push_back(
+        {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
+         real_objects});
+  } else {
+    std::printf("real set not found at %s: reference set only\n", real.c_str());
+  }
+  std::printf("%-20s %-12s %-9s %10s %10s %7s %9s %9s %13s  outcomes old->new\n", "hand", "object",
+              "new", "old g/s", "new g/s", "ratio", "old t/g", "new t/g", "hold old/new");
+  for (const auto& [hi, objects] : sets) {
+    const HandModel hand = HandModel::load(hi.path);
+    const SamplerKind new_kind = jawGeometry(hand) ? SamplerKind::kAntipodal : multi_kind;
+    for (const Item& oi : objects) {
+      if (!only.empty() && (hi.name + " " + oi.name).find(only) == std::string::npos) continue;
+      if (!fs::exists(oi.path)) continue;
+      MeshLoadOptions lo;
+      lo.scale = oi.scale;
+      const ObjectModel object = ObjectModel::load(oi.path, lo);
+      std::vector<double> old_rates, new_rates;
+      Run old_run, new_run, old_first, new_first;
+      for (int r = 0; r < rounds; ++r) {
+        // The hold test once (its labels do not depend on timing).
+        old_run = build(object, hand, SamplerKind::kMixed, valid, r == 0 ? hold : 0);
+        new_run = build(object, hand, new_kind, valid, r == 0 ? hold : 0);
+        if (r == 0) old_first = old_run, new_first = new_run;
+        old_rates.push_back(old_run.rate);
+        new_rates.push_back(new_run.rate);
+      }
+      const double o = median(old_rates), n = median(new_rates);
+      const auto per = [](const Run& r) {
+        return r.stored ? static_cast<double>(r.trials) / static_cast<double>(r.stored) : 0.0;
+      };
+      const auto pct = [](const Run& r) {
+        return r.tested ? 100.0 * static_cast<double>(r.holding) / static_cast<double>(r.tested)
+                        : 0.0;
+      };
+      char hold_text[64];
+      std::snprintf(hold_text, sizeof hold_text, "%.0f%%/%.0f%% (%zu)", pct(old_first),
+                    pct(new_first), std::min(old_first.tested, new_first.tested));
+      const auto ms = [](const Run& r, double sec) {
+        return r.stored ? 1e3 * sec / static_cast<double>(r.stored) : 0.0;
+      };
+      std::printf(
+          "%-20s %-12s %-9s %10.1f %10.1f %6.2fx %9.1f %9.1f %13s  ms/grasp sim %.2f->%.2f "
+          "quality %.2f->%.2f %s\n",
+          hi.name.c_str(), oi.name.c_str(), toString(new_kind), o, n, o > 0 ? n / o : 0.0,
+          per(old_first), per(new_first), hold_text, ms(old_first, old_first.simulation),
+          ms(new_first, new_first.simulation), ms(old_first, old_first.quality),
+          ms(new_first, new_first.quality), shares(old_first, new_first).c_str());
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace taskmap
+
+int main(int argc, char** argv) {
+  try {
+    return taskmap::benchMain(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "sampler_rate: %s\n", e.what());
+    return 1;
+  }
+}
