@@ -7,7 +7,7 @@
 
 #include "command.hpp"
 #include "glb_export.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
 
 namespace taskmap::cli {

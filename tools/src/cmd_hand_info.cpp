@@ -13,12 +13,12 @@
 
 #include "build_command.hpp"
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "hand_picture.hpp"
 #include "mesh_options.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/viz/hand_page.hpp"
 

@@ -9,8 +9,8 @@
 #include "map_hand.hpp"
 #include "map_picture.hpp"
 #include "map_summary.hpp"
-#include "output_guard.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {

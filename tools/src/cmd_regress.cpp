@@ -7,10 +7,10 @@
 #include <iostream>
 
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "regression.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {

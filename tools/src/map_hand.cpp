@@ -4,9 +4,9 @@
 #include <filesystem>
 #include <iostream>
 
-#include "data_dir.hpp"
 #include "hand_check.hpp"
 #include "reach_resimulate.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {

@@ -15,11 +15,11 @@
 
 #include "command.hpp"
 #include "cost_picture.hpp"
-#include "data_dir.hpp"
 #include "glb_export.hpp"
 #include "reach_picture.hpp"
 #include "reach_resimulate.hpp"
 #include "reach_trajectory.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/plan_report.hpp"

@@ -1,4 +1,4 @@
-// Re-simulation of a planned grasp (tools/src/reach_resimulate.cpp) on the checked-in reference
+// Re-simulation of a planned grasp (builder/src/resimulate.cpp) on the checked-in reference
 // map: started from a stored grasp's own palm pose, grasp_sim with the map's hand, object and
 // options must give back that grasp (force closure, epsilon); the hand is found by content.
 #include <gtest/gtest.h>
@@ -7,11 +7,12 @@
 #include <cmath>
 #include <string>
 
-#include "reach_resimulate.hpp"
+#include "taskmap/builder/build_params.hpp"
+#include "taskmap/builder/resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 const std::string kMap = std::string(TASKMAP_SOURCE_DIR) + "/meshes/maps/basket_humanoid.h5";
@@ -67,10 +68,7 @@ TEST_F(ReachResimulate, AFarPoseTouchesNothing) {
   EXPECT_NE(r.outcome, "ok");
   EXPECT_FALSE(r.force_closure);
   EXPECT_EQ(r.epsilon, 0.0);
-  const nlohmann::json j = resimulationJson(r);
-  for (const char* key : {"outcome", "force_closure", "epsilon", "contacts"})
-    EXPECT_TRUE(j.contains(key)) << key;
 }
 
 }  // namespace
-}  // namespace taskmap::cli
+}  // namespace taskmap
