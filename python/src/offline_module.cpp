@@ -1,8 +1,9 @@
-// taskmap._offline: the offline stages (reaching planner, physics validation), which load the
-// simulators and the mesh and URDF libraries. `import taskmap` does not load it; the package
-// imports it on first use of one of its names (python/taskmap/__init__.py).
+// taskmap._offline: the offline stages (map build, reaching planner, physics validation), which
+// load the simulators and the mesh and URDF libraries. `import taskmap` does not load it; the
+// package imports it on first use of one of its names (python/taskmap/__init__.py).
 #include <pybind11/pybind11.h>
 
+#include "builder_bindings.hpp"
 #include "reaching_bindings.hpp"
 #include "taskmap/core/error.hpp"
 #include "validate_bindings.hpp"
@@ -10,7 +11,9 @@
 namespace py = pybind11;
 
 PYBIND11_MODULE(_offline, m) {
-  m.doc() = "taskmap's offline stages: Robot, reach, plan_grasp, validate (loaded on first use).";
+  m.doc() =
+      "taskmap's offline stages: build, dataset, Robot, reach, plan_grasp, validate (loaded on "
+      "first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
   // A handle kept for the process's life: a static py::object would drop its reference at exit,
   // after the interpreter is gone.
@@ -23,6 +26,7 @@ PYBIND11_MODULE(_offline, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+  taskmap::bindBuilder(m);
   taskmap::bindReaching(m);
   taskmap::bindValidate(m);
 }

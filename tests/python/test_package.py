@@ -66,8 +66,15 @@ class PackageTest(unittest.TestCase):
         libs = offline_libs(r["maps"])
         self.assertTrue(any("libmujoco" in m for m in libs), libs)
         self.assertTrue(any("libtaskmap_validate" in m for m in libs), libs)
+        # taskmap.build maps the builder and the simulator (Bullet) only when touched.
+        r = run_query(sys.executable, touch="build")
+        libs = offline_libs(r["maps"])
+        self.assertTrue(any("libtaskmap_builder" in m for m in libs), libs)
+        self.assertTrue(any("libBullet" in m for m in libs), libs)
         import taskmap
         self.assertIn("reach", dir(taskmap))
+        self.assertIn("build", dir(taskmap))
+        self.assertIn("dataset", dir(taskmap))
         with self.assertRaises(AttributeError):
             taskmap.no_such_name
 
