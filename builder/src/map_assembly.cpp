@@ -4,8 +4,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "build_diagnosis.hpp"
 #include "params_json.hpp"
 #include "taskmap/builder/trial_block.hpp"
@@ -180,80 +178,6 @@ MapObject mapObjectOf(const ObjectModel& object) {
     o.faces.row(static_cast<Eigen::Index>(i)) = mesh.faces[i].cast<std::int64_t>().transpose();
   return o;
 }
-
-namespace detail {
-
-std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
-  nlohmann::json j = nlohmann::json::object();
-  try {
-    const auto extra = nlohmann::json::parse(o.extra_params_json);
-    if (extra.is_object()) j = extra;
-  } catch (const nlohmann::json::exception&) {
-    // validate() already refused malformed extra JSON.
-  }
-  j["sampler"] = toString(o.sampler.kind);
-  j["standoff_min"] = o.sampler.standoff_min;
-  j["standoff_max"] = o.sampler.standoff_max;
-  if (o.sampler.kind == SamplerKind::kEnclose) j["attempts"] = o.sampler.attempts;
-  if (o.sampler.kind == SamplerKind::kAntipodal) {
-    const SamplerOptions so = samplerOptionsFor(o, hand);
-    j["attempts"] = so.attempts;
-    j["antipodal_friction"] = so.friction;
-    j["width_margin"] = so.width_margin;
-    if (so.jaws) {
-      j["jaw_open_width"] = so.jaws->open_width;
-      j["jaw_closed_width"] = so.jaws->closed_width;
-    }
-  }
-  const Eigen::Vector3d a = hand.approachAxis();
-  j["approach_axis"] = {a.x(), a.y(), a.z()};
-  j["seed"] = o.seed;
-  j["valid"] = o.valid_target;
-  j["max_trials"] = o.max_trials;
-  j["keep_invalid"] = o.keep_invalid;
-  j["cluster"] = o.cluster;
-  j["friction"] = o.quality.friction;
-  j["cone_edges"] = o.quality.cone_edges;
-  j["contact_model"] = toString(o.quality.contact_model);
-  j["torsional_friction"] = o.quality.torsional_friction;
-  j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
-  if (o.hold_filter.enabled) {  // absent: no filter (maps of earlier builds stay the same bytes)
-    j["hold_filter"] = "squeeze_balance";
-    const HoldFilterOptions& h = o.hold_filter;
-    j["hold_filter_kp_revolute"] = h.kp_revolute;
-    j["hold_filter_kp_prismatic"] = h.kp_prismatic;
-    j["hold_filter_jaw_force"] = h.jaw_force;
-    j["hold_filter_squeeze_fraction"] = h.squeeze_fraction;
-    j["hold_filter_friction"] = h.balance.friction;
-    j["hold_filter_cone_edges"] = h.balance.cone_edges;
-    j["hold_filter_squeeze_tolerance"] = h.balance.squeeze_tolerance;
-    j["hold_filter_push_force"] = h.balance.push_force;
-    j["hold_filter_push_tolerance"] = h.balance.push_tolerance;
-    j["hold_filter_push_joint_weight"] = h.balance.push_joint_weight;
-  }
-  j["contact_tolerance"] = o.simulation.contact_tolerance;
-  j["max_retraction"] = o.simulation.max_retraction;
-  j["squeeze"] = o.simulation.squeeze;
-  j["require_palm_contact"] = o.simulation.require_palm_contact;
-  // Grasp mode and standoff in force (the options', else the hand sidecar's, else the default
-  // derived from the hand: resolveStandoff).
-  const GraspMode mode = o.simulation.grasp_mode ? *o.simulation.grasp_mode : hand.graspMode();
-  j["grasp_mode"] = mode == GraspMode::kFingertip ? "fingertip" : "palm";
-  if (mode == GraspMode::kFingertip) j["grasp_standoff"] = resolveStandoff(hand, o.simulation);
-  j["centre_coupled"] = o.simulation.centre_coupled;
-  j["check_self_collision"] = o.simulation.check_self_collision;
-  j["max_closing_steps"] = o.simulation.max_closing_steps;
-  j["cluster_method"] = toString(o.clustering.method);  // requested; /clustering has the one used
-  j["cluster_fallback_to_single"] = o.clustering.fallback_to_single;
-  j["cluster_outlier_budget"] = o.clustering.outlier_budget;
-  j["cluster_min_size_fraction"] = o.clustering.min_size_fraction;
-  j["cluster_min_size"] = o.clustering.min_size;
-  if (o.clustering.threshold) j["cluster_threshold"] = *o.clustering.threshold;
-  if (o.clustering.num_clusters) j["cluster_count"] = *o.clustering.num_clusters;
-  return j.dump();
-}
-
-}  // namespace detail
 
 BuildResult assembleMap(const ObjectModel& object, const HandModel& hand,
                         const BuildOptions& options, const std::vector<TrialBlock>& blocks,

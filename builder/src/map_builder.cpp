@@ -72,10 +72,9 @@ int buildThreadCount(int threads) {
 }
 
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                     const ProgressCallback& progress, const std::atomic<bool>* stop,
-                     double progress_interval_seconds) {
+                     const BuildControl& control) {
   options.validate();
-  if (!(progress_interval_seconds > 0.0)) throw Error("progress interval must be positive");
+  control.validate();
   if (options.check_size) requirePlausibleSize(object, hand);
   const auto t_start = detail::Clock::now();
   BuildTiming timing;
@@ -86,11 +85,11 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   timing.setup_seconds = detail::secondsSince(t_start);
 
   detail::Scheduler scheduler(0, options.max_trials, options.block_size, options.valid_target);
-  const detail::TrialPoolSetup setup{
-      sampler, simulator, options,  mp.center_of_mass,        mp.torque_scale,
-      threads, stop,      progress, progress_interval_seconds};
+  const detail::TrialPoolSetup setup{sampler,           simulator,        options,
+                                     mp.center_of_mass, mp.torque_scale,  threads,
+                                     control.stop,      control.progress, control.interval_seconds};
   detail::runTrialPool(setup, scheduler, timing);
-  const bool interrupted = stop != nullptr && stop->load() && !scheduler.done();
+  const bool interrupted = control.stopRequested() && !scheduler.done();
   BuildResult result =
       assembleMap(object, hand, options, scheduler.takePrefixBlocks(), interrupted, timing);
   result.timing.wall_seconds = detail::secondsSince(t_start);

@@ -1,9 +1,10 @@
-// taskmap._offline: the offline stages (reaching planner, physics validation, map and hand
-// reports, pictures), which load the
-// simulators and the mesh and URDF libraries. `import taskmap` does not load it; the package
-// imports it on first use of one of its names (python/taskmap/__init__.py).
+// taskmap._offline: the offline stages (map build, reaching planner, physics validation, map and
+// hand reports, pictures), which load the simulators and the mesh and URDF libraries. `import
+// taskmap` does not load it; the package imports it on first use of one of its names
+// (python/taskmap/__init__.py).
 #include <pybind11/pybind11.h>
 
+#include "builder_bindings.hpp"
 #include "inspect_bindings.hpp"
 #include "picture_bindings.hpp"
 #include "reaching_bindings.hpp"
@@ -14,8 +15,8 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_offline, m) {
   m.doc() =
-      "taskmap's offline stages: Robot, reach, plan_grasp, validate, summary, hand_info, picture "
-      "(loaded on first use).";
+      "taskmap's offline stages: build, dataset, Robot, reach, plan_grasp, validate, summary, "
+      "hand_info, picture (loaded on first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
   // A handle kept for the process's life: a static py::object would drop its reference at exit,
   // after the interpreter is gone.
@@ -28,6 +29,7 @@ PYBIND11_MODULE(_offline, m) {
       PyErr_SetString(error.ptr(), e.what());
     }
   });
+  taskmap::bindBuilder(m);
   taskmap::bindReaching(m);
   taskmap::bindValidate(m);
   taskmap::bindInspect(m);

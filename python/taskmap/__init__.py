@@ -1,11 +1,12 @@
 """Grasp task maps (Gienger, Toussaint, Goerick, section 1.6): load a map, query its nearest
-grasps and its mixture-of-Gaussians quality with gradients; plan reaches and validate grasps.
+grasps and its mixture-of-Gaussians quality with gradients; build maps and data sets of maps, plan
+reaches and validate grasps.
 
 ``import taskmap`` loads the run-time query library only (``taskmap._core``: the map store and
 the FLANN index), none of Bullet, assimp, qhull, urdfdom, CGAL, cairo or MuJoCo. The offline
-stages (``Robot``, ``reach``, ``plan_grasp``, ``validate``, the robot's comfort costs
-``joint_limit_cost`` and ``collision_cost``, and ``summary``, ``hand_info``, ``picture``: what
-``taskmap inspect`` and ``taskmap hand-info`` report and draw) live in
+stages (``build``, ``dataset``, ``Robot``, ``reach``, ``plan_grasp``, ``validate``, the robot's
+comfort costs ``joint_limit_cost`` and ``collision_cost``, and ``summary``, ``hand_info``,
+``picture``: what ``taskmap inspect`` and ``taskmap hand-info`` report and draw) live in
 ``taskmap._offline`` and are imported on first use of one of their names.
 
 Poses are numpy arrays ``[x, y, z, qw, qx, qy, qz]`` (metres, unit quaternion) of the hand in the
@@ -18,8 +19,8 @@ from ._core import Error, TaskMap, Session, load, seal  # noqa: F401
 __version__ = "0.1.0"
 
 # Names provided by taskmap._offline, imported when first used (PEP 562).
-_OFFLINE = frozenset({"Robot", "reach", "plan_grasp", "validate", "joint_limit_cost",
-                      "collision_cost", "summary", "hand_info", "picture"})
+_OFFLINE = frozenset({"build", "dataset", "Robot", "reach", "plan_grasp", "validate",
+                      "joint_limit_cost", "collision_cost", "summary", "hand_info", "picture"})
 
 
 def __getattr__(name):

@@ -91,7 +91,8 @@ void measure(const TrajectoryProblem& p, const TaskMap& map, ClusterPlan& plan) 
 
 /// Optimises from one cluster's representative.
 ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank& rank,
-                     const GraspPlanOptions& o) {
+                     const GraspPlanOptions& o, const RunControl<PlanProgress>& control,
+                     std::size_t plans_done) {
   ClusterPlan plan;
   plan.cluster = rank.cluster;
   plan.comfort = rank.comfort;
@@ -108,11 +109,15 @@ ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank&
   kin.update(p.q0);
   via.head<3>() += kin.pose(p.reference).linear().transpose() * Eigen::Vector3d(0, 0, o.via_height);
   TrajectoryOptimizerOptions opt = o.optimizer;
-  opt.on_iteration = [&plan, record](int, const TrajectoryCost&) {
+  // The planner's bookkeeping, then the caller's callback and the run control's report.
+  opt.on_iteration = [&plan, record, &control, plans_done, caller = o.optimizer.on_iteration](
+                         int iteration, const TrajectoryCost& cost) {
     plan.proximity.push_back(record->proximity);
     plan.quality.push_back(record->quality);
     plan.nearest_distance.push_back(record->evaluation.proximity.nearest.distance);
     plan.nearest.push_back(static_cast<std::int64_t>(record->evaluation.proximity.nearest.index));
+    if (caller) caller(iteration, cost);
+    if (control.progress) control.progress({plan.cluster, iteration, cost.total, plans_done});
   };
   const auto start = std::chrono::steady_clock::now();
   plan.optimization = o.bfgs ? optimizeTrajectoryBfgs(p, {via, target}, opt)
@@ -128,10 +133,23 @@ bool safe(const ClusterPlan& c) {
          c.iterations_to_manifold >= 0;
 }
 
+// A plan stopped by the run control: the clusters optimised so far, the cheapest one best.
+GraspPlan interrupted(GraspPlan plan) {
+  plan.status = GraspPlanStatus::kInterrupted;
+  plan.best = -1;
+  for (std::size_t i = 0; i < plan.plans.size(); ++i)
+    if (plan.best < 0 ||
+        plan.plans[i].optimization.cost.total <
+            plan.plans[static_cast<std::size_t>(plan.best)].optimization.cost.total)
+      plan.best = static_cast<int>(i);
+  plan.message = "interrupted after " + std::to_string(plan.plans.size()) + " of the clusters";
+  return plan;
+}
+
 }  // namespace
 
 GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
-                    const GraspPlanOptions& options) {
+                    const GraspPlanOptions& options, const RunControl<PlanProgress>& control) {
   problem.validate();
   options.validate();
   if (map.numClusters() < 1)
@@ -149,10 +167,11 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
   GraspPlanOptions first = options;
   if (screen) first.optimizer.max_iterations = options.screen_iterations;
   for (const ClusterRank& rank : plan.ranking) {
-    if (!rank.reachable) break;
-    plan.plans.push_back(planFrom(problem, map, rank, first));
+    if (!rank.reachable || control.stopRequested()) break;
+    plan.plans.push_back(planFrom(problem, map, rank, first, control, plan.plans.size()));
     if (!options.all_clusters) break;
   }
+  if (control.stopRequested()) return interrupted(std::move(plan));
   if (plan.plans.empty()) {
     plan.message = "no cluster's representative grasp is reachable";
     return plan;
@@ -167,7 +186,8 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
   };
   plan.best = cheapest();
   if (screen) {  // plans[i] started from ranking[i] (the reachable clusters come first)
-    plan.plans[plan.best] = planFrom(problem, map, plan.ranking[plan.best], options);
+    plan.plans[plan.best] =
+        planFrom(problem, map, plan.ranking[plan.best], options, control, plan.plans.size());
     plan.best = cheapest();
   }
   const ClusterPlan& b = plan.plans[plan.best];

@@ -59,9 +59,17 @@ std::string clearanceWarning(double clearance, const std::string& pair) {
 }
 
 const char* toString(GraspPlanStatus s) {
-  return s == GraspPlanStatus::kPlanned  ? "planned"
-         : s == GraspPlanStatus::kUnsafe ? "unsafe"
-                                         : "unreachable";
+  switch (s) {
+    case GraspPlanStatus::kPlanned:
+      return "planned";
+    case GraspPlanStatus::kUnsafe:
+      return "unsafe";
+    case GraspPlanStatus::kUnreachable:
+      return "unreachable";
+    case GraspPlanStatus::kInterrupted:
+      return "interrupted";
+  }
+  return "unreachable";
 }
 
 std::string graspPlanReport(const GraspPlan& plan, double plan_ms, const MovementTerms& movement) {

@@ -67,13 +67,20 @@ class PackageTest(unittest.TestCase):
         libs = offline_libs(r["maps"])
         self.assertTrue(any("libmujoco" in m for m in libs), libs)
         self.assertTrue(any("libtaskmap_validate" in m for m in libs), libs)
+        # taskmap.build maps the builder and the simulator (Bullet) only when touched.
+        r = run_query(sys.executable, touch="build")
+        libs = offline_libs(r["maps"])
+        self.assertTrue(any("libtaskmap_builder" in m for m in libs), libs)
+        self.assertTrue(any("libBullet" in m for m in libs), libs)
+        import taskmap
+        self.assertIn("reach", dir(taskmap))
+        self.assertIn("build", dir(taskmap))
+        self.assertIn("dataset", dir(taskmap))
         # The map and hand reports and the pictures: inspect, picture and cairo on first use.
         r = run_query(sys.executable, touch="summary")
         libs = offline_libs(r["maps"])
         for lib in ("libtaskmap_inspect", "libtaskmap_picture", "libcairo"):
             self.assertTrue(any(lib in m for m in libs), (lib, libs))
-        import taskmap
-        self.assertIn("reach", dir(taskmap))
         for name in ("summary", "hand_info", "picture"):
             self.assertIn(name, dir(taskmap))
         with self.assertRaises(AttributeError):

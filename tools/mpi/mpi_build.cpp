@@ -20,10 +20,10 @@
 #include "block_ledger.hpp"
 #include "build_command.hpp"
 #include "mpi_common.hpp"
-#include "run_lock.hpp"
 #include "task_farm.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/run_lock.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
 namespace taskmap::cli {
@@ -32,7 +32,7 @@ namespace {
 // Everything of a build every rank has.
 struct RankSetup {
   std::optional<RunLock> lock;  // rank 0's, on the output (the lock of `taskmap build`)
-  BuildPlan plan;
+  FileBuildPlan plan;
   std::unique_ptr<ObjectModel> object;
   std::unique_ptr<HandModel> hand;
   std::unique_ptr<TrialRunner> runner;
@@ -99,13 +99,13 @@ void announceCheckpointOnStop(const std::string& checkpoint) {
 bool setUp(const MpiWorld& world, const BuildArgs& args, RankSetup& setup) {
   std::string error;
   try {
-    setup.plan = planBuild(args);
+    setup.plan = planFileBuild(fileBuildOptions(args));
     // One build at a time per output, MPI or not: a second one refuses with the holder's PID.
     if (world.rank == 0) setup.lock.emplace(args.output + ".lock", "output '" + args.output + "'");
     setup.object =
         std::make_unique<ObjectModel>(ObjectModel::load(args.object, meshLoadOptions(args)));
     setup.hand = std::make_unique<HandModel>(HandModel::load(setup.plan.hand_urdf));
-    checkGraspOptions(args, setup.plan.options, *setup.hand, setup.plan.hand_urdf);
+    checkGraspOptions(setup.plan.options, *setup.hand, setup.plan.hand_urdf);
     if (world.rank == 0) printHandWarnings("taskmap-mpi build", *setup.hand);
     setup.runner = std::make_unique<TrialRunner>(*setup.object, *setup.hand, setup.plan.options);
   } catch (const std::exception& e) {
@@ -167,7 +167,9 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
     return 3;
   }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);
-  validateIfAsked(args, *setup.hand, &result.map, "taskmap-mpi build");
+  const std::optional<HoldLabels> labels = labelHolds(holdValidation(args), options.threads,
+                                                      options.clustering, *setup.hand, &result.map);
+  printHoldLabels("taskmap-mpi build", labels, args.keep_holding, args.quiet);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output, result.map);
   checkpoint.remove();

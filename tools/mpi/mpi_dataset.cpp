@@ -7,8 +7,8 @@
 #include <optional>
 
 #include "build_command.hpp"
-#include "run_lock.hpp"
 #include "task_farm.hpp"
+#include "taskmap/core/run_lock.hpp"
 
 namespace taskmap::cli {
 
@@ -19,7 +19,7 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
   std::string error;
   if (world.rank == 0) {
     try {
-      plan = planDataset(args);
+      plan = planDataset(datasetOptions(args));
       lock.emplace(datasetLockPath(*plan), "data set directory '" + plan->dir + "'");
     } catch (const std::exception& e) {
       error = e.what();
@@ -28,7 +28,7 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
   if (!agreeAllOk(world, error, "taskmap-mpi dataset")) return 1;
   if (world.rank != 0) {
     try {
-      plan = planDataset(args);
+      plan = planDataset(datasetOptions(args));
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -36,7 +36,12 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
   if (!agreeAllOk(world, error, "taskmap-mpi dataset")) return 1;
 
   FarmTasks tasks;
-  tasks.run = [&plan](std::uint64_t i) { return runDatasetJob(*plan, plan->jobs[i]).dump(); };
+  tasks.run = [&plan, &args](std::uint64_t i) {
+    const DatasetEntry entry = runDatasetJob(*plan, plan->jobs[i]);
+    printHoldLabels("taskmap-mpi dataset", entry.validation, args.knobs.keep_holding,
+                    args.knobs.quiet);
+    return datasetEntryJson(entry);
+  };
   if (world.rank != 0) {
     runFarm(world, tasks);
     return 0;
@@ -55,7 +60,7 @@ int runMpiDataset(const MpiWorld& world, const DatasetArgs& args) {
     return true;
   };
   tasks.accept = [&](std::uint64_t i, std::string result) {
-    const nlohmann::json entry = nlohmann::json::parse(result);
+    const DatasetEntry entry = datasetEntryFromJson(result);
     manifest.set(i, entry);
     manifest.write();
     ++done;

@@ -2,7 +2,7 @@
 /// @file mpi_dataset.hpp
 /// `taskmap-mpi dataset`: the maps and manifest of `taskmap dataset`, jobs handed out to ranks.
 
-#include "dataset.hpp"
+#include "build_command.hpp"
 #include "mpi_common.hpp"
 
 namespace taskmap::cli {

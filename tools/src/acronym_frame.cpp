@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "data_dir.hpp"
 #include "mesh_options.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/meshes/hand_model.hpp"

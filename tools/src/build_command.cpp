@@ -11,9 +11,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "data_dir.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/hand_check.hpp"
 #include "taskmap/sampler/sampler.hpp"
 
@@ -27,16 +27,6 @@ std::string percent(double part, double whole) {
 }
 
 }  // namespace
-
-std::string handSidecarPath(const std::string& urdf) {
-  const std::filesystem::path p(urdf);
-  return (p.parent_path() / (p.stem().string() + ".hand.json")).string();
-}
-
-std::string resolveHandUrdf(const std::string& hand) {
-  if (std::filesystem::exists(hand)) return hand;
-  return bundledHandUrdf(hand);
-}
 
 void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
@@ -148,14 +138,6 @@ MeshLoadOptions meshLoadOptions(const BuildArgs& args) {
   return load;
 }
 
-void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
-                       const std::string& hand_path) {
-  const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());
-  if (args.standoff >= 0.0 && mode != GraspMode::kFingertip)
-    throw Error("--standoff applies to fingertip grasps; add --grasp fingertip (hand '" +
-                hand_path + "' grasps with the palm)");
-}
-
 bool printHandWarnings(const std::string& label, const HandModel& hand) {
   const std::vector<std::string> warnings = checkHand(hand).warnings;
   for (const std::string& w : warnings)
@@ -163,31 +145,42 @@ bool printHandWarnings(const std::string& label, const HandModel& hand) {
   return !warnings.empty();
 }
 
-BuildPlan planBuild(const BuildArgs& args) {
-  BuildPlan plan;
-  BuildOptions& options = plan.options;
-  options = knobOptions(args);
-  if (!(args.scale > 0.0)) throw Error("--scale must be positive");
-  if (args.output.empty()) throw Error("-o MAP.h5 is required");
-  const std::filesystem::path out_dir = std::filesystem::absolute(args.output).parent_path();
-  if (!std::filesystem::is_directory(out_dir))
-    throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
+HoldValidation holdValidation(const BuildArgs& args) {
   if (args.keep_holding && !args.validate)
     throw Error("--keep-holding needs --validate (the hold labels decide what is kept)");
-  requireObjectFile(args.object);
-  plan.hand_urdf = resolveHandUrdf(args.hand);
-  checkOutputPath(args.output, {args.object, plan.hand_urdf, handSidecarPath(plan.hand_urdf)},
-                  OutputKind::kTaskMap, args.force);
-  checkOutputPath(args.output + ".ckpt", {args.object, plan.hand_urdf}, OutputKind::kTaskMap, true,
-                  "the checkpoint");
-  nlohmann::json extra = {{"object", args.object}, {"scale", args.scale}, {"hand", plan.hand_urdf}};
-  const MeshLoadOptions load = meshLoadOptions(args);
-  if (load.wrap)
-    extra["repair"] = {{"wrap", true}, {"alpha", load.wrap_alpha}, {"offset", load.wrap_offset}};
-  if (!load.repair) extra["repair"] = false;
-  options.extra_params_json = extra.dump();
-  options.validate();
-  return plan;
+  if (!args.validate) return HoldValidation::kOff;
+  return args.keep_holding ? HoldValidation::kKeepHolding : HoldValidation::kLabel;
+}
+
+FileBuildOptions fileBuildOptions(const BuildArgs& args) {
+  FileBuildOptions o;
+  o.object = args.object;
+  o.hand = args.hand;
+  o.output = args.output;
+  o.build = knobOptions(args);
+  o.validation = holdValidation(args);
+  o.mesh = meshLoadOptions(args);
+  o.timestamp = args.timestamp;
+  o.force = args.force;
+  return o;
+}
+
+void printHoldLabels(const std::string& label, const std::optional<HoldLabels>& labels,
+                     bool keep_holding, bool quiet) {
+  if (!labels || quiet) return;
+  const HoldLabels& s = *labels;
+  char line[200];
+  std::snprintf(
+      line, sizeof line,
+      "%s: physics validation: %zu of %zu grasps hold (%.1f %%), %.1f grasps per "
+      "CPU-second\n",
+      label.c_str(), s.holding, s.tested,
+      s.tested ? 100.0 * static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0,
+      s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0);
+  std::cerr << line;
+  if (keep_holding)
+    std::cerr << label << ": --keep-holding: kept " << s.kept << " of " << s.before
+              << " grasps (the others do not hold)\n";
 }
 
 std::string clockString(double seconds) {
@@ -285,6 +278,52 @@ void printBuildSummary(const std::string& label, const BuildArgs& args, const Bu
   if (result.status == BuildStatus::kTrialBudgetExhausted)
     std::cerr << label << ": warning: " << result.message
               << "; raise --trials or check the object and hand\n";
+}
+
+void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
+  cmd.add_option("--objects", args.objects,
+                 "text file naming one mesh a line (relative to the file; # comments), "
+                 "optionally followed by its scale (file units to metres), e.g. "
+                 "\"bunny.ply 0.01\"; without one a mesh takes --scale")
+      ->required();
+  cmd.add_option("--hands", args.hands, "comma-separated hand URDFs or bundled hand names")
+      ->required();
+  cmd.add_option("-o,--output", args.output, "directory for the maps and manifest.json")
+      ->required();
+  cmd.add_option("--scale", args.scale,
+                 "multiplies the coordinates of every mesh the list gives no scale (file units "
+                 "-> m)")
+      ->capture_default_str();
+  addBuildKnobs(cmd, args.knobs);
+  cmd.add_flag("--force", args.knobs.force,
+               "replace existing map files (and manifest.json) in the directory that are not "
+               "taskmap files (never an input)");
+}
+
+DatasetOptions datasetOptions(const DatasetArgs& args) {
+  DatasetOptions o;
+  o.objects = args.objects;
+  o.hands = args.hands;
+  o.output = args.output;
+  o.scale = args.scale;
+  o.build = knobOptions(args.knobs);
+  o.timestamp = args.knobs.timestamp;
+  o.validation = holdValidation(args.knobs);
+  o.force = args.knobs.force;
+  return o;
+}
+
+std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
+                                const DatasetEntry& e) {
+  const double eta =
+      done > 0 ? elapsed_seconds / static_cast<double>(done) * static_cast<double>(total - done)
+               : -1.0;
+  std::string line = "[" + std::to_string(done) + "/" + std::to_string(total) + ", ETA " +
+                     clockString(eta) + "] " + e.object + " x " + e.hand + ": " +
+                     toString(e.status);
+  if (e.status == DatasetJobStatus::kFailed) return line + ": " + e.error.value_or("");
+  return line + ", " + std::to_string(e.valid.value_or(0)) + " valid in " +
+         std::to_string(e.trials.value_or(0)) + " trials -> " + e.file;
 }
 
 }  // namespace taskmap::cli

@@ -1,16 +1,19 @@
 #pragma once
 /// @file build_command.hpp
-/// What `taskmap build` and `taskmap-mpi build` share: the options (one definition, so both
-/// accept the same command line), turning them into BuildOptions, the progress printer and
-/// the summary.
+/// What the build and dataset commands of `taskmap` and `taskmap-mpi` share: the options (one
+/// definition, so both accept the same command line), turning them into the library's
+/// FileBuildOptions and DatasetOptions (taskmap/builder/map_file_build.hpp, dataset.hpp), the
+/// progress printer and the summaries.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "mesh_options.hpp"
-#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/builder/dataset.hpp"
+#include "taskmap/builder/map_file_build.hpp"
 
 namespace taskmap::cli {
 
@@ -34,18 +37,21 @@ struct BuildArgs {
   bool force = false;         ///< replace an existing output that is not a task map
 };
 
-/// With --validate: labels the built map's grasps with the physics hold test (validate stage,
-/// docs/VALIDATION.md) on args.threads threads and prints one line about it (unless quiet).
-/// `label` starts the line, e.g. "taskmap build".
-void validateIfAsked(const BuildArgs& args, const HandModel& hand, TaskMapData* map,
-                     const std::string& label);
+/// The library's options of a build command line: the knobs, the mesh options and the hold
+/// validation. Throws Error on contradicting options (--keep-holding without --validate).
+FileBuildOptions fileBuildOptions(const BuildArgs& args);
+
+/// --validate and --keep-holding as the library's mode. Throws Error("--keep-holding needs
+/// --validate ...") for --keep-holding alone.
+HoldValidation holdValidation(const BuildArgs& args);
 
 /// How to load the object: --scale and the repair options.
 MeshLoadOptions meshLoadOptions(const BuildArgs& args);
 
-/// Refuses --standoff when the grasp mode in force (--grasp, else the hand's) is not fingertip.
-void checkGraspOptions(const BuildArgs& args, const BuildOptions& options, const HandModel& hand,
-                       const std::string& hand_path);
+/// The physics validation's line(s) on stderr ("<label>: physics validation: ..."), unless
+/// quiet; nothing without labels.
+void printHoldLabels(const std::string& label, const std::optional<HoldLabels>& labels,
+                     bool keep_holding, bool quiet);
 
 /// Prints hand-info's warnings about the hand (hand_check.hpp) on stderr, one line each as
 /// "<label>: warning: hand '<name>': ...", before the trials (also with --quiet). Returns true
@@ -62,23 +68,6 @@ void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 
 /// The BuildOptions of the knobs (not validated; no extra_params_json).
 BuildOptions knobOptions(const BuildArgs& args);
-
-/// A --hand argument as a URDF path: the path itself if it exists, else the bundled hand of
-/// that name. Throws Error listing the bundled hands.
-std::string resolveHandUrdf(const std::string& hand);
-
-/// The sidecar a hand URDF is read with: <dir>/<stem>.hand.json.
-std::string handSidecarPath(const std::string& urdf);
-
-/// A build ready to run: validated options and the resolved hand URDF.
-struct BuildPlan {
-  BuildOptions options;   ///< validated
-  std::string hand_urdf;  ///< --hand as a URDF path (bundled hand names resolved)
-};
-
-/// Validates the arguments (output directory exists, ranges) and resolves the hand. Throws
-/// Error naming the option or file.
-BuildPlan planBuild(const BuildArgs& args);
 
 /// "hh:mm:ss" of a duration in seconds, "--:--:--" when unknown.
 std::string clockString(double seconds);
@@ -103,5 +92,27 @@ class ProgressPrinter {
 /// stderr. @param how one line after "threads", e.g. "2 (not stored: ...)".
 void printBuildSummary(const std::string& label, const BuildArgs& args, const BuildResult& result,
                        double write_seconds, const std::string& how);
+
+/// The command line of a data set.
+struct DatasetArgs {
+  /// text file: one mesh path a line (relative to the file), optionally followed by the mesh's
+  /// scale ("bunny.ply 0.01"); # comments
+  std::string objects;
+  std::string hands;   ///< comma-separated hand URDFs or bundled hand names
+  std::string output;  ///< directory for the maps and manifest.json (created if missing)
+  double scale = 1.0;  ///< mesh scale of every object the list gives none
+  BuildArgs knobs;     ///< --valid, --trials, --seed, --threads, ... as for `taskmap build`
+};
+
+/// Adds the data-set options to a subcommand.
+void addDatasetOptions(CLI::App& cmd, DatasetArgs& args);
+
+/// The library's options of a data-set command line.
+DatasetOptions datasetOptions(const DatasetArgs& args);
+
+/// One line for a finished job: "[done/total, ETA hh:mm:ss] object x hand: status, V valid in
+/// T trials -> file" (or the error). @param elapsed_seconds since the first job started.
+std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
+                                const DatasetEntry& entry);
 
 }  // namespace taskmap::cli

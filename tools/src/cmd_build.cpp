@@ -2,27 +2,13 @@
 // a task map.
 #include <unistd.h>
 
-#include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <csignal>
-#include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
-#include <sstream>
-#include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "build_command.hpp"
 #include "command.hpp"
-#include "run_lock.hpp"
-#include "taskmap/builder/map_builder.hpp"
-#include "taskmap/builder/size_check.hpp"
-#include "taskmap/core/error.hpp"
-#include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -37,78 +23,71 @@ extern "C" void onStopSignal(int sig) {
   std::signal(sig, SIG_DFL);
 }
 
+// SIGINT and SIGTERM raise g_stop while a build runs (the previous handlers come back after).
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop.store(false);
+    struct sigaction action {};
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {
+  }, old_term_{};
+};
+
 void runBuild(const BuildArgs& args) {
-  const BuildPlan plan = planBuild(args);
-  // One build at a time per output: a second one refuses with the holder's PID.
-  const RunLock lock(args.output + ".lock", "output '" + args.output + "'");
-  const BuildOptions& options = plan.options;
-  const std::string& hand_path = plan.hand_urdf;
-
-  // The hand first: its warnings, and the size check while the mesh loads (before its repair).
-  const HandModel hand = HandModel::load(hand_path);
-  checkGraspOptions(args, options, hand, hand_path);
-  const bool hand_warned = printHandWarnings("taskmap build", hand);
-  const ObjectModel object = [&] {
-    const ScopedLoadBoundsCheck size_check(
-        options.check_size
-            ? sizeCheckOnLoad(hand, std::filesystem::path(args.object).stem().string(), args.scale)
-            : nullptr);
-    return ObjectModel::load(args.object, meshLoadOptions(args));
-  }();
-
-  g_stop.store(false);
-  struct sigaction action {};
-  action.sa_handler = onStopSignal;
-  sigemptyset(&action.sa_mask);
-  struct sigaction old_int {
-  }, old_term{};
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
+  // Plan, the output's lock (a second build refuses with the holder's PID), the hand.
+  MapFileBuild build(fileBuildOptions(args));
+  // The hand's warnings before the trials, then the object (the size check while it loads).
+  const bool hand_warned = printHandWarnings("taskmap build", build.hand());
+  build.loadObject();
 
   ProgressPrinter printer("taskmap build", ::isatty(STDERR_FILENO) != 0 || args.progress,
                           args.quiet);
-  BuildResult result;
-  try {
-    result = buildMap(
-        object, hand, options, [&printer](const BuildProgress& p) { printer(p); }, &g_stop);
-  } catch (...) {
+  BuildControl control;
+  control.progress = [&printer](const BuildProgress& p) { printer(p); };
+  control.stop = &g_stop;
+  FileBuildResult result;
+  {
+    const StopSignals signals;  // also while writing: the write is never cut short
+    try {
+      result = build.run(control);
+    } catch (...) {
+      printer.finish();
+      throw;
+    }
     printer.finish();
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    throw;
   }
-  printer.finish();
-  if (result.status == BuildStatus::kInterrupted) {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    std::cerr << "taskmap build: " << result.message << "; nothing written to '" << args.output
+  const BuildResult& built = result.build;
+  if (built.status == BuildStatus::kInterrupted) {
+    std::cerr << "taskmap build: " << built.message << "; nothing written to '" << args.output
               << "'\n";
     exitCode() = 130;
     return;
   }
-  if (result.status == BuildStatus::kNoGrasps) {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    std::cerr << "taskmap build: error: " << result.message
+  if (built.status == BuildStatus::kNoGrasps) {
+    std::cerr << "taskmap build: error: " << built.message
               << (hand_warned ? "; and the hand's warning above: the set-up it names cannot grasp"
                               : "")
               << "; nothing written to '" << args.output << "'\n";
     exitCode() = 3;
     return;
   }
-  if (args.timestamp) result.map.created_utc = mapCreationTime(true);
-  validateIfAsked(args, hand, &result.map, "taskmap build");
-  const auto t_write = std::chrono::steady_clock::now();
-  writeMap(args.output,
-           result.map);  // signals stay caught: the write is never cut short
-  const double write_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_write).count();
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
-
-  const int threads = buildThreadCount(options.threads);
-  printBuildSummary("taskmap build", args, result, write_seconds,
-                    std::to_string(threads) + " (not stored: the map does not depend on it)");
+  printHoldLabels("taskmap build", result.validation, args.keep_holding, args.quiet);
+  printBuildSummary(
+      "taskmap build", args, built, result.write_seconds,
+      std::to_string(result.threads) + " (not stored: the map does not depend on it)");
 }
 
 const CommandRegistrar kRegistrar("build", [](CLI::App& app) {

@@ -1,45 +1,34 @@
 // taskmap dataset: one task map per (object, hand), jobs one after another on all threads;
 // the same maps and manifest as `taskmap-mpi dataset` on any number of ranks.
-#include <chrono>
 #include <iostream>
 #include <memory>
-#include <vector>
 
+#include "build_command.hpp"
 #include "command.hpp"
-#include "dataset.hpp"
-#include "run_lock.hpp"
 
 namespace taskmap::cli {
 namespace {
 
 void runDataset(const DatasetArgs& args) {
-  const DatasetPlan plan = planDataset(args);
-  const RunLock lock(datasetLockPath(plan), "data set directory '" + plan.dir + "'");
-  DatasetManifest manifest(plan);
+  // Plan, the directory's lock (a second run refuses with the holder's PID), the manifest.
+  DatasetRun run(datasetOptions(args));
   const bool quiet = args.knobs.quiet;
-  if (!manifest.note().empty()) std::cerr << "taskmap dataset: " << manifest.note() << "\n";
-  const std::vector<std::size_t> todo = manifest.startRun();  // largest first
-  const std::size_t skipped = plan.jobs.size() - todo.size();
-  const auto t0 = std::chrono::steady_clock::now();
-  for (std::size_t k = 0; k < todo.size(); ++k) {
-    const nlohmann::json entry = runDatasetJob(plan, plan.jobs[todo[k]]);
-    manifest.set(todo[k], entry);
-    manifest.write();
-    if (quiet) continue;
-    const double elapsed =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    std::cerr << "taskmap dataset: " << datasetProgressLine(k + 1, todo.size(), elapsed, entry)
-              << std::endl;
-  }
-  manifest.write();
-  const std::size_t failed = manifest.failed();
+  if (!run.note().empty()) std::cerr << "taskmap dataset: " << run.note() << "\n";
+  RunControl<DatasetProgress> control;
+  control.progress = [&args, quiet](const DatasetProgress& p) {
+    printHoldLabels("taskmap dataset", p.entry.validation, args.knobs.keep_holding, quiet);
+    if (quiet) return;
+    std::cerr << "taskmap dataset: "
+              << datasetProgressLine(p.done, p.total, p.elapsed_seconds, p.entry) << std::endl;
+  };
+  const DatasetResult result = run.run(control);
   if (!quiet)
-    std::cout << "taskmap dataset: " << plan.jobs.size() << " maps in " << plan.dir << " ("
-              << skipped << " finished earlier, " << failed << " failed); manifest " << plan.dir
-              << "/manifest.json\n";
-  if (failed > 0) {
-    std::cerr << "taskmap dataset: " << failed << " of " << plan.jobs.size()
-              << " jobs failed; their errors are in " << plan.dir << "/manifest.json\n";
+    std::cout << "taskmap dataset: " << result.jobs << " maps in " << result.dir << " ("
+              << result.skipped << " finished earlier, " << result.failed << " failed); manifest "
+              << result.dir << "/manifest.json\n";
+  if (result.failed > 0) {
+    std::cerr << "taskmap dataset: " << result.failed << " of " << result.jobs
+              << " jobs failed; their errors are in " << result.dir << "/manifest.json\n";
     exitCode() = 1;
   }
 }

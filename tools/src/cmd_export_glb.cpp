@@ -6,7 +6,7 @@
 #include <string>
 
 #include "command.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/glb_export.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
 

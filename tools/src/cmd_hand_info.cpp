@@ -9,10 +9,10 @@
 
 #include "build_command.hpp"
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "mesh_options.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/hand_info.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/picture/hand_picture.hpp"

@@ -6,8 +6,10 @@
 
 #include "command.hpp"
 #include "map_hand_cli.hpp"
-#include "output_guard.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/map_summary.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/picture/map_picture.hpp"
 
 namespace taskmap::cli {

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "mesh_options.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/meshes/object_size.hpp"

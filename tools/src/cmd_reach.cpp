@@ -14,11 +14,11 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "mesh_options.hpp"
-#include "output_guard.hpp"
 #include "reach_map.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/core/pose.hpp"
 #include "taskmap/picture/reach_picture.hpp"
 #include "taskmap/reaching/attractor.hpp"

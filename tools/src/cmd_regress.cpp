@@ -7,9 +7,9 @@
 #include <optional>
 
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/regression.hpp"
 

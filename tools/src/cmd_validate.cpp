@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "output_guard.hpp"
 #include "reach_resimulate.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/validate/validate_map.hpp"
 

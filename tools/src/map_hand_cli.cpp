@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "data_dir.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap::cli {

@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "data_dir.hpp"
 #include "reach_resimulate.hpp"
 #include "reach_trajectory.hpp"
 #include "taskmap/core/constants.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/glb_export.hpp"
 #include "taskmap/picture/cost_picture.hpp"
@@ -135,13 +135,10 @@ void printResimulation(const Resimulation& r) {
               r.outcome.c_str(), r.force_closure ? "force closure" : "no force closure", r.epsilon,
               r.contacts, r.fingers.size());
   if (!r.hold) return;
-  const HoldResult& h = *r.hold;
+  const ResimulatedHold& h = *r.hold;
   std::printf("hold test         %s (object moved %.1f mm, turned %.1f deg%s%s)\n",
-              holdStatusName(h.status), 1000.0 * h.max_translation, h.max_rotation * 180.0 / kPi,
-              h.failed_direction >= 0 ? ", push " : "",
-              h.failed_direction >= 0
-                  ? pushDirectionNames()[static_cast<std::size_t>(h.failed_direction)]
-                  : "");
+              h.status.c_str(), 1000.0 * h.max_translation, h.max_rotation * 180.0 / kPi,
+              h.failed_direction.empty() ? "" : ", push ", h.failed_direction.c_str());
 }
 
 }  // namespace

@@ -23,9 +23,9 @@ struct MapReachArgs {
   std::string sample_weight = "auto";  ///< quality weights: "auto", "epsilon", "hold_margin"
   std::string descent = "bfgs";        ///< "bfgs" or "gradient"
   std::string output;                  ///< trajectory file to write (mapstore/TRAJECTORY.md), or ""
-  std::string glb;                     ///< GLB file to write (taskmap/inspect/glb_export.hpp), or ""
-  std::string robot = "panda";         ///< --robot, recorded in the trajectory file
-  std::string hand = "humanoid";       ///< --hand, recorded in the trajectory file
+  std::string glb;                ///< GLB file to write (taskmap/inspect/glb_export.hpp), or ""
+  std::string robot = "panda";    ///< --robot, recorded in the trajectory file
+  std::string hand = "humanoid";  ///< --hand, recorded in the trajectory file
 };
 
 /// --map as a file: the path itself when it exists, else the bundled map of that name

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "build_fixtures.hpp"
+#include "error_matchers.hpp"
 #include "map_compare.hpp"
 #include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
@@ -239,7 +240,9 @@ TEST(MapBuilderTest, NoGraspMessageNamesTheSizeFirstWhenTheObjectDwarfsTheHand) 
 
 TEST(MapBuilderTest, StopFlagInterrupts) {
   std::atomic<bool> stop{true};
-  const BuildResult r = buildMap(box(), panda(), smallBuild(2), {}, &stop);
+  BuildControl control;
+  control.stop = &stop;
+  const BuildResult r = buildMap(box(), panda(), smallBuild(2), control);
   EXPECT_EQ(r.status, BuildStatus::kInterrupted);
   EXPECT_EQ(r.map.sampling.trials, 0u);
   EXPECT_EQ(r.map.grasps.size(), 0u);
@@ -248,24 +251,27 @@ TEST(MapBuilderTest, StopFlagInterrupts) {
 TEST(MapBuilderTest, ProgressIsReported) {
   int calls = 0;
   BuildProgress last;
-  buildMap(
-      box(), panda(), smallBuild(2),
-      [&](const BuildProgress& p) {
-        ++calls;
-        EXPECT_GE(p.trials_done, last.trials_done);
-        last = p;
-      },
-      nullptr, 0.001);
+  BuildControl control;
+  control.progress = [&](const BuildProgress& p) {
+    ++calls;
+    EXPECT_GE(p.trials_done, last.trials_done);
+    last = p;
+  };
+  control.interval_seconds = 0.001;
+  buildMap(box(), panda(), smallBuild(2), control);
   EXPECT_GE(calls, 1);
   EXPECT_EQ(last.valid_target, kValid);
   EXPECT_GE(last.valid_found, kValid);
 }
 
 TEST(MapBuilderTest, ExceptionFromTheProgressCallbackReachesTheCaller) {
-  EXPECT_THROW(buildMap(
-                   box(), panda(), smallBuild(2),
-                   [](const BuildProgress&) { throw Error("callback failed"); }, nullptr, 0.001),
-               Error);
+  BuildControl control;
+  control.progress = [](const BuildProgress&) { throw Error("callback failed"); };
+  control.interval_seconds = 0.001;
+  EXPECT_THROW(buildMap(box(), panda(), smallBuild(2), control), Error);
+  control.interval_seconds = 0.0;
+  EXPECT_TRUE(testing::throwsError([&] { buildMap(box(), panda(), smallBuild(2), control); },
+                                   {"interval_seconds must be positive"}));
 }
 
 TEST(MapBuilderTest, BuiltMapSurvivesWriteAndRead) {

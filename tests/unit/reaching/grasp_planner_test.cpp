@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <iostream>
+#include <vector>
 
 #include "reaching_fixtures.hpp"
 #include "synthetic_map.hpp"
@@ -81,6 +83,49 @@ TEST(GraspPlanner, ScreeningRerunsTheCheapestClusterInFull) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("screen_iterations"), std::string::npos);
   }
+}
+
+// The run control (core/run_control.hpp): a caller's on_iteration is chained after the
+// planner's bookkeeping (it used to be replaced silently), progress comes once per iteration,
+// and a raised stop flag ends the plan as kInterrupted.
+TEST(GraspPlanner, ChainsTheCallersCallbackAndStopsOnTheFlag) {
+  RobotModel robot = test::pandaWithHand();
+  const ReachScene scene =
+      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json");
+  addSceneTo(scene, robot);
+  CollisionOptions co;
+  co.hand_may_touch = {scene.object};
+  const CollisionModel collisions(robot, co);
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(300), {});
+  TrajectoryProblem p;
+  p.robot = &robot;
+  p.collisions = &collisions;
+  p.body = robot.palmBody();
+  p.reference = robot.requireBody(scene.object);
+  p.q0 = test::readyPose();
+  p.reach.steps = 300;
+  GraspPlanOptions o;
+  o.optimizer.max_iterations = 3;
+  int caller_calls = 0;
+  o.optimizer.on_iteration = [&caller_calls](int, const TrajectoryCost&) { ++caller_calls; };
+  RunControl<PlanProgress> control;
+  std::vector<PlanProgress> reports;
+  control.progress = [&reports](const PlanProgress& r) { reports.push_back(r); };
+  const GraspPlan plan = planGrasp(p, map, o, control);
+  ASSERT_EQ(plan.plans.size(), 1u) << plan.message;
+  const ClusterPlan& c = plan.plans[0];
+  EXPECT_EQ(caller_calls, c.optimization.iterations + 1);  // the start, then every iteration
+  EXPECT_EQ(c.proximity.size(), static_cast<std::size_t>(caller_calls));  // bookkeeping kept
+  ASSERT_EQ(reports.size(), static_cast<std::size_t>(caller_calls));
+  EXPECT_EQ(reports.back().cluster, c.cluster);
+  EXPECT_EQ(reports.back().iteration, c.optimization.iterations);
+  EXPECT_EQ(reports.back().cost, c.optimization.cost.total);
+  const std::atomic<bool> stop{true};
+  control.stop = &stop;
+  const GraspPlan stopped = planGrasp(p, map, o, control);
+  EXPECT_EQ(stopped.status, GraspPlanStatus::kInterrupted);
+  EXPECT_TRUE(stopped.plans.empty());
+  EXPECT_EQ(stopped.best, -1);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "taskmap/builder/hold_filter.hpp"
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/run_control.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
@@ -96,6 +97,9 @@ struct BuildProgress {
 /// Receives progress reports (on the thread that called buildMap).
 using ProgressCallback = std::function<void(const BuildProgress&)>;
 
+/// Progress callback, interval and stop flag of a build (run_control.hpp).
+using BuildControl = RunControl<BuildProgress>;
+
 /// Result of a build.
 struct BuildResult {
   BuildStatus status = BuildStatus::kComplete;
@@ -107,12 +111,11 @@ struct BuildResult {
 /// Runs the pipeline. Throws Error on invalid options and, unless options.check_size is false,
 /// on an object whose size is implausible for the hand (size_check.hpp: over kMaxReachRatio
 /// times its reach, or thinner than its thinnest finger link), naming the scale that fixes a
-/// file in other units. Returns
-/// kInterrupted soon after *stop becomes true (workers finish their current trial).
-/// progress_interval_seconds > 0.
+/// file in other units. control.progress gets a report about every control.interval_seconds;
+/// returns kInterrupted soon after *control.stop becomes true (workers finish their current
+/// trial); an exception from the callback leaves buildMap after the workers are joined.
 BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                     const ProgressCallback& progress = {}, const std::atomic<bool>* stop = nullptr,
-                     double progress_interval_seconds = 0.25);
+                     const BuildControl& control = {});
 
 /// The worker threads BuildOptions::threads means: itself when positive, else the cores this
 /// process may run on (its CPU affinity mask, so taskset or `mpirun --bind-to` are respected).

@@ -5,10 +5,12 @@
 /// trajectory over attractor points is optimised with the map as terminal cost from the best
 /// (or every reachable) cluster, and the cheapest plan is kept. Units: metres, radians, s.
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "taskmap/core/run_control.hpp"
 #include "taskmap/integration/initialisation.hpp"
 #include "taskmap/reaching/map_cost.hpp"
 
@@ -16,7 +18,9 @@ namespace taskmap {
 
 /// Options of planGrasp.
 struct GraspPlanOptions {
-  TrajectoryOptimizerOptions optimizer;  ///< descent (on_iteration is used internally)
+  /// descent; a caller's on_iteration is called after the planner's own bookkeeping of each
+  /// iteration (chained, not replaced)
+  TrajectoryOptimizerOptions optimizer;
   /// w_map,p and w_map,q: proximity 1e4 keeps the final pose within a millimetre of a sample
   /// (docs/REACHING.md "Chosen weights").
   MapCostWeights map_weights{1.0e4, 1.0};
@@ -56,9 +60,20 @@ struct ClusterPlan {
 
 /// Outcome of planGrasp.
 enum class GraspPlanStatus {
-  kPlanned,     ///< a plan ends on the manifold, collision-free and within the limits
-  kUnsafe,      ///< the best plan collides, leaves a limit or misses the manifold
-  kUnreachable  ///< no cluster's representative was reachable by IK
+  kPlanned,      ///< a plan ends on the manifold, collision-free and within the limits
+  kUnsafe,       ///< the best plan collides, leaves a limit or misses the manifold
+  kUnreachable,  ///< no cluster's representative was reachable by IK
+  /// the run control's stop flag was raised: plans holds the clusters optimised before it
+  /// (best the cheapest of them, -1 if none)
+  kInterrupted,
+};
+
+/// A report after every descent iteration of planGrasp (RunControl::progress).
+struct PlanProgress {
+  int cluster = -1;            ///< the cluster being optimised
+  int iteration = 0;           ///< its descent iteration (0: the start)
+  double cost = 0.0;           ///< total trajectory cost after it
+  std::size_t plans_done = 0;  ///< clusters optimised before this one
 };
 
 /// Result of planGrasp.
@@ -74,8 +89,10 @@ struct GraspPlan {
 /// model) with the palm `problem.body`: problem carries robot, collisions (the hand may touch
 /// the object), q0, dynamics and trajectory weights; its frame and terminal are set here.
 /// The map's hand poses are palm poses in the object frame. Throws Error on invalid input or a
-/// map without clustering.
+/// map without clustering. control.progress gets a PlanProgress after every descent iteration
+/// (control.interval_seconds is not used); control.stop is checked between clusters (then
+/// status kInterrupted); an exception from the callback leaves planGrasp.
 GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
-                    const GraspPlanOptions& options);
+                    const GraspPlanOptions& options, const RunControl<PlanProgress>& control = {});
 
 }  // namespace taskmap

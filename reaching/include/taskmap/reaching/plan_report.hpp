@@ -15,7 +15,7 @@ namespace taskmap {
 /// (metres).
 std::string clearanceWarning(double clearance, const std::string& pair = "");
 
-/// "planned", "unsafe" or "unreachable".
+/// "planned", "unsafe", "unreachable" or "interrupted".
 const char* toString(GraspPlanStatus status);
 
 /// The plan as a JSON object (text): status, message, ms_per_plan (plan_ms, milliseconds),

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// What a command writes at its output path, recognised by the first bytes of an existing file.
 enum class OutputKind {
@@ -30,4 +30,4 @@ void checkOutputPath(const std::string& output, const std::vector<std::string>& 
 /// True when the file at path starts like kind (see OutputKind); false when it cannot be read.
 bool looksLike(const std::string& path, OutputKind kind);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

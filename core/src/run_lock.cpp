@@ -1,5 +1,5 @@
 // One run at a time on a directory or an output (run_lock.hpp).
-#include "run_lock.hpp"
+#include "taskmap/core/run_lock.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -12,7 +12,7 @@
 
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 RunLock::RunLock(std::string lock_path, const std::string& what) : path_(std::move(lock_path)) {
   // A lock taken on a file that the previous holder unlinked meanwhile is no lock: retry.
@@ -61,4 +61,4 @@ RunLock::~RunLock() {
   ::close(fd_);
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,5 +1,5 @@
 // Refusing outputs that would destroy a user's file (output_guard.hpp).
-#include "output_guard.hpp"
+#include "taskmap/core/output_guard.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 namespace fs = std::filesystem;
@@ -112,4 +112,4 @@ void checkOutputPath(const std::string& output, const std::vector<std::string>& 
                 "; refusing to replace it (add --force to overwrite it)");
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

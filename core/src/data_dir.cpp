@@ -1,4 +1,6 @@
-#include "data_dir.hpp"
+#include "taskmap/core/data_dir.hpp"
+
+#include <dlfcn.h>
 
 #include <algorithm>
 #include <cctype>
@@ -10,7 +12,7 @@
 
 #include "taskmap/core/error.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 namespace fs = std::filesystem;
@@ -20,6 +22,17 @@ fs::path executableDir() {
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (ec) return {};
   return exe.parent_path();
+}
+
+// The folder of the shared library holding this code (<prefix>/lib, or <build>/core), for a
+// process that is not the taskmap tool (the Python interpreter, a user's program).
+fs::path libraryDir() {
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<const void*>(&libraryDir), &info) == 0 || info.dli_fname == nullptr)
+    return {};
+  std::error_code ec;
+  const fs::path lib = fs::canonical(info.dli_fname, ec);
+  return ec ? fs::path() : lib.parent_path();
 }
 
 std::vector<std::string> bundledHands(const fs::path& hands) {
@@ -135,11 +148,24 @@ std::string dataDir() {
     return env;
   }
   const fs::path dir = executableDir() / ".." / "share" / "taskmap";
+  const fs::path beside_library = libraryDir() / ".." / "share" / "taskmap";
+  if (!fs::is_directory(dir) && !libraryDir().empty() && fs::is_directory(beside_library))
+    return beside_library.lexically_normal().string();
   if (!fs::is_directory(dir))
     throw Error("taskmap's data directory " + dir.lexically_normal().string() +
                 " is missing; reinstall taskmap or set TASKMAP_DATA_DIR to a folder holding "
                 "hands/, objects/ and regression/");
   return dir.lexically_normal().string();
+}
+
+std::string handSidecarPath(const std::string& urdf) {
+  const fs::path p(urdf);
+  return (p.parent_path() / (p.stem().string() + ".hand.json")).string();
+}
+
+std::string resolveHandUrdf(const std::string& hand) {
+  if (fs::exists(hand)) return hand;
+  return bundledHandUrdf(hand);
 }
 
 std::string bundledHandUrdf(const std::string& name) {
@@ -168,4 +194,4 @@ std::string bundledHandUrdf(const std::string& name) {
               hint);
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -6,7 +6,7 @@
 
 #include <string>
 
-namespace taskmap::cli {
+namespace taskmap {
 
 class RunLock {
  public:
@@ -24,4 +24,4 @@ class RunLock {
   int fd_ = -1;
 };
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

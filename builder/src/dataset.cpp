@@ -1,7 +1,8 @@
-// Data sets of task maps: the plan, one job, the manifest.
-#include "dataset.hpp"
+// Data sets of task maps: the plan, one job, the manifest, the run.
+#include "taskmap/builder/dataset.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,15 +10,20 @@
 #include <iterator>
 #include <map>
 #include <sstream>
+#include <tuple>
 
-#include "output_guard.hpp"
+#include <nlohmann/json.hpp>
+
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/atomic_file.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
+#include "taskmap/core/output_guard.hpp"
+#include "taskmap/core/run_lock.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 namespace fs = std::filesystem;
@@ -91,7 +97,7 @@ std::uint64_t jobSeed(std::uint64_t seed, const std::string& mesh_sha,
 
 // The build of one job: knobs, derived seed, the paths recorded in params_json.
 BuildOptions jobOptions(const DatasetPlan& plan, const DatasetJob& job, std::uint64_t seed) {
-  BuildOptions options = knobOptions(plan.args.knobs);
+  BuildOptions options = plan.options.build;
   options.seed = seed;
   options.extra_params_json =
       json{{"object", job.object}, {"scale", job.scale}, {"hand", job.hand}}.dump();
@@ -100,8 +106,52 @@ BuildOptions jobOptions(const DatasetPlan& plan, const DatasetJob& job, std::uin
 }
 
 // What a job's entry starts as.
-json baseEntry(const DatasetJob& job) {
-  return json{{"object", job.object}, {"scale", job.scale}, {"hand", job.hand}, {"file", job.file}};
+DatasetEntry baseEntry(const DatasetJob& job) {
+  DatasetEntry e;
+  e.object = job.object;
+  e.scale = job.scale;
+  e.hand = job.hand;
+  e.file = job.file;
+  return e;
+}
+
+constexpr DatasetJobStatus kStatuses[] = {DatasetJobStatus::kPending, DatasetJobStatus::kComplete,
+                                          DatasetJobStatus::kTrialBudgetExhausted,
+                                          DatasetJobStatus::kFailed};
+
+// An entry's JSON object: the fields it has, keys sorted (the manifest's bytes).
+json entryJson(const DatasetEntry& e) {
+  json j = {{"object", e.object},
+            {"scale", e.scale},
+            {"hand", e.hand},
+            {"file", e.file},
+            {"status", toString(e.status)}};
+  if (e.seed) j["seed"] = *e.seed;
+  if (e.trials) j["trials"] = *e.trials;
+  if (e.valid) j["valid"] = *e.valid;
+  if (e.file_sha256) j["file_sha256"] = *e.file_sha256;
+  if (e.build_sha256) j["build_sha256"] = *e.build_sha256;
+  if (e.error) j["error"] = *e.error;
+  return j;
+}
+
+// The entry of a JSON object (an earlier manifest's, a rank's); throws json::exception.
+DatasetEntry entryOf(const json& j) {
+  DatasetEntry e;
+  e.object = j.at("object").get<std::string>();
+  e.scale = j.value("scale", 1.0);
+  e.hand = j.at("hand").get<std::string>();
+  e.file = j.value("file", "");
+  const std::string status = j.value("status", "");
+  for (DatasetJobStatus s : kStatuses)
+    if (status == toString(s)) e.status = s;
+  if (j.contains("seed")) e.seed = j.at("seed").get<std::uint64_t>();
+  if (j.contains("trials")) e.trials = j.at("trials").get<std::uint64_t>();
+  if (j.contains("valid")) e.valid = j.at("valid").get<std::uint64_t>();
+  if (j.contains("file_sha256")) e.file_sha256 = j.at("file_sha256").get<std::string>();
+  if (j.contains("build_sha256")) e.build_sha256 = j.at("build_sha256").get<std::string>();
+  if (j.contains("error")) e.error = j.at("error").get<std::string>();
+  return e;
 }
 
 // An existing manifest.json that is not a taskmap data-set manifest (a user's file) is not
@@ -124,38 +174,44 @@ void checkManifestPath(const std::string& path, bool force) {
 
 }  // namespace
 
-void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
-  cmd.add_option("--objects", args.objects,
-                 "text file naming one mesh a line (relative to the file; # comments), "
-                 "optionally followed by its scale (file units to metres), e.g. "
-                 "\"bunny.ply 0.01\"; without one a mesh takes --scale")
-      ->required();
-  cmd.add_option("--hands", args.hands, "comma-separated hand URDFs or bundled hand names")
-      ->required();
-  cmd.add_option("-o,--output", args.output, "directory for the maps and manifest.json")
-      ->required();
-  cmd.add_option("--scale", args.scale,
-                 "multiplies the coordinates of every mesh the list gives no scale (file units "
-                 "-> m)")
-      ->capture_default_str();
-  addBuildKnobs(cmd, args.knobs);
-  cmd.add_flag("--force", args.knobs.force,
-               "replace existing map files (and manifest.json) in the directory that are not "
-               "taskmap files (never an input)");
+const char* toString(DatasetJobStatus status) {
+  switch (status) {
+    case DatasetJobStatus::kPending:
+      return "pending";
+    case DatasetJobStatus::kComplete:
+      return "complete";
+    case DatasetJobStatus::kTrialBudgetExhausted:
+      return "trial_budget_exhausted";
+    case DatasetJobStatus::kFailed:
+      return "failed";
+  }
+  return "pending";
 }
 
-DatasetPlan planDataset(const DatasetArgs& args) {
+std::string datasetEntryJson(const DatasetEntry& entry) {
+  return entryJson(entry).dump();
+}
+
+DatasetEntry datasetEntryFromJson(const std::string& text) {
+  try {
+    return entryOf(json::parse(text));
+  } catch (const json::exception& e) {
+    throw Error(std::string("not a data-set entry: ") + e.what());
+  }
+}
+
+DatasetPlan planDataset(const DatasetOptions& args) {
   DatasetPlan plan;
-  plan.args = args;
+  plan.options = args;
   if (!(args.scale > 0.0)) throw Error("--scale must be positive");
-  knobOptions(args.knobs).validate();
+  args.build.validate();
   plan.dir = args.output;
   std::error_code ec;
   fs::create_directories(plan.dir, ec);
   if (!fs::is_directory(plan.dir))
     throw Error("cannot create output directory '" + plan.dir + "'" +
                 (ec ? " (" + ec.message() + ")" : ""));
-  checkManifestPath((fs::path(plan.dir) / "manifest.json").string(), args.knobs.force);
+  checkManifestPath((fs::path(plan.dir) / "manifest.json").string(), args.force);
   std::map<std::string, std::string> writers;  // file -> object, hand
   for (const ListedObject& listed : readObjectList(args.objects)) {
     const std::string& object = listed.entry;
@@ -177,7 +233,7 @@ DatasetPlan planDataset(const DatasetArgs& args) {
       job.mesh_bytes = fs::is_regular_file(path, ec) ? fs::file_size(path, ec) : 0;
       checkOutputPath((fs::path(plan.dir) / job.file).string(),
                       {path, job.hand_urdf, handSidecarPath(job.hand_urdf), args.objects},
-                      OutputKind::kTaskMap, args.knobs.force);
+                      OutputKind::kTaskMap, args.force);
       plan.jobs.push_back(std::move(job));
     }
   }
@@ -188,38 +244,43 @@ DatasetPlan planDataset(const DatasetArgs& args) {
   return plan;
 }
 
-json runDatasetJob(const DatasetPlan& plan, const DatasetJob& job) {
-  json entry = baseEntry(job);
-  entry["status"] = "failed";
+DatasetEntry runDatasetJob(const DatasetPlan& plan, const DatasetJob& job,
+                           const BuildControl& control) {
+  DatasetEntry entry = baseEntry(job);
+  entry.status = DatasetJobStatus::kFailed;
   try {
     const ObjectModel object = ObjectModel::load(job.object_path, MeshLoadOptions{job.scale});
     const HandModel hand = HandModel::load(job.hand_urdf);
     const std::uint64_t seed =
-        jobSeed(plan.args.knobs.seed, object.sourceSha256(), hand.urdfSha256());
-    entry["seed"] = seed;
+        jobSeed(plan.options.build.seed, object.sourceSha256(), hand.urdfSha256());
+    entry.seed = seed;
     const BuildOptions options = jobOptions(plan, job, seed);
-    BuildResult result = buildMap(object, hand, options);
+    BuildResult result = buildMap(object, hand, options, control);
+    if (result.status == BuildStatus::kInterrupted) return baseEntry(job);  // still pending
     if (result.status == BuildStatus::kNoGrasps) throw Error(result.message);
-    if (plan.args.knobs.timestamp) result.map.created_utc = mapCreationTime(true);
-    validateIfAsked(plan.args.knobs, hand, &result.map, "taskmap dataset");
+    if (plan.options.timestamp) result.map.created_utc = mapCreationTime(true);
+    entry.validation =
+        labelHolds(plan.options.validation, options.threads, options.clustering, hand, &result.map);
     const std::string path = (fs::path(plan.dir) / job.file).string();
     writeMap(path, result.map);
-    entry["status"] = toString(result.status);
-    entry["trials"] = result.map.sampling.trials;
-    entry["valid"] = std::count(result.map.grasps.force_closure.begin(),
-                                result.map.grasps.force_closure.end(), 1);
-    entry["file_sha256"] = sha256File(path);
-    entry["build_sha256"] = sha256Hex(buildIdentity(object, hand, options, 0));
-    entry["error"] = "";
+    entry.status = result.status == BuildStatus::kComplete
+                       ? DatasetJobStatus::kComplete
+                       : DatasetJobStatus::kTrialBudgetExhausted;
+    entry.trials = result.map.sampling.trials;
+    entry.valid = static_cast<std::uint64_t>(std::count(result.map.grasps.force_closure.begin(),
+                                                        result.map.grasps.force_closure.end(), 1));
+    entry.file_sha256 = sha256File(path);
+    entry.build_sha256 = sha256Hex(buildIdentity(object, hand, options, 0));
+    entry.error = "";
   } catch (const std::exception& e) {
-    entry["error"] = e.what();
+    entry.error = e.what();
   }
   return entry;
 }
 
 DatasetManifest::DatasetManifest(const DatasetPlan& plan) : plan_(plan) {
   const std::string path = (fs::path(plan.dir) / "manifest.json").string();
-  std::map<std::pair<std::string, std::string>, json> earlier;
+  std::map<std::pair<std::string, std::string>, DatasetEntry> earlier;
   std::error_code ec;
   if (fs::exists(path, ec)) {
     try {
@@ -228,7 +289,7 @@ DatasetManifest::DatasetManifest(const DatasetPlan& plan) : plan_(plan) {
       const json m = json::parse(in);
       if (m.value("format", "") != kManifestFormat) throw Error("not a taskmap data-set manifest");
       for (const json& e : m.at("jobs"))
-        earlier[{e.at("object").get<std::string>(), e.at("hand").get<std::string>()}] = e;
+        earlier[{e.at("object").get<std::string>(), e.at("hand").get<std::string>()}] = entryOf(e);
     } catch (const std::exception& e) {
       note_ = "ignoring manifest '" + path + "': " + e.what();
       earlier.clear();
@@ -236,37 +297,32 @@ DatasetManifest::DatasetManifest(const DatasetPlan& plan) : plan_(plan) {
   }
   for (const DatasetJob& job : plan.jobs) {
     const auto it = earlier.find({job.object, job.hand});
-    if (it != earlier.end()) {
-      entries_.push_back(it->second);
-    } else {
-      json e = baseEntry(job);
-      e["status"] = "pending";
-      entries_.push_back(e);
-    }
+    entries_.push_back(it != earlier.end() ? it->second : baseEntry(job));
   }
 }
 
 bool DatasetManifest::finishedEarlier(std::size_t i) const {
-  const json& e = entries_[i];
-  const std::string status = e.value("status", "");
-  if (status != "complete" && status != "trial_budget_exhausted") return false;
+  const DatasetEntry& e = entries_[i];
+  if (e.status != DatasetJobStatus::kComplete &&
+      e.status != DatasetJobStatus::kTrialBudgetExhausted)
+    return false;
   const DatasetJob& job = plan_.jobs[i];
   try {
     const std::string path = (fs::path(plan_.dir) / job.file).string();
-    if (e.value("file", "") != job.file || !fs::exists(path)) return false;
+    if (e.file != job.file || !fs::exists(path)) return false;
     const ObjectModel object = ObjectModel::load(job.object_path, MeshLoadOptions{job.scale});
     const HandModel hand = HandModel::load(job.hand_urdf);
     const std::uint64_t seed =
-        jobSeed(plan_.args.knobs.seed, object.sourceSha256(), hand.urdfSha256());
+        jobSeed(plan_.options.build.seed, object.sourceSha256(), hand.urdfSha256());
     const BuildOptions options = jobOptions(plan_, job, seed);
-    return e.value("build_sha256", "") == sha256Hex(buildIdentity(object, hand, options, 0)) &&
-           e.value("file_sha256", "") == sha256File(path);
+    return e.build_sha256.value_or("") == sha256Hex(buildIdentity(object, hand, options, 0)) &&
+           e.file_sha256.value_or("") == sha256File(path);
   } catch (const std::exception&) {
     return false;
   }
 }
 
-void DatasetManifest::set(std::size_t i, json entry) {
+void DatasetManifest::set(std::size_t i, DatasetEntry entry) {
   entries_[i] = std::move(entry);
 }
 
@@ -275,9 +331,7 @@ std::vector<std::size_t> DatasetManifest::startRun() {
   for (std::size_t i = 0; i < plan_.jobs.size(); ++i) {
     if (finishedEarlier(i)) continue;
     todo.push_back(i);
-    json e = baseEntry(plan_.jobs[i]);
-    e["status"] = "pending";
-    entries_[i] = std::move(e);
+    entries_[i] = baseEntry(plan_.jobs[i]);
   }
   write();
   return todo;
@@ -288,18 +342,18 @@ std::string datasetLockPath(const DatasetPlan& plan) {
 }
 
 void DatasetManifest::write() const {
-  std::vector<const json*> sorted;
-  for (const json& e : entries_) sorted.push_back(&e);
-  std::sort(sorted.begin(), sorted.end(), [](const json* a, const json* b) {
-    return std::make_pair(a->at("object").get<std::string>(), a->at("hand").get<std::string>()) <
-           std::make_pair(b->at("object").get<std::string>(), b->at("hand").get<std::string>());
+  std::vector<const DatasetEntry*> sorted;
+  for (const DatasetEntry& e : entries_) sorted.push_back(&e);
+  std::sort(sorted.begin(), sorted.end(), [](const DatasetEntry* a, const DatasetEntry* b) {
+    return std::tie(a->object, a->hand) < std::tie(b->object, b->hand);
   });
   json jobs = json::array();
-  for (const json* e : sorted) jobs.push_back(*e);
+  for (const DatasetEntry* e : sorted) jobs.push_back(entryJson(*e));
+  const BuildOptions& build = plan_.options.build;
   const json m = {{"format", kManifestFormat},
-                  {"seed", plan_.args.knobs.seed},
-                  {"valid", plan_.args.knobs.valid},
-                  {"trials", plan_.args.knobs.trials},
+                  {"seed", build.seed},
+                  {"valid", build.valid_target},
+                  {"trials", build.max_trials},
                   {"jobs", jobs}};
   const std::string path = (fs::path(plan_.dir) / "manifest.json").string();
   writeFileAtomically(path, m.dump(2) + "\n", "cannot write manifest '" + path + "'");
@@ -308,20 +362,61 @@ void DatasetManifest::write() const {
 std::size_t DatasetManifest::failed() const {
   return static_cast<std::size_t>(
       std::count_if(entries_.begin(), entries_.end(),
-                    [](const json& e) { return e.value("status", "") == "failed"; }));
+                    [](const DatasetEntry& e) { return e.status == DatasetJobStatus::kFailed; }));
 }
 
-std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
-                                const json& e) {
-  const double eta =
-      done > 0 ? elapsed_seconds / static_cast<double>(done) * static_cast<double>(total - done)
-               : -1.0;
-  std::string line = "[" + std::to_string(done) + "/" + std::to_string(total) + ", ETA " +
-                     clockString(eta) + "] " + e.value("object", "?") + " x " +
-                     e.value("hand", "?") + ": " + e.value("status", "?");
-  if (e.value("status", "") == "failed") return line + ": " + e.value("error", "");
-  return line + ", " + std::to_string(e.value("valid", 0)) + " valid in " +
-         std::to_string(e.value("trials", 0)) + " trials -> " + e.value("file", "");
+struct DatasetRun::Impl {
+  explicit Impl(const DatasetOptions& options)
+      : plan(planDataset(options)),
+        lock(datasetLockPath(plan), "data set directory '" + plan.dir + "'"),
+        manifest(plan) {}
+  DatasetPlan plan;
+  RunLock lock;
+  DatasetManifest manifest;
+};
+
+DatasetRun::DatasetRun(const DatasetOptions& options) : impl_(std::make_unique<Impl>(options)) {}
+
+DatasetRun::~DatasetRun() = default;
+
+const DatasetPlan& DatasetRun::plan() const {
+  return impl_->plan;
 }
 
-}  // namespace taskmap::cli
+const std::string& DatasetRun::note() const {
+  return impl_->manifest.note();
+}
+
+DatasetResult DatasetRun::run(const RunControl<DatasetProgress>& control,
+                              const BuildControl& build_control) {
+  const DatasetPlan& plan = impl_->plan;
+  DatasetManifest& manifest = impl_->manifest;
+  const std::vector<std::size_t> todo = manifest.startRun();  // largest first
+  DatasetResult result;
+  result.jobs = plan.jobs.size();
+  result.skipped = plan.jobs.size() - todo.size();
+  result.dir = plan.dir;
+  BuildControl build = build_control;
+  build.stop = control.stop;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < todo.size() && !control.stopRequested(); ++k) {
+    DatasetEntry entry = runDatasetJob(plan, plan.jobs[todo[k]], build);
+    if (control.stopRequested() && entry.status == DatasetJobStatus::kPending) break;
+    manifest.set(todo[k], entry);
+    manifest.write();
+    if (!control.progress) continue;
+    DatasetProgress p;
+    p.done = k + 1;
+    p.total = todo.size();
+    p.elapsed_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    p.entry = std::move(entry);
+    control.progress(p);
+  }
+  manifest.write();
+  result.failed = manifest.failed();
+  result.interrupted = control.stopRequested();
+  return result;
+}
+
+}  // namespace taskmap

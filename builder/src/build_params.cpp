@@ -1,0 +1,284 @@
+// The build parameters a map stores: one list of keys (visitParams) walked by a writer and by a
+// reader, so a key is named once.
+#include "taskmap/builder/build_params.hpp"
+
+#include <array>
+#include <type_traits>
+
+#include <nlohmann/json.hpp>
+
+#include "params_json.hpp"
+#include "taskmap/core/error.hpp"
+#include "trial_pool.hpp"
+
+namespace taskmap {
+namespace {
+
+using nlohmann::json;
+
+const char* toString(WrenchNorm n) {
+  return n == WrenchNorm::kL1 ? "l1" : "linf";
+}
+const char* toString(GraspMode m) {
+  return m == GraspMode::kFingertip ? "fingertip" : "palm";
+}
+
+[[noreturn]] void wrongValue(const std::string& key, const std::string& what) {
+  throw Error("the map's build parameter '" + key + "' " + what);
+}
+
+// JSON -> option value, by type; enums by their names.
+template <class T>
+void fromJson(const json& v, const std::string& key, T& out) {
+  try {
+    out = v.get<T>();
+  } catch (const json::exception&) {
+    wrongValue(key, "has the wrong type");
+  }
+}
+std::string nameOf(const json& v, const std::string& key) {
+  if (!v.is_string()) wrongValue(key, "has the wrong type");
+  return v.get<std::string>();
+}
+void fromJson(const json& v, const std::string& key, SamplerKind& out) {
+  try {
+    out = samplerKindFromString(nameOf(v, key));
+  } catch (const Error& e) {
+    wrongValue(key, std::string("is not a sampler: ") + e.what());
+  }
+}
+void fromJson(const json& v, const std::string& key, ContactModel& out) {
+  try {
+    out = contactModelFromString(nameOf(v, key));
+  } catch (const Error& e) {
+    wrongValue(key, std::string("is not a contact model: ") + e.what());
+  }
+}
+void fromJson(const json& v, const std::string& key, Linkage& out) {
+  try {
+    out = linkageFromString(nameOf(v, key));
+  } catch (const Error& e) {
+    wrongValue(key, std::string("is not a linkage: ") + e.what());
+  }
+}
+void fromJson(const json& v, const std::string& key, WrenchNorm& out) {
+  out = nameOf(v, key) == "linf" ? WrenchNorm::kLInf : WrenchNorm::kL1;
+}
+void fromJson(const json& v, const std::string& key, std::optional<GraspMode>& out) {
+  const std::string name = nameOf(v, key);
+  if (name != "palm" && name != "fingertip") wrongValue(key, "must be \"palm\" or \"fingertip\"");
+  out = name == "fingertip" ? GraspMode::kFingertip : GraspMode::kPalm;
+}
+void fromJson(const json& v, const std::string& key, Eigen::Vector3d& out) {
+  std::array<double, 3> a{};
+  fromJson(v, key, a);
+  out = Eigen::Vector3d(a[0], a[1], a[2]);
+}
+template <class T>
+void fromJson(const json& v, const std::string& key, std::optional<T>& out) {
+  T value{};
+  fromJson(v, key, value);
+  out = value;
+}
+
+// Option value -> JSON.
+template <class T>
+json toJson(const T& v) {
+  if constexpr (std::is_enum_v<T>)
+    return toString(v);
+  else
+    return v;
+}
+inline json toJson(const std::optional<GraspMode>& m) {
+  return toString(m.value_or(GraspMode::kPalm));
+}
+inline json toJson(const Eigen::Vector3d& a) {
+  return {a.x(), a.y(), a.z()};
+}
+
+// Writes every visited field into j (an optional one only when set).
+struct Writer {
+  json& j;
+  static constexpr bool kWriting = true;
+  template <class T>
+  void operator()(const char* key, const T& v) {
+    j[key] = toJson(v);
+  }
+  template <class T>
+  void operator()(const char* key, const std::optional<T>& v) {
+    if (v) j[key] = toJson(*v);
+  }
+  void operator()(const char* key, const std::optional<GraspMode>& v) { j[key] = toJson(v); }
+};
+
+// Reads every visited field that j holds (and removes it from j: what is left is extra).
+struct Reader {
+  json& j;
+  static constexpr bool kWriting = false;
+  template <class T>
+  void operator()(const char* key, T& v) {
+    const auto it = j.find(key);
+    if (it == j.end()) return;
+    if (!it->is_null()) fromJson(*it, key, v);
+    j.erase(it);
+  }
+};
+
+constexpr const char* kHoldFilter = "hold_filter";
+constexpr const char* kSqueezeBalance = "squeeze_balance";
+
+// The hold filter's parameters: present only when it is on.
+template <class Io, class P>
+void visitHoldFilter(Io& io, P& p) {
+  auto& h = p.options.hold_filter;
+  if constexpr (Io::kWriting) {
+    if (!h.enabled) return;
+    io.j[kHoldFilter] = kSqueezeBalance;
+  } else {
+    const auto it = io.j.find(kHoldFilter);
+    if (it == io.j.end()) return;
+    if (!it->is_string() || it->template get<std::string>() != kSqueezeBalance)
+      wrongValue(kHoldFilter, "must be \"squeeze_balance\"");
+    io.j.erase(it);
+    h.enabled = true;
+  }
+  io("hold_filter_kp_revolute", h.kp_revolute);
+  io("hold_filter_kp_prismatic", h.kp_prismatic);
+  io("hold_filter_jaw_force", h.jaw_force);
+  io("hold_filter_squeeze_fraction", h.squeeze_fraction);
+  io("hold_filter_friction", h.balance.friction);
+  io("hold_filter_cone_edges", h.balance.cone_edges);
+  io("hold_filter_squeeze_tolerance", h.balance.squeeze_tolerance);
+  io("hold_filter_push_force", h.balance.push_force);
+  io("hold_filter_push_tolerance", h.balance.push_tolerance);
+  io("hold_filter_push_joint_weight", h.balance.push_joint_weight);
+}
+
+// The antipodal and enclosing samplers' parameters: present only for those samplers (maps of
+// the other samplers stay the same bytes); the jaws' widths are written for the record (derived
+// from the hand, read back as extra keys).
+template <class Io, class S>
+void visitSamplerExtras(Io& io, S& s) {
+  const bool antipodal = s.kind == SamplerKind::kAntipodal;
+  if (!Io::kWriting || antipodal || s.kind == SamplerKind::kEnclose) io("attempts", s.attempts);
+  if (!Io::kWriting || antipodal) {
+    io("antipodal_friction", s.friction);
+    io("width_margin", s.width_margin);
+  }
+  if constexpr (Io::kWriting) {
+    if (antipodal && s.jaws) {
+      io.j["jaw_open_width"] = s.jaws->open_width;
+      io.j["jaw_closed_width"] = s.jaws->closed_width;
+    }
+  }
+}
+
+// Every stored key, once. P is BuildParams or const BuildParams.
+template <class Io, class P>
+void visitParams(Io& io, P& p) {
+  auto& o = p.options;
+  io("object", p.object.empty() ? std::optional<std::string>() : p.object);
+  io("scale", p.scale);
+  io("hand", p.hand.empty() ? std::optional<std::string>() : p.hand);
+  io("sampler", o.sampler.kind);
+  io("standoff_min", o.sampler.standoff_min);
+  io("standoff_max", o.sampler.standoff_max);
+  io("approach_axis", o.sampler.approach_axis);
+  visitSamplerExtras(io, o.sampler);
+  io("seed", o.seed);
+  io("valid", o.valid_target);
+  io("max_trials", o.max_trials);
+  io("keep_invalid", o.keep_invalid);
+  io("cluster", o.cluster);
+  io("friction", o.quality.friction);
+  io("cone_edges", o.quality.cone_edges);
+  io("contact_model", o.quality.contact_model);
+  io("torsional_friction", o.quality.torsional_friction);
+  io("wrench_norm", o.quality.norm);
+  visitHoldFilter(io, p);
+  auto& s = o.simulation;
+  io("contact_tolerance", s.contact_tolerance);
+  io("max_retraction", s.max_retraction);
+  io("squeeze", s.squeeze);
+  io("require_palm_contact", s.require_palm_contact);
+  io("grasp_mode", s.grasp_mode);  // always written: the mode in force
+  if (!Io::kWriting || s.grasp_mode == GraspMode::kFingertip) io("grasp_standoff", s.standoff);
+  io("centre_coupled", s.centre_coupled);
+  io("check_self_collision", s.check_self_collision);
+  io("max_closing_steps", s.max_closing_steps);
+  auto& c = o.clustering;
+  io("cluster_method", c.method);  // requested; /clustering has the one used
+  io("cluster_fallback_to_single", c.fallback_to_single);
+  io("cluster_outlier_budget", c.outlier_budget);
+  io("cluster_min_size_fraction", c.min_size_fraction);
+  io("cluster_min_size", c.min_size);
+  io("cluster_threshold", c.threshold);
+  io("cluster_count", c.num_clusters);
+}
+
+// The reader's side of the inputs: object, scale and hand (the writer passes temporaries).
+struct InputReader : Reader {
+  BuildParams& p;
+  using Reader::operator();
+  void operator()(const char* key, const std::optional<std::string>&) {
+    std::string& target = std::string(key) == "object" ? p.object : p.hand;
+    Reader::operator()(key, target);
+  }
+};
+
+json parseObject(const std::string& text) {
+  try {
+    json j = json::parse(text);
+    if (j.is_object()) return j;
+  } catch (const json::exception&) {
+    // Not JSON (a hand-made map): no parameters recorded.
+  }
+  return json::object();
+}
+
+}  // namespace
+
+std::string buildParamsJson(const BuildParams& params) {
+  json j = parseObject(params.options.extra_params_json);
+  Writer w{j};
+  visitParams(w, params);
+  return j.dump();
+}
+
+BuildParams buildParamsFromJson(const std::string& text) {
+  json j = parseObject(text);
+  BuildParams p;
+  InputReader r{{j}, p};
+  visitParams(r, p);
+  p.options.extra_params_json = j.dump();
+  return p;
+}
+
+BuildParams buildParamsOf(const BuildOptions& options, const HandModel& hand) {
+  BuildParams p;
+  p.options = options;
+  if (options.sampler.kind == SamplerKind::kAntipodal)
+    p.options.sampler = detail::samplerOptionsFor(options, hand);
+  p.options.sampler.approach_axis = hand.approachAxis();
+  GraspSimOptions& s = p.options.simulation;
+  if (!s.grasp_mode) s.grasp_mode = hand.graspMode();
+  if (*s.grasp_mode == GraspMode::kFingertip)
+    s.standoff = resolveStandoff(hand, options.simulation);
+  return buildParamsFromJson(buildParamsJson(p));  // what a map of this build reads back
+}
+
+namespace detail {
+
+std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
+  BuildParams p;
+  p.options = o;
+  if (o.sampler.kind == SamplerKind::kAntipodal) p.options.sampler = samplerOptionsFor(o, hand);
+  p.options.sampler.approach_axis = hand.approachAxis();
+  GraspSimOptions& s = p.options.simulation;
+  if (!s.grasp_mode) s.grasp_mode = hand.graspMode();
+  if (*s.grasp_mode == GraspMode::kFingertip) s.standoff = resolveStandoff(hand, o.simulation);
+  return buildParamsJson(p);
+}
+
+}  // namespace detail
+}  // namespace taskmap

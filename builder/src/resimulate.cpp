@@ -1,0 +1,119 @@
+// A palm pose re-simulated by grasp_sim: the map's hand and object, its recorded simulation and
+// quality options (build_params.hpp), one trial, scored with the map's centre of mass.
+#include "taskmap/builder/resimulate.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+#include "taskmap/builder/build_params.hpp"
+#include "taskmap/core/data_dir.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/quality/grasp_quality.hpp"
+#include "taskmap/validate/hold_test.hpp"
+#include "taskmap/validate/validate_map.hpp"
+
+namespace taskmap {
+namespace {
+
+/// Does the URDF at path hold the map's hand (same SHA-256)?
+bool matchesHand(const std::string& path, const std::string& sha256) {
+  if (path.empty() || !std::filesystem::is_regular_file(path)) return false;
+  try {
+    return HandModel::load(path).urdfSha256() == sha256;
+  } catch (const Error&) {
+    return false;
+  }
+}
+
+QualityOptions qualityOptions(const TaskMapData& map, const BuildParams& params) {
+  QualityOptions o = params.options.quality;
+  o.friction = map.quality.friction;
+  o.cone_edges = map.quality.cone_edges;
+  o.contact_model = contactModelFromString(map.quality.contact_model);
+  o.volume = VolumeMode::kNever;
+  o.validate();
+  return o;
+}
+
+TriangleMesh objectMesh(const MapObject& object) {
+  TriangleMesh mesh;
+  const auto& v = object.vertices;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) mesh.vertices.emplace_back(v(i, 0), v(i, 1), v(i, 2));
+  const auto& f = object.faces;
+  for (Eigen::Index i = 0; i < f.rows(); ++i)
+    mesh.faces.emplace_back(static_cast<int>(f(i, 0)), static_cast<int>(f(i, 1)),
+                            static_cast<int>(f(i, 2)));
+  return mesh;
+}
+
+}  // namespace
+
+std::string mapHandUrdf(const TaskMapData& map) {
+  std::string recorded;
+  try {
+    recorded = buildParamsFromJson(map.sampling.params_json).hand;
+  } catch (const Error&) {
+    // Parameters of the wrong types (a hand-made map): look for the hand by content.
+  }
+  if (matchesHand(recorded, map.hand.urdf_sha256)) return recorded;
+  // A map built elsewhere (another checkout, the install tree): the bundled hand with that content.
+  const std::filesystem::path hands = std::filesystem::path(dataDir()) / "hands";
+  std::error_code ec;
+  std::vector<std::string> candidates;
+  for (const auto& entry : std::filesystem::directory_iterator(hands, ec)) {
+    const std::string name = entry.path().filename().string();
+    candidates.push_back((entry.path() / (name + ".urdf")).string());
+  }
+  std::sort(candidates.begin(), candidates.end());
+  for (const std::string& urdf : candidates)
+    if (matchesHand(urdf, map.hand.urdf_sha256)) return urdf;
+  throw Error("cannot re-simulate: the map's hand '" + map.hand.name + "' (URDF SHA-256 " +
+              map.hand.urdf_sha256.substr(0, 12) + "...) is neither at the recorded path '" +
+              recorded + "' nor a bundled hand under " + hands.string() + "; pass --no-resimulate");
+}
+
+Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object) {
+  const BuildParams params = buildParamsFromJson(map.sampling.params_json);
+  Resimulation r;
+  r.hand_urdf = mapHandUrdf(map);
+  r.start = palm_in_object;
+  const HandModel hand = HandModel::load(r.hand_urdf);
+  MeshLoadOptions load;
+  load.repair = false;  // the map's mesh is the (already repaired) solid the grasps were made on
+  const ObjectModel object = ObjectModel::fromMesh(objectMesh(map.object), map.object.name, load);
+  GraspSimOptions simulation = params.options.simulation;
+  simulation.validate();
+  const GraspSimulator simulator(object, hand, simulation);
+  const GraspResult g = simulator.simulate(palm_in_object);
+  r.outcome = toString(g.status);
+  r.message = g.message;
+  r.final_pose = g.pose;
+  r.joints = g.joints;
+  r.fingers = g.fingers_in_contact;
+  r.retraction_m = g.stats.retraction;
+  r.contacts = static_cast<int>(g.contacts.size());
+  if (g.status != GraspStatus::kOk) return r;
+  const QualityResult q = evaluateGrasp(g.contacts, map.object.center_of_mass,
+                                        map.object.torque_scale, qualityOptions(map, params));
+  r.force_closure = q.force_closure;
+  r.epsilon = q.epsilon;
+  return r;
+}
+
+void holdTestResimulated(const TaskMapData& map, Resimulation* r) {
+  if (r->outcome != "ok") return;
+  const HoldTester tester(HandModel::load(r->hand_urdf), mapObjectModel(map));
+  const HoldResult h = tester.test(r->final_pose, r->joints);
+  ResimulatedHold out;
+  out.holds = h.holds;
+  out.status = holdStatusName(h.status);
+  out.max_translation = h.max_translation;
+  out.max_rotation = h.max_rotation;
+  if (h.failed_direction >= 0)
+    out.failed_direction = pushDirectionNames()[static_cast<std::size_t>(h.failed_direction)];
+  r->hold = out;
+}
+
+}  // namespace taskmap

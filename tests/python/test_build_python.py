@@ -1,0 +1,128 @@
+"""taskmap.build and taskmap.dataset (python/src/builder_bindings.cpp): the same map bytes and
+manifest as `taskmap build` / `taskmap dataset` with the same options; progress callbacks;
+Ctrl-C (SIGINT to a Python process building a map) raises KeyboardInterrupt and writes nothing;
+an exception from the callback stops the build and reaches the caller; option errors."""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import textwrap
+import unittest
+
+import taskmap
+from test_map_schema import write_box_obj
+
+CLI = os.environ.get("TASKMAP_CLI", "taskmap")
+
+# A child that builds a long map, says "started" from its first progress report, and reports
+# what Ctrl-C did.
+CHILD = textwrap.dedent("""
+    import json, os, sys
+    import taskmap
+    obj, out = sys.argv[1], sys.argv[2]
+    started = []
+    def progress(p):
+        if not started:
+            started.append(1)
+            print("started", flush=True)
+    try:
+        taskmap.build(object=obj, hand="panda", output=out, valid=1000000, trials=100000000,
+                      threads=2, progress=progress)
+        result = "finished"
+    except KeyboardInterrupt:
+        result = "KeyboardInterrupt"
+    print(json.dumps({"result": result, "exists": os.path.exists(out)}), flush=True)
+""")
+
+
+class BuildPythonTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="taskmap_pybuild_")
+        cls.obj = os.path.join(cls.tmp, "box.obj")
+        write_box_obj(cls.obj)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def path(self, name):
+        return os.path.join(self.tmp, name)
+
+    def bytes_of(self, name):
+        with open(self.path(name), "rb") as f:
+            return f.read()
+
+    def test_same_map_bytes_as_the_cli(self):
+        knobs = ["--valid", "12", "--seed", "7", "--sampler", "surface", "--friction", "0.6"]
+        subprocess.run([CLI, "build", "--object", self.obj, "--hand", "panda", "-q", "-o",
+                        self.path("cli.h5")] + knobs, check=True)
+        reports = []
+        m = taskmap.build(object=self.obj, hand="panda", output=self.path("py.h5"), valid=12,
+                          seed=7, sampler="surface", friction=0.6, threads=2,
+                          progress=reports.append)
+        self.assertEqual(self.bytes_of("py.h5"), self.bytes_of("cli.h5"))
+        self.assertEqual(len(m), len(taskmap.load(self.path("cli.h5"))))
+        self.assertGreaterEqual(len(reports), 1)
+        self.assertEqual(reports[-1]["valid_target"], 12)
+        self.assertLessEqual(reports[-1]["trials_done"], reports[-1]["max_trials"])
+
+    def test_same_data_set_as_the_cli(self):
+        objects = self.path("objects.txt")
+        with open(objects, "w") as f:
+            f.write("box.obj\nmissing.obj\n")
+        subprocess.run([CLI, "dataset", "--objects", objects, "--hands", "panda,barrett",
+                        "--valid", "3", "--trials", "4000", "-q", "-o", self.path("ds_cli")])
+        jobs = []
+        r = taskmap.dataset(objects=objects, hands=["panda", "barrett"],
+                            output=self.path("ds_py"), valid=3, trials=4000,
+                            progress=jobs.append)
+        self.assertEqual((r["jobs"], r["skipped"], r["failed"]), (4, 0, 2))
+        self.assertEqual(sorted(os.listdir(self.path("ds_py"))),
+                         sorted(os.listdir(self.path("ds_cli"))))
+        for name in ["manifest.json", "box__panda.h5", "box__barrett.h5"]:
+            self.assertEqual(self.bytes_of(os.path.join("ds_py", name)),
+                             self.bytes_of(os.path.join("ds_cli", name)), name)
+        self.assertEqual([j["done"] for j in jobs], [1, 2, 3, 4])
+        self.assertEqual(sorted(j["entry"]["status"] for j in jobs),
+                         ["complete", "complete", "failed", "failed"])
+        again = taskmap.dataset(objects=objects, hands=["panda", "barrett"],
+                                output=self.path("ds_py"), valid=3, trials=4000)
+        self.assertEqual(again["skipped"], 2)
+
+    def test_ctrl_c_raises_keyboard_interrupt_and_writes_nothing(self):
+        out = self.path("sigint.h5")
+        proc = subprocess.Popen([sys.executable, "-c", CHILD, self.obj, out],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.assertEqual(proc.stdout.readline().strip(), "started")
+        proc.send_signal(signal.SIGINT)
+        stdout, stderr = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 0, stderr)
+        self.assertEqual(json.loads(stdout), {"result": "KeyboardInterrupt", "exists": False})
+        self.assertEqual([n for n in os.listdir(self.tmp) if n.startswith("sigint")], [])
+
+    def test_an_exception_from_the_callback_stops_the_build(self):
+        def fail(report):
+            raise RuntimeError("stop here")
+        with self.assertRaisesRegex(RuntimeError, "stop here"):
+            taskmap.build(object=self.obj, hand="panda", output=self.path("cb.h5"),
+                          valid=1000000, trials=100000000, threads=2, progress=fail)
+        self.assertFalse(os.path.exists(self.path("cb.h5")))
+
+    def test_errors_name_the_option(self):
+        with self.assertRaisesRegex(taskmap.Error, "keep_holding needs validate"):
+            taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"),
+                          keep_holding=True)
+        with self.assertRaisesRegex(taskmap.Error, "did you mean 'panda'"):
+            taskmap.build(object=self.obj, hand="pandaa", output=self.path("e.h5"))
+        with self.assertRaisesRegex(taskmap.Error, "does not exist; create it first"):
+            taskmap.build(object=self.obj, hand="panda", output="/nonexistent/dir/m.h5")
+        with self.assertRaises(TypeError):  # keyword arguments only, named as the CLI's
+            taskmap.build(self.obj, "panda", self.path("e.h5"))
+
+
+if __name__ == "__main__":
+    unittest.main()
