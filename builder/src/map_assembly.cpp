@@ -206,6 +206,9 @@ std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   j["contact_model"] = toString(o.quality.contact_model);
   j["torsional_friction"] = o.quality.torsional_friction;
   j["wrench_norm"] = o.quality.norm == WrenchNorm::kL1 ? "l1" : "linf";
+  j["volume"] = toString(o.quality.volume);  // which stored grasps have /grasps/volume
+  // Absent: every pressing contact (maps of earlier builds keep their params).
+  if (o.quality.contacts_per_link > 0) j["contacts_per_link"] = o.quality.contacts_per_link;
   if (o.hold_filter.enabled) {  // absent: no filter (maps of earlier builds stay the same bytes)
     j["hold_filter"] = "squeeze_balance";
     const HoldFilterOptions& h = o.hold_filter;
