@@ -52,8 +52,9 @@ struct WrenchEpsilon {
 /// Whether the origin lies farther than kClosurePretestMiss x scale outside the convex hull of
 /// the columns of `wrenches` (scale: the largest column norm, > 0). Non-negative least squares
 /// (Lawson-Hanson) on min |W l / scale|^2 + (sum l - 1)^2 over l >= 0: 0 when the origin is in
-/// the hull, and at least d^2 / (1 + d^2) when it is at distance d (relative) outside, so a
-/// residual above the threshold proves the origin outside: not force closure.
+/// the hull; at most d^2 (the hull's nearest point) and at least d^2 / (1 + d^2) when it is at
+/// relative distance d outside. So a residual above the threshold proves d above it: not force
+/// closure (docs/METHOD.md §4c).
 bool hullMissesOrigin(const WrenchMatrix& wrenches, double scale);
 
 /// Force closure and epsilon of the convex hull of the columns of `wrenches`.
