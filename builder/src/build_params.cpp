@@ -54,6 +54,13 @@ void fromJson(const json& v, const std::string& key, ContactModel& out) {
     wrongValue(key, std::string("is not a contact model: ") + e.what());
   }
 }
+void fromJson(const json& v, const std::string& key, VolumeMode& out) {
+  try {
+    out = volumeModeFromString(nameOf(v, key));
+  } catch (const Error& e) {
+    wrongValue(key, std::string("is not a volume mode: ") + e.what());
+  }
+}
 void fromJson(const json& v, const std::string& key, Linkage& out) {
   try {
     out = linkageFromString(nameOf(v, key));
@@ -195,6 +202,10 @@ void visitParams(Io& io, P& p) {
   io("contact_model", o.quality.contact_model);
   io("torsional_friction", o.quality.torsional_friction);
   io("wrench_norm", o.quality.norm);
+  io("volume", o.quality.volume);  // which stored grasps have /grasps/volume
+  // Absent: every pressing contact (maps of earlier builds keep their params).
+  if (!Io::kWriting || o.quality.contacts_per_link > 0)
+    io("contacts_per_link", o.quality.contacts_per_link);
   visitHoldFilter(io, p);
   auto& s = o.simulation;
   io("contact_tolerance", s.contact_tolerance);

@@ -44,6 +44,12 @@ void BuildOptions::validate() const {
   }
 }
 
+QualityOptions buildQualityDefaults() {
+  QualityOptions o;
+  o.volume = VolumeMode::kNever;
+  return o;
+}
+
 const char* toString(BuildStatus status) {
   switch (status) {
     case BuildStatus::kComplete:

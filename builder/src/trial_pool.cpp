@@ -55,8 +55,26 @@ void Worker::run() {
       if ((stop != nullptr && stop->load()) || scheduler.aborted()) return;
       simulated.push_back(simulateTrial(i));
     }
-    for (GraspResult& g : simulated) block->trials.push_back(scoreTrial(std::move(g)));
+    scoreBlock(b, simulated, *block);
     scheduler.finish(b, std::move(block));
+  }
+}
+
+// Scores the block's trials in order. When every earlier block has finished, the trials past
+// the one that completes valid_target force-closure grasps are not scored: the build stores
+// none of them (takePrefix stops at that trial), so they keep their simulation status only.
+void Worker::scoreBlock(std::uint64_t b, std::vector<GraspResult>& simulated, TrialBlock& block) {
+  std::uint64_t valid = 0;
+  const bool known = scheduler.validBefore(b, &valid);
+  for (GraspResult& g : simulated) {
+    if (known && valid >= scheduler.validTarget()) {
+      TrialOutcome t;
+      t.status = g.status;
+      block.trials.push_back(std::move(t));
+      continue;
+    }
+    block.trials.push_back(scoreTrial(std::move(g)));
+    valid += block.trials.back().force_closure ? 1 : 0;
   }
 }
 
@@ -75,6 +93,7 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
   TrialOutcome t;
   t.status = g.status;
   if (g.status != GraspStatus::kOk) return t;
+  ++times.scored;
   const double t0 = threadCpuSeconds();
   if (options.hold_filter.enabled && !holds(g)) {
     t.unbalanced = true;
@@ -171,6 +190,7 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
     timing.simulation_seconds += w.times.simulation;
     timing.quality_seconds += w.times.quality;
     timing.trials_simulated += w.times.trials;
+    timing.grasps_scored += w.times.scored;
   }
 }
 

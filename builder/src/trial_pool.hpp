@@ -40,6 +40,7 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
 struct StageTimes {
   double sampling = 0.0, simulation = 0.0, quality = 0.0;
   std::uint64_t trials = 0;
+  std::uint64_t scored = 0;  ///< ok grasps scored
 };
 
 // Shared state of one run of the pool over the trials [first, last): blocks of block_size
@@ -89,6 +90,16 @@ class Scheduler {
     if (prefix_valid_ >= valid_target_ || prefix_ == count_) done_.store(true);
   }
 
+  // When every block before b has finished (b is the first unfinished one): true, and *valid =
+  // the force-closure grasps in them. Else false (the count is not known yet).
+  bool validBefore(std::uint64_t b, std::uint64_t* valid) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (prefix_ != b) return false;
+    *valid = prefix_valid_;
+    return true;
+  }
+  std::uint64_t validTarget() const { return valid_target_; }
+
   bool done() const { return done_.load(); }
   // A worker failed: remember the first exception and stop every worker.
   void abort(std::exception_ptr error) {
@@ -137,6 +148,8 @@ struct Worker {
   StageTimes times;
 
   void run();
+  /// Scores the simulated trials of block b into `block` (none past the valid target).
+  void scoreBlock(std::uint64_t b, std::vector<GraspResult>& simulated, TrialBlock& block);
   /// Samples and simulates trial `index`.
   GraspResult simulateTrial(std::uint64_t index);
   /// Scores a simulated trial (the quality of an ok grasp) into its outcome.

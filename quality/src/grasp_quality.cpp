@@ -31,6 +31,7 @@
 
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/quality/contact_reduction.hpp"
 #include "taskmap/quality/wrench_epsilon.hpp"
 
 namespace taskmap {
@@ -47,6 +48,7 @@ constexpr long long kMaxLInfWrenches = 1LL << 21;
 void scoreWrenches(const WrenchMatrix& w, const QualityOptions& options, QualityResult& result) {
   WrenchEpsilonOptions eo;
   eo.volume = options.volume;
+  eo.closure_pretest = options.closure_pretest;
   const WrenchEpsilon e = wrenchEpsilon(w, eo);
   result.status = e.status;
   result.message = e.message;
@@ -150,6 +152,10 @@ void QualityOptions::validate() const {
   if (norm != WrenchNorm::kL1 && norm != WrenchNorm::kLInf) {
     throw Error("QualityOptions.norm is not a known WrenchNorm value");
   }
+  if (contacts_per_link < 0 || contacts_per_link > 1024) {
+    throw Error("QualityOptions.contacts_per_link must be in [0, 1024] (0 = every contact), got " +
+                std::to_string(contacts_per_link));
+  }
   if (max_linf_contacts < 1 || max_linf_contacts > 12) {
     throw Error("QualityOptions.max_linf_contacts must be in [1, 12], got " +
                 std::to_string(max_linf_contacts));
@@ -188,6 +194,25 @@ ContactModel contactModelFromString(const std::string& name) {
   throw Error("unknown contact model '" + name + "'; use 'point_with_friction' or 'soft_finger'");
 }
 
+const char* toString(VolumeMode mode) {
+  switch (mode) {
+    case VolumeMode::kForceClosure:
+      return "force_closure";
+    case VolumeMode::kAlways:
+      return "always";
+    case VolumeMode::kNever:
+      return "never";
+  }
+  return "unknown";
+}
+
+VolumeMode volumeModeFromString(const std::string& name) {
+  if (name == "force_closure") return VolumeMode::kForceClosure;
+  if (name == "always") return VolumeMode::kAlways;
+  if (name == "never") return VolumeMode::kNever;
+  throw Error("unknown volume mode '" + name + "'; use 'never', 'force_closure' or 'always'");
+}
+
 WrenchMatrix contactWrenches(const std::vector<Contact>& contacts,
                              const Eigen::Vector3d& center_of_mass, double torque_scale,
                              const QualityOptions& options) {
@@ -220,7 +245,11 @@ QualityResult evaluateGrasp(const std::vector<Contact>& contacts,
     result.message = problem;
     return result;
   }
-  const WrenchMatrix edges = contactWrenches(contacts, center_of_mass, torque_scale, options);
+  const WrenchMatrix edges =
+      options.contacts_per_link > 0
+          ? contactWrenches(reduceContactsPerLink(contacts, options.contacts_per_link),
+                            center_of_mass, torque_scale, options)
+          : contactWrenches(contacts, center_of_mass, torque_scale, options);
   const int e = edgesPerContact(options);
   const Eigen::Index used = edges.cols() / e;
   result.contacts_used = static_cast<int>(used);

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "incremental_hull.hpp"
+#include "taskmap/quality/squeeze_balance.hpp"
 
 namespace taskmap {
 namespace {
@@ -40,10 +41,26 @@ bool wantsVolume(VolumeMode mode, bool force_closure) {
 
 }  // namespace
 
+bool hullMissesOrigin(const WrenchMatrix& wrenches, double scale) {
+  Eigen::MatrixXd a(7, wrenches.cols());
+  a.topRows(6) = wrenches / scale;
+  a.row(6).setOnes();
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(7);
+  b(6) = 1.0;
+  double residual = 0.0;
+  nonNegativeLeastSquares(a, b, &residual);
+  return residual > kClosurePretestMiss;
+}
+
 WrenchEpsilon wrenchEpsilon(const WrenchMatrix& wrenches, const WrenchEpsilonOptions& options) {
   WrenchEpsilon out;
   out.status = screenWrenches(wrenches, options.check_rank, out.scale, out.message);
   if (out.status != QualityStatus::kOk) return out;
+  if (options.closure_pretest && !wantsVolume(options.volume, false) &&
+      hullMissesOrigin(wrenches, out.scale)) {
+    out.pretest_rejected = true;  // not force closure, epsilon and volume 0
+    return out;
+  }
 
   // One hull per thread, reused: its buffers keep their capacity between grasps.
   thread_local detail::IncrementalHull hull;

@@ -154,7 +154,10 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(eps.shape, (n,))
             self.assertTrue((eps > 0).all())
             self.assertEqual(g["volume"].shape, (n,))
-            self.assertTrue((g["volume"][()] > 0).all())
+            # Not computed by default (docs/METHOD.md 4c): 0, and the params say so.
+            self.assertTrue((g["volume"][()] == 0).all())
+            params = json.loads(f["sampling"].attrs["params_json"])
+            self.assertEqual(params["volume"], "never")
             off = g["contact_offsets"][()]
             self.assertEqual(off.dtype, np.int64)
             self.assertEqual(off.shape, (n + 1,))
@@ -237,6 +240,19 @@ class MapSchemaTest(unittest.TestCase):
                 np.testing.assert_array_equal(d1[name], d2[name], err_msg=name)
                 np.testing.assert_array_equal(d1[name], d8[name], err_msg=name)
             self.assertEqual(f1["sampling"].attrs["trials"], f8["sampling"].attrs["trials"])
+
+    def test_volume_on_request_leaves_the_grasps_alone(self):
+        out = os.path.join(self.tmp, "with_volume.h5")
+        build(out, self.obj, "--threads", "2", "--volume", "force_closure")
+        with h5py.File(out, "r") as f, h5py.File(self.map, "r") as g:
+            self.assertTrue((f["grasps/volume"][()] > 0).all())
+            np.testing.assert_array_equal(f["grasps/pose"][()], g["grasps/pose"][()])
+            np.testing.assert_array_equal(f["grasps/epsilon"][()], g["grasps/epsilon"][()])
+            params = json.loads(f["sampling"].attrs["params_json"])
+            self.assertEqual(params["volume"], "force_closure")
+        proc = build(out, self.obj, "--volume", "sometimes", check=False)
+        self.assertNotEqual(proc.returncode, 0)
+        self.assertIn("--volume", proc.stderr)
 
     def test_no_cluster_and_keep_invalid(self):
         out = os.path.join(self.tmp, "all.h5")

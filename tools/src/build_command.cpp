@@ -74,6 +74,18 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   cmd->add_option("--cone-edges", args.cone_edges, "friction cone edges")
       ->check(CLI::Range(3, 64))
       ->capture_default_str();
+  cmd->add_option("--volume", args.volume,
+                  "wrench-space volume of the stored grasps: never (force closure and epsilon "
+                  "only; the volume needs the whole 6-D hull, most of the quality time on fine "
+                  "meshes), force_closure (every stored grasp: the builds before issue 33), "
+                  "always")
+      ->check(CLI::IsMember({"never", "force_closure", "always"}))
+      ->capture_default_str();
+  cmd->add_option("--contacts-per-link", args.contacts_per_link,
+                  "reduce each link's contacts to at most this many representatives before the "
+                  "wrench hull (docs/METHOD.md 4; changes force-closure verdicts), 0 = all")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   cmd->add_option("--grasp", args.grasp,
                   "palm: the approach stops when the palm touches, the palm is pressed "
                   "(power grasps); fingertip: it stops at the first contact or when the palm "
@@ -119,6 +131,8 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.threads = args.threads;
   options.quality.friction = args.friction;
   options.quality.cone_edges = args.cone_edges;
+  options.quality.volume = volumeModeFromString(args.volume);
+  options.quality.contacts_per_link = args.contacts_per_link;
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
   options.hold_filter.enabled = args.hold_filter;

@@ -25,9 +25,12 @@ struct BuildArgs {
   int threads = 0;
   double friction = 0.5;
   int cone_edges = 8;
-  std::string grasp;       ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
-  double standoff = -1.0;  ///< metres; negative = the hand sidecar's
-  MeshRepairArgs repair;   ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
+  std::string volume = "never";  ///< which stored grasps get the wrench-space volume
+
+  int contacts_per_link = 0;  ///< per-link contact reduction before the hull (0 = none)
+  std::string grasp;          ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
+  double standoff = -1.0;     ///< metres; negative = the hand sidecar's
+  MeshRepairArgs repair;      ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
   bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
   bool timestamp = false;     ///< store the current time as created_utc
   bool allow_size = false;    ///< build an object whose size is implausible for the hand

@@ -95,6 +95,58 @@ TEST(MapBuilderTest, MatchesSequentialOracle) {
   EXPECT_GT(r.timing.simulation_seconds, 0.0);
 }
 
+TEST(MapBuilderTest, VolumeIsOptionalAndLeavesTheGraspsAsTheyWere) {
+  // Default (buildQualityDefaults): force closure and epsilon only, volume 0, params say so.
+  const BuildResult lean = buildMap(box(), panda(), smallBuild(2));
+  ASSERT_EQ(lean.status, BuildStatus::kComplete) << lean.message;
+  EXPECT_EQ(BuildOptions().quality.volume, VolumeMode::kNever);
+  for (double v : lean.map.grasps.volume) EXPECT_EQ(v, 0.0);
+  EXPECT_NE(lean.map.sampling.params_json.find("\"volume\":\"never\""), std::string::npos);
+  // The previous build (volume of every stored grasp): the same trials, grasps and epsilons.
+  BuildOptions o = smallBuild(2);
+  o.quality.volume = VolumeMode::kForceClosure;
+  const BuildResult full = buildMap(box(), panda(), o);
+  ASSERT_EQ(full.map.grasps.size(), lean.map.grasps.size());
+  EXPECT_EQ(full.map.sampling.trials, lean.map.sampling.trials);
+  EXPECT_EQ(full.map.sampling.outcomes, lean.map.sampling.outcomes);
+  EXPECT_EQ(full.map.grasps.pose, lean.map.grasps.pose);
+  EXPECT_EQ(full.map.grasps.epsilon, lean.map.grasps.epsilon);
+  for (double v : full.map.grasps.volume) EXPECT_GT(v, 0.0);
+  EXPECT_NE(full.map.sampling.params_json.find("\"volume\":\"force_closure\""), std::string::npos);
+}
+
+TEST(MapBuilderTest, ContactReductionIsRecordedAndDeterministic) {
+  BuildOptions o = smallBuild(1);
+  o.quality.contacts_per_link = 2;
+  const BuildResult one = buildMap(box(), panda(), o);
+  ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
+  EXPECT_NE(one.map.sampling.params_json.find("\"contacts_per_link\":2"), std::string::npos);
+  o.threads = 2;
+  testing::expectSameMapContent(one.map, buildMap(box(), panda(), o).map);
+  // Absent from the params when every contact enters the hull.
+  EXPECT_EQ(
+      buildMap(box(), panda(), smallBuild(1)).map.sampling.params_json.find("contacts_per_link"),
+      std::string::npos);
+}
+
+TEST(MapBuilderTest, TrialsPastTheTargetAreNotScored) {
+  // One thread, one block of every trial: the ok grasps past the trial that completes the
+  // valid target are simulated but never scored, and the map is the one of blocks of one trial.
+  BuildOptions big = smallBuild(1), single = smallBuild(1);
+  big.block_size = 3000;
+  single.block_size = 1;
+  const BuildResult a = buildMap(box(), panda(), big);
+  const BuildResult b = buildMap(box(), panda(), single);
+  ASSERT_EQ(a.status, BuildStatus::kComplete) << a.message;
+  testing::expectSameMapContent(a.map, b.map);
+  EXPECT_EQ(a.timing.trials_simulated, 3000u);  // the block was simulated whole
+  const auto& out = a.map.sampling.outcomes;
+  const std::uint64_t ok_to_target =
+      out.at("force_closure") + (out.count("not_force_closure") ? out.at("not_force_closure") : 0);
+  EXPECT_EQ(a.timing.grasps_scored, ok_to_target);
+  EXPECT_EQ(b.timing.grasps_scored, ok_to_target);
+}
+
 TEST(MapBuilderTest, KeepInvalidStoresEveryCompletedTrial) {
   BuildOptions o = smallBuild(2);
   o.keep_invalid = true;

@@ -31,10 +31,19 @@ namespace taskmap {
 /// 100 us a trial); larger numbers are typing errors or wrapped negatives.
 constexpr std::uint64_t kMaxBuildCount = 1000000000000000ULL;
 
+/// The quality options of a build by default: QualityOptions' defaults with volume
+/// VolumeMode::kNever (force closure and epsilon exactly as before; /grasps/volume 0 and
+/// params "volume": "never"; docs/PERFORMANCE.md, "The quality stage").
+QualityOptions buildQualityDefaults();
+
 struct BuildOptions {
   SamplerOptions sampler;      ///< sampler kind and standoff (approach_axis is overridden)
   GraspSimOptions simulation;  ///< simulator knobs
-  QualityOptions quality;      ///< friction, cone edges, contact model
+  /// Friction, cone edges, contact model; by default a build computes force closure and
+  /// epsilon only (buildQualityDefaults: the wrench-space volume, which needs the whole 6-D hull,
+  /// took 90-99 % of the quality stage on fine meshes and nothing downstream reads it;
+  /// VolumeMode::kForceClosure stores it as before).
+  QualityOptions quality = buildQualityDefaults();
   /// The hold filter run before quality (off by default): grasps whose squeeze cannot hold the
   /// free object are not stored (outcome `unbalanced`); hold_filter.hpp, docs/METHOD.md §4b.
   HoldFilterOptions hold_filter;
@@ -81,6 +90,9 @@ struct BuildTiming {
   double clustering_seconds = 0.0;  ///< clusterGrasps, wall seconds (one thread)
   double setup_seconds = 0.0;       ///< building sampler and simulator before the trials, wall
   std::uint64_t trials_simulated = 0;  ///< trials actually run, including discarded ones
+  /// Simulated grasps (status ok) whose quality was computed: none past the trial that
+  /// completes the valid target once every earlier block has finished
+  std::uint64_t grasps_scored = 0;
 };
 
 /// Progress report, delivered on the calling thread about every progress_interval.
