@@ -22,7 +22,9 @@ const std::string kMap = std::string(TASKMAP_SOURCE_DIR) + "/meshes/maps/basket_
 class ReachResimulate : public ::testing::Test {
  protected:
   void SetUp() override {
-    ::setenv("TASKMAP_DATA_DIR", (std::string(TASKMAP_BINARY_DIR) + "/share/taskmap").c_str(), 1);
+    // The source tree's meshes/ has the layout of share/taskmap (hands/, maps/); the build's
+    // share/taskmap exists only when the tools are built (not in the sanitizer build).
+    ::setenv("TASKMAP_DATA_DIR", (std::string(TASKMAP_SOURCE_DIR) + "/meshes").c_str(), 1);
   }
 };
 
