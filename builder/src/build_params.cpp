@@ -76,6 +76,11 @@ void fromJson(const json& v, const std::string& key, std::optional<GraspMode>& o
   if (name != "palm" && name != "fingertip") wrongValue(key, "must be \"palm\" or \"fingertip\"");
   out = name == "fingertip" ? GraspMode::kFingertip : GraspMode::kPalm;
 }
+void fromJson(const json& v, const std::string& key, StoredGrasps& out) {
+  bool all = false;
+  fromJson(v, key, all);
+  out = all ? StoredGrasps::kAllCompleted : StoredGrasps::kForceClosure;
+}
 void fromJson(const json& v, const std::string& key, Eigen::Vector3d& out) {
   std::array<double, 3> a{};
   fromJson(v, key, a);
@@ -98,6 +103,9 @@ json toJson(const T& v) {
 }
 inline json toJson(const std::optional<GraspMode>& m) {
   return toString(m.value_or(GraspMode::kPalm));
+}
+inline json toJson(StoredGrasps s) {  // "keep_invalid": a bool, as before the enum
+  return s == StoredGrasps::kAllCompleted;
 }
 inline json toJson(const Eigen::Vector3d& a) {
   return {a.x(), a.y(), a.z()};
@@ -195,7 +203,7 @@ void visitParams(Io& io, P& p) {
   io("seed", o.seed);
   io("valid", o.valid_target);
   io("max_trials", o.max_trials);
-  io("keep_invalid", o.keep_invalid);
+  io("keep_invalid", o.stored);
   io("cluster", o.cluster);
   io("friction", o.quality.friction);
   io("cone_edges", o.quality.cone_edges);

@@ -2,6 +2,7 @@
 // lock, load, build, label, write.
 #include "taskmap/builder/map_file_build.hpp"
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <utility>
@@ -53,11 +54,14 @@ void checkGraspOptions(const BuildOptions& options, const HandModel& hand,
 
 std::optional<HoldLabels> labelHolds(HoldValidation validation, int threads,
                                      const ClusteringOptions& clustering, const HandModel& hand,
-                                     TaskMapData* map) {
+                                     const std::atomic<bool>* stop, TaskMapData* map) {
   if (validation == HoldValidation::kOff) return std::nullopt;
   ValidateOptions options;
   options.threads = threads;
-  const ValidationSummary s = validateMap(map, hand, options);
+  ValidateControl control;
+  control.stop = stop;
+  const ValidationSummary s = validateMap(map, hand, options, control);
+  if (s.status == ValidationSummary::Status::kInterrupted) return std::nullopt;
   HoldLabels labels;
   labels.tested = s.tested;
   labels.holding = s.holding;
@@ -114,7 +118,13 @@ FileBuildResult MapFileBuild::run(const BuildControl& control) {
   TaskMapData& map = r.build.map;
   if (request_.timestamp) map.created_utc = mapCreationTime(true);
   r.validation = labelHolds(request_.validation, plan_.options.threads, plan_.options.clustering,
-                            impl_->hand, &map);
+                            impl_->hand, control.stop, &map);
+  if (control.stopRequested()) {  // during the physics validation: nothing is written
+    r.build.status = BuildStatus::kInterrupted;
+    r.build.message = "interrupted during the physics validation; nothing written";
+    r.validation.reset();
+    return r;
+  }
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(request_.output, map);
   r.write_seconds =

@@ -98,7 +98,7 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
   if (options.hold_filter.enabled && !holds(g)) {
     t.unbalanced = true;
     times.quality += threadCpuSeconds() - t0;
-    if (options.keep_invalid)
+    if (options.stored == StoredGrasps::kAllCompleted)
       t.grasp = std::make_unique<TrialGrasp>(
           TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
     return t;
@@ -108,7 +108,7 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
   t.force_closure = q.force_closure;
   t.epsilon = q.epsilon;
   t.volume = q.volume;
-  if (t.force_closure || options.keep_invalid)
+  if (t.force_closure || options.stored == StoredGrasps::kAllCompleted)
     t.grasp = std::make_unique<TrialGrasp>(
         TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
   return t;

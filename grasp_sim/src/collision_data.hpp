@@ -78,8 +78,8 @@ struct ShapeEntry {
   bool is_box = false;
   Eigen::Vector3d half_extents = Eigen::Vector3d::Zero();
   /// Boxes and hulls on meshes whose boxes take culled queries (Data::culled_boxes), with
-  /// GraspSimOptions::separating_axis_contacts: CollisionScene::linkHits takes their penetration
-  /// depths and witnesses from separating axes instead of EPA (boxTrianglePenetration,
+  /// GraspSimDiagnostics::separating_axis_contacts: CollisionScene::linkHits takes their
+  /// penetration depths and witnesses from separating axes instead of EPA (boxTrianglePenetration,
   /// ShapePlanes::faceContact).
   bool sat_depths = false;
   // Culled queries: separating planes of the shape in its frame, max over the shape of
@@ -187,7 +187,7 @@ double queryShapeBullet(const CollisionScene::Data& d, const ShapeEntry& e,
 /// Same result bit for bit: Bullet's tree walked in its order with the shape's planes as node and
 /// triangle test, GJK only where the baseline's result depends on it. With `sat_depths`, shapes
 /// with ShapeEntry::sat_depths take their exact hits from boxTrianglePenetration instead (not bit
-/// for bit: see GraspSimOptions::separating_axis_contacts).
+/// for bit: see GraspSimDiagnostics::separating_axis_contacts).
 /// With `seen` (a link of one box): what its overlap walk saw (SeenTriangles).
 double queryLinkCulled(const CollisionScene::Data& d, const std::vector<ShapeEntry>& entries,
                        const Eigen::Isometry3d& t, double threshold, bool exact,

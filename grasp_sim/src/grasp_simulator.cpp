@@ -76,17 +76,19 @@ double resolveStandoff(const HandModel& hand, const GraspSimOptions& options) {
 
 struct GraspSimulator::Impl {
   SimModel model;
-  Impl(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o)
-      : model(mesh, h, o) {}
+  Impl(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o,
+       const GraspSimDiagnostics& d)
+      : model(mesh, h, o, d) {}
 };
 
-SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o)
-    : hand(h), opt(o) {
+SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o,
+                   const GraspSimDiagnostics& d)
+    : hand(h), opt(o), diag(d) {
   opt.validate();
   scene = std::make_unique<CollisionScene>(
-      mesh, hand, opt.culled_queries ? CollisionScene::Mode::kAuto : CollisionScene::Mode::kBullet,
-      opt.separating_axis_contacts);
-  lean_queries = opt.culled_queries;
+      mesh, hand, diag.culled_queries ? CollisionScene::Mode::kAuto : CollisionScene::Mode::kBullet,
+      diag.separating_axis_contacts);
+  lean_queries = diag.culled_queries;
   squeeze = opt.squeeze >= 0.0 ? opt.squeeze : hand.squeeze();
   const auto& links = hand.links();
   thickness.assign(links.size(), kInf);
@@ -179,12 +181,14 @@ GraspResult GraspSimulator::simulate(const Pose& initial_palm_pose) const {
 }
 
 GraspSimulator::GraspSimulator(const ObjectModel& object, const HandModel& hand,
-                               const GraspSimOptions& options)
-    : impl_(std::make_unique<Impl>(object.mesh(), hand, options)) {}
+                               const GraspSimOptions& options,
+                               const GraspSimDiagnostics& diagnostics)
+    : impl_(std::make_unique<Impl>(object.mesh(), hand, options, diagnostics)) {}
 
 GraspSimulator::GraspSimulator(const TriangleMesh& mesh, const HandModel& hand,
-                               const GraspSimOptions& options)
-    : impl_(std::make_unique<Impl>(mesh, hand, options)) {}
+                               const GraspSimOptions& options,
+                               const GraspSimDiagnostics& diagnostics)
+    : impl_(std::make_unique<Impl>(mesh, hand, options, diagnostics)) {}
 
 GraspSimulator::~GraspSimulator() = default;
 
@@ -193,6 +197,10 @@ const HandModel& GraspSimulator::hand() const {
 }
 const GraspSimOptions& GraspSimulator::options() const {
   return impl_->model.opt;
+}
+
+const GraspSimDiagnostics& GraspSimulator::diagnostics() const {
+  return impl_->model.diag;
 }
 
 }  // namespace taskmap

@@ -18,8 +18,9 @@ namespace taskmap {
 struct SimModel {
   HandModel hand;                         ///< the hand simulated
   GraspSimOptions opt;                    ///< validated options
+  GraspSimDiagnostics diag;               ///< baseline paths and profiling
   std::unique_ptr<CollisionScene> scene;  ///< object BVH and link shapes
-  /// opt.culled_queries: queries ask only what the trial uses (penetrating hits for contacts,
+  /// diag.culled_queries: queries ask only what the trial uses (penetrating hits for contacts,
   /// a yes/no for the squeeze limit); false runs the baseline's full exact queries.
   bool lean_queries = true;
   double squeeze = 0.0;           ///< squeeze distance in force, metres
@@ -39,7 +40,8 @@ struct SimModel {
   std::vector<std::vector<char>> group_moves;  ///< per group, per link: moved by the group
 
   /// Validates `o`, builds the scene and the tables. Throws Error on bad input.
-  SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o);
+  SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimOptions& o,
+           const GraspSimDiagnostics& d);
 
  private:
   void findCoupledGroups();

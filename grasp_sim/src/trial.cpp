@@ -37,7 +37,7 @@ constexpr double kPalmGapRange = 0.1;
 
 Trial::Trial(const SimModel& model, const Pose& initial)
     : m_(model), tol_(model.opt.contact_tolerance), st_(res_.stats) {
-  if (m_.opt.profile) t0_ = Clock::now();
+  if (m_.diag.profile) t0_ = Clock::now();
   palm_ = initial.toIsometry();
   p0_ = palm_.translation();
   a_ = (palm_.linear() * m_.hand.approachAxis()).normalized();
@@ -193,7 +193,7 @@ bool Trial::approachObject(double s_max, double* s) {
 bool Trial::placePalm() {
   if (m_.grasp_mode == GraspMode::kFingertip) {
     placeFingertips();
-    if (m_.opt.profile) st_.retract_seconds = lap();
+    if (m_.diag.profile) st_.retract_seconds = lap();
     return true;
   }
   bool palm_touch = false;
@@ -205,7 +205,7 @@ bool Trial::placePalm() {
       palm_gap = std::min(palm_gap, dist_[u]);
     }
   }
-  if (m_.opt.profile) st_.retract_seconds = lap();
+  if (m_.diag.profile) st_.retract_seconds = lap();
   if (!palm_touch && m_.opt.require_palm_contact) {
     finish(GraspStatus::kNoPalmContact,
            "a finger touches the object before the palm when the hand leaves it");
@@ -307,7 +307,7 @@ void Trial::collectContacts() {
     if (finger_touch[f]) res_.fingers_in_contact.push_back(m_.hand.fingerNames()[f]);
   self_ = m_.opt.check_self_collision && selfPenetrating();
   if (m_.grasp_mode == GraspMode::kFingertip) st_.palm_gap = palmGap(palm_, kPalmGapRange);
-  if (m_.opt.profile) st_.contacts_seconds = lap();
+  if (m_.diag.profile) st_.contacts_seconds = lap();
 }
 
 void Trial::judge() {

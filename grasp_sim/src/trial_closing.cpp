@@ -335,7 +335,7 @@ void Trial::squeeze() {
     limitSqueeze(q_contact);
     m_.hand.linkPoses(q_, &lp_);
   }
-  if (m_.opt.profile) st_.close_seconds = lap();
+  if (m_.diag.profile) st_.close_seconds = lap();
 }
 
 }  // namespace taskmap

@@ -5,6 +5,7 @@
 // (KeyboardInterrupt) stops the build cleanly: the workers finish their trial, nothing is
 // written, and the KeyboardInterrupt reaches the caller.
 #include "builder_bindings.hpp"
+#include "python_run.hpp"
 
 #include <pybind11/stl.h>
 
@@ -15,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "taskmap/builder/build_knobs.hpp"
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
 #include "taskmap/core/error.hpp"
@@ -24,45 +26,53 @@ namespace py = pybind11;
 namespace taskmap {
 namespace {
 
-/// The build knobs as named on the command line (`taskmap build --help`).
-struct Knobs {
-  std::string sampler = "mixed";
-  std::uint64_t valid = 1000, trials = 200000, seed = 1;
-  int threads = 0;
-  double friction = 0.5;
-  int cone_edges = 8;
-  std::string grasp;  // "", "palm", "fingertip"
-  std::optional<double> standoff;
-  bool allow_size = false, keep_invalid = false, no_cluster = false, validate = false,
-       keep_holding = false, hold_filter = false;
-};
-
-BuildOptions buildOptions(const Knobs& k) {
-  BuildOptions o;
-  o.sampler.kind = samplerKindFromString(k.sampler);
-  o.valid_target = k.valid;
-  o.max_trials = k.trials;
-  o.seed = k.seed;
-  o.threads = k.threads;
-  o.quality.friction = k.friction;
-  o.quality.cone_edges = k.cone_edges;
-  o.keep_invalid = k.keep_invalid;
-  o.cluster = !k.no_cluster;
-  o.hold_filter.enabled = k.hold_filter;
-  o.check_size = !k.allow_size;
-  if (!k.grasp.empty() && k.grasp != "palm" && k.grasp != "fingertip")
-    throw Error("grasp must be \"palm\" or \"fingertip\" (got \"" + k.grasp + "\")");
-  if (!k.grasp.empty())
-    o.simulation.grasp_mode = k.grasp == "palm" ? GraspMode::kPalm : GraspMode::kFingertip;
-  o.simulation.standoff = k.standoff.value_or(-1.0);
-  return o;
+/// The knobs of `kwargs` (named as visitBuildKnobs names them; None: the default). Raises
+/// TypeError for a name that is not a knob or a value of the wrong type.
+BuildKnobs knobsOf(const char* function, const py::kwargs& kwargs) {
+  BuildKnobs k;
+  for (const auto& item : kwargs) {
+    const std::string key = py::cast<std::string>(item.first);
+    const py::handle value = item.second;
+    bool found = false;
+    visitBuildKnobs(k, [&](const KnobInfo& info, auto& field) {
+      if (key != info.name) return;
+      found = true;
+      if (value.is_none()) return;
+      using T = std::decay_t<decltype(field)>;
+      if constexpr (std::is_same_v<T, bool>) {
+        if (!py::isinstance<py::bool_>(value))
+          throw py::type_error(std::string(function) + "(): " + key + " must be True or False");
+      }
+      try {
+        field = py::cast<T>(value);
+      } catch (const py::cast_error&) {
+        throw py::type_error(std::string(function) + "(): " + key + " must be " +
+                             (std::is_same_v<T, std::string> ? "a str"
+                              : std::is_floating_point_v<T>  ? "a number"
+                              : std::is_unsigned_v<T>        ? "a non-negative int"
+                                                             : "an int") +
+                             ", not " +
+                             py::str(value.get_type().attr("__name__")).cast<std::string>());
+      }
+    });
+    if (!found)
+      throw py::type_error(std::string(function) + "() got an unexpected keyword argument '" + key +
+                           "' (the knobs are those of `taskmap build`: see help(taskmap." +
+                           function + "))");
+  }
+  return k;
 }
 
-HoldValidation holdValidation(const Knobs& k) {
-  if (k.keep_holding && !k.validate)
-    throw Error("keep_holding needs validate (the hold labels decide what is kept)");
-  if (!k.validate) return HoldValidation::kOff;
-  return k.keep_holding ? HoldValidation::kKeepHolding : HoldValidation::kLabel;
+/// The knobs' part of a docstring: one line per knob with its default and help.
+std::string knobsDoc() {
+  std::string doc = "\n\nKnobs (keyword arguments, named as `taskmap build`'s options):\n";
+  BuildKnobs k;
+  visitBuildKnobs(k, [&doc](const KnobInfo& info, const auto& field) {
+    std::string d = py::repr(py::cast(field)).template cast<std::string>();
+    if (!info.capture_default) d = "None (the hand's)";
+    doc += std::string("  ") + info.name + " = " + d + ": " + info.help + "\n";
+  });
+  return doc;
 }
 
 MeshLoadOptions meshOptions(double scale, bool no_repair, const std::string& repair,
@@ -81,49 +91,6 @@ MeshLoadOptions meshOptions(double scale, bool no_repair, const std::string& rep
   return m;
 }
 
-/// The Python side of a run: the user's callback, the stop flag, and the first Python error
-/// (KeyboardInterrupt from a signal, or the callback's exception) kept until the GIL is back.
-class PythonRun {
- public:
-  explicit PythonRun(py::object callback) : callback_(std::move(callback)) {}
-  ~PythonRun() {
-    if (!error_) return;
-    py::gil_scoped_acquire acquire;
-    error_.reset();
-  }
-
-  const std::atomic<bool>* stop() const { return &stop_; }
-
-  /// Called with the GIL released: takes it, checks signals and, with a report maker, calls
-  /// back with its report.
-  template <class MakeReport>
-  void report(MakeReport&& make) {
-    if (stop_.load()) return;
-    py::gil_scoped_acquire acquire;
-    try {
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if constexpr (!std::is_same_v<std::decay_t<MakeReport>, std::nullptr_t>)
-        if (!callback_.is_none()) callback_(make());
-    } catch (py::error_already_set& e) {
-      error_.emplace(std::move(e));
-      stop_.store(true);
-    }
-  }
-
-  /// With the GIL held: raises the kept error, if any.
-  void raiseIfFailed() {
-    if (!error_) return;
-    py::error_already_set e = std::move(*error_);
-    error_.reset();
-    throw e;
-  }
-
- private:
-  py::object callback_;
-  std::atomic<bool> stop_{false};
-  std::optional<py::error_already_set> error_;
-};
-
 py::dict progressDict(const BuildProgress& p) {
   py::dict d;
   d["trials_done"] = p.trials_done;
@@ -135,17 +102,17 @@ py::dict progressDict(const BuildProgress& p) {
 }
 
 py::object buildMapFile(const std::string& object, const std::string& hand,
-                        const std::string& output, double scale, const Knobs& knobs, bool no_repair,
-                        const std::string& repair, double wrap_alpha, double wrap_offset,
-                        bool timestamp, bool force, py::object progress) {
+                        const std::string& output, double scale, const BuildKnobs& knobs,
+                        bool no_repair, const std::string& repair, double wrap_alpha,
+                        double wrap_offset, bool force, py::object progress) {
   FileBuildOptions o;
   o.object = object;
   o.hand = hand;
   o.output = output;
   o.mesh = meshOptions(scale, no_repair, repair, wrap_alpha, wrap_offset);
-  o.build = buildOptions(knobs);
-  o.validation = holdValidation(knobs);
-  o.timestamp = timestamp;
+  o.build = buildOptionsOf(knobs, KnobStyle::kPython);
+  o.validation = holdValidationOf(knobs, KnobStyle::kPython);
+  o.timestamp = knobs.timestamp;
   o.force = force;
   PythonRun run(std::move(progress));
   FileBuildResult r;
@@ -175,16 +142,15 @@ py::dict datasetDict(const DatasetResult& r) {
 }
 
 py::dict runDataset(const std::string& objects, const std::string& hands, const std::string& output,
-                    double scale, const Knobs& knobs, bool timestamp, bool force,
-                    py::object progress) {
+                    double scale, const BuildKnobs& knobs, bool force, py::object progress) {
   DatasetOptions o;
   o.objects = objects;
   o.hands = hands;
   o.output = output;
   o.scale = scale;
-  o.build = buildOptions(knobs);
-  o.validation = holdValidation(knobs);
-  o.timestamp = timestamp;
+  o.build = buildOptionsOf(knobs, KnobStyle::kPython);
+  o.validation = holdValidationOf(knobs, KnobStyle::kPython);
+  o.timestamp = knobs.timestamp;
   o.force = force;
   PythonRun run(std::move(progress));
   DatasetResult r;
@@ -214,78 +180,55 @@ py::dict runDataset(const std::string& objects, const std::string& hands, const 
 }  // namespace
 
 void bindBuilder(py::module_& m) {
-  m.def(
-      "build",
-      [](const std::string& object, const std::string& hand, const std::string& output,
-         double scale, const std::string& sampler, std::uint64_t valid, std::uint64_t trials,
-         std::uint64_t seed, int threads, double friction, int cone_edges, const std::string& grasp,
-         std::optional<double> standoff, bool allow_size, bool keep_invalid, bool no_cluster,
-         bool validate, bool keep_holding, bool hold_filter, bool no_repair,
-         const std::string& repair, double wrap_alpha, double wrap_offset, bool timestamp,
-         bool force, py::object progress) {
-        const Knobs k{sampler,      valid,      trials,   seed,         threads,
-                      friction,     cone_edges, grasp,    standoff,     allow_size,
-                      keep_invalid, no_cluster, validate, keep_holding, hold_filter};
-        return buildMapFile(object, hand, output, scale, k, no_repair, repair, wrap_alpha,
-                            wrap_offset, timestamp, force, std::move(progress));
-      },
-      py::kw_only(), py::arg("object"), py::arg("hand"), py::arg("output"), py::arg("scale") = 1.0,
-      py::arg("sampler") = "mixed", py::arg("valid") = 1000, py::arg("trials") = 200000,
-      py::arg("seed") = 1, py::arg("threads") = 0, py::arg("friction") = 0.5,
-      py::arg("cone_edges") = 8, py::arg("grasp") = "", py::arg("standoff") = py::none(),
-      py::arg("allow_size") = false, py::arg("keep_invalid") = false, py::arg("no_cluster") = false,
-      py::arg("validate") = false, py::arg("keep_holding") = false, py::arg("hold_filter") = false,
-      py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
-      py::arg("wrap_offset") = 0.0, py::arg("timestamp") = false, py::arg("force") = false,
-      py::arg("progress") = py::none(),
+  static const std::string build_doc =
       "Builds a task map as `taskmap build` does (the same options, the same map bytes for the "
       "same options: same seed same map for any thread count), writes it to `output` and "
       "returns it loaded (taskmap.load). object: mesh file, its coordinates times `scale` are "
       "metres in the object frame; hand: URDF (with its <stem>.hand.json sidecar) or a bundled "
-      "hand name ('barrett', 'panda', ...). sampler: 'volume', 'surface' or 'mixed'; valid: "
-      "stop after this many force-closure grasps; trials: trial budget; threads: 0 = all cores; "
-      "friction: Coulomb mu; cone_edges: friction-cone edges; grasp: 'palm', 'fingertip' or '' "
-      "(the hand's); standoff: fingertip grasps' palm-to-object distance in metres (None: the "
-      "hand's); validate / keep_holding: label (keep) grasps by the physics hold test; "
-      "hold_filter: the squeeze-balance filter; no_repair, repair='wrap', wrap_alpha, "
-      "wrap_offset (metres): mesh repair; timestamp: store the current time; force: replace an "
-      "output that is not a task map. progress(dict) is called about every 0.25 s with "
-      "trials_done, valid_found, valid_target, max_trials, elapsed_seconds. Ctrl-C raises "
-      "KeyboardInterrupt and writes nothing; so does an exception from `progress` (raised "
-      "here). Errors in input raise taskmap.Error naming the file or option.");
+      "hand name ('barrett', 'panda', ...); no_repair, repair='wrap', wrap_alpha, wrap_offset "
+      "(metres): mesh repair; force: replace an output that is not a task map. progress(dict) "
+      "is called about every 0.25 s with trials_done, valid_found, valid_target, max_trials, "
+      "elapsed_seconds. Ctrl-C raises KeyboardInterrupt and writes nothing; so does an "
+      "exception from `progress` (raised here). Errors in input raise taskmap.Error naming the "
+      "file or option; a keyword that is not a knob raises TypeError." +
+      knobsDoc();
   m.def(
-      "dataset",
-      [](const std::string& objects, const std::vector<std::string>& hands,
-         const std::string& output, double scale, const std::string& sampler, std::uint64_t valid,
-         std::uint64_t trials, std::uint64_t seed, int threads, double friction, int cone_edges,
-         const std::string& grasp, std::optional<double> standoff, bool allow_size,
-         bool keep_invalid, bool no_cluster, bool validate, bool keep_holding, bool hold_filter,
-         bool timestamp, bool force, py::object progress) {
-        const Knobs k{sampler,      valid,      trials,   seed,         threads,
-                      friction,     cone_edges, grasp,    standoff,     allow_size,
-                      keep_invalid, no_cluster, validate, keep_holding, hold_filter};
-        std::string joined;
-        for (const std::string& h : hands) joined += (joined.empty() ? "" : ",") + h;
-        return runDataset(objects, joined, output, scale, k, timestamp, force, std::move(progress));
+      "build",
+      [](const std::string& object, const std::string& hand, const std::string& output,
+         double scale, bool no_repair, const std::string& repair, double wrap_alpha,
+         double wrap_offset, bool force, py::object progress, const py::kwargs& knobs) {
+        return buildMapFile(object, hand, output, scale, knobsOf("build", knobs), no_repair, repair,
+                            wrap_alpha, wrap_offset, force, std::move(progress));
       },
-      py::kw_only(), py::arg("objects"), py::arg("hands"), py::arg("output"),
-      py::arg("scale") = 1.0, py::arg("sampler") = "mixed", py::arg("valid") = 1000,
-      py::arg("trials") = 200000, py::arg("seed") = 1, py::arg("threads") = 0,
-      py::arg("friction") = 0.5, py::arg("cone_edges") = 8, py::arg("grasp") = "",
-      py::arg("standoff") = py::none(), py::arg("allow_size") = false,
-      py::arg("keep_invalid") = false, py::arg("no_cluster") = false, py::arg("validate") = false,
-      py::arg("keep_holding") = false, py::arg("hold_filter") = false, py::arg("timestamp") = false,
-      py::arg("force") = false, py::arg("progress") = py::none(),
+      py::kw_only(), py::arg("object"), py::arg("hand"), py::arg("output"), py::arg("scale") = 1.0,
+      py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
+      py::arg("wrap_offset") = 0.0, py::arg("force") = false, py::arg("progress") = py::none(),
+      build_doc.c_str());
+  static const std::string dataset_doc =
       "Builds one task map per (object, hand) into the directory `output` as `taskmap dataset` "
       "does (the same maps and manifest.json). objects: text file, one mesh path a line "
       "(relative to the file), optionally followed by its scale (file units to metres); hands: "
       "a list of hand URDFs or bundled hand names; scale: for meshes the list gives none; the "
-      "other options as for taskmap.build (seed is the data set's: each job's derives from it "
-      "and the mesh and hand contents). A re-run skips maps whose file and parameters match "
-      "the manifest; a bad mesh is recorded there (status 'failed'), not raised. progress(dict) "
-      "is called after each job with done, total, elapsed_seconds and entry (the job's manifest "
+      "knobs as for taskmap.build (seed is the data set's: each job's derives from it and the "
+      "mesh and hand contents). A re-run skips maps whose file and parameters match the "
+      "manifest; a bad mesh is recorded there (status 'failed'), not raised. progress(dict) is "
+      "called after each job with done, total, elapsed_seconds and entry (the job's manifest "
       "entry). Ctrl-C raises KeyboardInterrupt (the current map is not written, its entry stays "
-      "'pending'). Returns {jobs, skipped, failed, dir, manifest}.");
+      "'pending'). Returns {jobs, skipped, failed, dir, manifest}." +
+      knobsDoc();
+  m.def(
+      "dataset",
+      [](const std::string& objects, const std::vector<std::string>& hands,
+         const std::string& output, double scale, bool force, py::object progress,
+         const py::kwargs& knobs) {
+        std::string joined;
+        for (const std::string& h : hands) joined += (joined.empty() ? "" : ",") + h;
+        return runDataset(objects, joined, output, scale, knobsOf("dataset", knobs), force,
+                          std::move(progress));
+      },
+      py::kw_only(), py::arg("objects"), py::arg("hands"), py::arg("output"),
+      py::arg("scale") = 1.0, py::arg("force") = false, py::arg("progress") = py::none(),
+      dataset_doc.c_str());
 }
 
 }  // namespace taskmap

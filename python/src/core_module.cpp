@@ -5,11 +5,14 @@
 // object frame; taskmap::Error becomes taskmap.Error, a subclass of ValueError.
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <type_traits>
 
+#include "map_arrays.hpp"
 #include "trajectory_bindings.hpp"
 
 #include "taskmap/clustering/clustering.hpp"
@@ -254,12 +257,22 @@ void bindTaskMap(py::module_& m) {
           "x the physics hold margin; the default when the map is fully validated)")
       .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius)
       .def_property_readonly("poses", [](const TaskMap& t) { return t.data().grasps.pose; })
-      .def_property_readonly("epsilon", [](const TaskMap& t) { return t.data().grasps.epsilon; })
-      .def_property_readonly("labels",
-                             [](const TaskMap& t) -> py::object {
-                               if (!t.data().clustering) return py::none();
-                               return py::cast(t.data().clustering->labels);
-                             })
+      .def_property_readonly(
+          "epsilon",
+          [](const TaskMap& t) {
+            const auto& e = t.data().grasps.epsilon;
+            return py::array_t<double>(static_cast<py::ssize_t>(e.size()), e.data());
+          },
+          "N epsilon qualities (numpy array).")
+      .def_property_readonly(
+          "labels",
+          [](const TaskMap& t) -> py::object {
+            if (!t.data().clustering) return py::none();
+            const auto& l = t.data().clustering->labels;
+            using Label = std::decay_t<decltype(l[0])>;
+            return py::array_t<Label>(static_cast<py::ssize_t>(l.size()), l.data());
+          },
+          "N cluster labels (numpy array; -1 outlier), or None for an unclustered map.")
       .def(
           "pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"))
       .def(
@@ -269,6 +282,7 @@ void bindTaskMap(py::module_& m) {
             return py::make_tuple(n.index, n.distance);
           },
           py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)");
+  bindTaskMapArrays(cls);
   bindTaskMapQueries(cls);
 }
 

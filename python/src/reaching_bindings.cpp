@@ -232,10 +232,12 @@ void bindPlanning(py::module_& m) {
         p.reach.steps = steps;
         p.reach.attractor.dt = dt;
         GraspPlanOptions o;
-        if (descent != "bfgs" && descent != "gradient")
-          throw Error("reach: descent must be 'bfgs' or 'gradient', not '" + descent + "'");
+        try {
+          o.descent = descentFromString(descent);
+        } catch (const Error& e) {
+          throw Error(std::string("reach: ") + e.what());
+        }
         o.all_clusters = all_clusters;
-        o.bfgs = descent == "bfgs";
         o.optimizer.max_iterations = iterations;
         o.map_weights.proximity = proximity_weight;
         o.map_weights.quality = quality_weight;

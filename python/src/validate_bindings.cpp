@@ -1,6 +1,7 @@
 // taskmap.validate: labels a map's grasps with the physics hold test (docs/VALIDATION.md) and
 // writes them into the map, with the keyword arguments of `taskmap validate`.
 #include "validate_bindings.hpp"
+#include "python_run.hpp"
 
 #include <pybind11/stl.h>
 
@@ -19,7 +20,8 @@ py::dict summaryDict(const ValidationSummary& s) {
 
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
-                      double object_mass, double friction, double jaw_force, double contact_patch) {
+                      double object_mass, double friction, double jaw_force, double contact_patch,
+                      py::object progress) {
   TaskMapData map = readMap(map_path);
   const std::string urdf = hand.empty() ? recordedHandUrdf(map) : hand;
   if (urdf.empty())
@@ -32,10 +34,26 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   o.hold.sliding_friction = friction;
   o.hold.jaw_force = jaw_force;
   o.hold.contact_patch = contact_patch;
+  PythonRun run(std::move(progress));
   ValidationSummary s;
   {
     py::gil_scoped_release release;
-    s = validateMap(&map, HandModel::load(urdf), o);
+    ValidateControl control;
+    control.stop = run.stop();
+    control.progress = [&run](const ValidateProgress& p) {
+      run.report([&p] {
+        py::dict d;
+        d["done"] = p.done;
+        d["total"] = p.total;
+        d["holding"] = p.holding;
+        return d;
+      });
+    };
+    s = validateMap(&map, HandModel::load(urdf), o, control);
+  }
+  run.raiseIfFailed();  // Ctrl-C or the callback's exception: nothing written
+  {
+    py::gil_scoped_release release;
     writeMap(output.empty() ? map_path : output, map);
   }
   return summaryDict(s);
@@ -48,13 +66,15 @@ void bindValidate(py::module_& m) {
   m.def("validate", &validatePath, py::arg("map"), py::arg("hand") = "", py::arg("output") = "",
         py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
         py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
-        py::arg("contact_patch") = d.contact_patch,
+        py::arg("contact_patch") = d.contact_patch, py::arg("progress") = py::none(),
         "Tests whether the grasps of the map at `map` hold the object in physics "
         "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
         "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
         "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
         "was built with); threads: 0 all cores; grasps: test only the first N (0 all); "
-        "jaw_force: N per parallel jaw; contact_patch: metres (0: one contact per shape). "
+        "jaw_force: N per parallel jaw; contact_patch: metres (0: one contact per shape); "
+        "progress: called about every 0.25 s with a dict (done, total, holding). Ctrl-C "
+        "raises KeyboardInterrupt and writes nothing. "
         "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
         "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
         "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "

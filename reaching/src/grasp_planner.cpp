@@ -13,6 +13,16 @@
 
 namespace taskmap {
 
+const char* toString(Descent descent) {
+  return descent == Descent::kGradient ? "gradient" : "bfgs";
+}
+
+Descent descentFromString(const std::string& name) {
+  if (name == "bfgs") return Descent::kBfgs;
+  if (name == "gradient") return Descent::kGradient;
+  throw Error("descent must be 'bfgs' or 'gradient', not '" + name + "'");
+}
+
 void GraspPlanOptions::validate() const {
   optimizer.validate();
   map_weights.validate();
@@ -120,8 +130,8 @@ ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank&
     if (control.progress) control.progress({plan.cluster, iteration, cost.total, plans_done});
   };
   const auto start = std::chrono::steady_clock::now();
-  plan.optimization = o.bfgs ? optimizeTrajectoryBfgs(p, {via, target}, opt)
-                             : optimizeTrajectory(p, {via, target}, opt);
+  plan.optimization = o.descent == Descent::kBfgs ? optimizeTrajectoryBfgs(p, {via, target}, opt)
+                                                  : optimizeTrajectory(p, {via, target}, opt);
   plan.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   measure(p, map, plan);

@@ -198,7 +198,7 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
       }
     }
     hand_shapes.emplace_back(poses[i], body.shapes);
-    if (!mount.per_link_shapes) body.shapes.clear();
+    if (mount.hand_shapes == HandShapes::kEnvelope) body.shapes.clear();
     addBody(std::move(body));
   }
   RobotBody palm;
@@ -208,7 +208,8 @@ void RobotModel::mountHand(const HandModel& hand, const HandMount& mount) {
   palm.origin = mount.palm_in_flange;
   bool any_shape = false;
   for (const auto& entry : hand_shapes) any_shape = any_shape || !entry.second.empty();
-  if (!mount.per_link_shapes && any_shape) palm.shapes.push_back(envelope(hand_shapes));
+  if (mount.hand_shapes == HandShapes::kEnvelope && any_shape)
+    palm.shapes.push_back(envelope(hand_shapes));
   palm_body_ = addBody(std::move(palm));
 }
 

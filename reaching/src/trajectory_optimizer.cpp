@@ -187,7 +187,7 @@ std::vector<Eigen::VectorXd> backwardPass(const TrajectoryProblem& p, const Reso
   Kinematics kin(*p.robot);
   std::vector<Eigen::VectorXd> dx(steps + 1, Eigen::VectorXd::Zero(6));
   Eigen::VectorXd lambda = dq[steps];
-  const bool central = p.central_step_jacobian;
+  const bool central = p.step_jacobian_differences == FiniteDifferences::kCentral;
   for (int t = steps - 1; t >= 0; --t) {
     // lambda^T F at the inputs (q, x_t, x_{t+1}) shifted along one coordinate by +-h.
     const auto shifted = [&](int input, double shift) {

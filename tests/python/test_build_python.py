@@ -4,6 +4,7 @@ Ctrl-C (SIGINT to a Python process building a map) raises KeyboardInterrupt and 
 an exception from the callback stops the build and reaches the caller; option errors."""
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -122,6 +123,49 @@ class BuildPythonTest(unittest.TestCase):
             taskmap.build(object=self.obj, hand="panda", output="/nonexistent/dir/m.h5")
         with self.assertRaises(TypeError):  # keyword arguments only, named as the CLI's
             taskmap.build(self.obj, "panda", self.path("e.h5"))
+        with self.assertRaisesRegex(taskmap.Error, "cone_edges must be within \\[3, 64\\]"):
+            taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"), cone_edges=2)
+        with self.assertRaisesRegex(TypeError, "unexpected keyword argument 'cone_edge'"):
+            taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"), cone_edge=8)
+        with self.assertRaisesRegex(TypeError, "valid must be a non-negative int, not str"):
+            taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"), valid="10")
+        self.assertFalse(os.path.exists(self.path("e.h5")))
+
+    def test_every_cli_option_is_a_keyword(self):
+        # The knobs come from one list (taskmap/builder/build_knobs.hpp): every option of
+        # `taskmap build --help` is a keyword of taskmap.build and of taskmap.dataset, except the
+        # command line's own (-q, --progress, --package-path, --help) and the files and mesh
+        # options, which are taskmap.build's own parameters.
+        text = subprocess.run([CLI, "build", "--help"], capture_output=True, text=True,
+                              check=True).stdout
+        options = sorted(set(re.findall(r"^\s+(?:-\w,)?(--[a-z][a-z0-9-]*)", text, re.M)))
+        cli_only = {"--quiet", "--progress", "--package-path", "--help"}
+        files = {"object", "hand", "output", "scale", "no_repair", "repair", "wrap_alpha",
+                 "wrap_offset", "force"}
+        names = [o[2:].replace("-", "_") for o in options if o not in cli_only]
+        for name in files:  # the files and mesh options: parameters of taskmap.build
+            self.assertIn(name, names)
+            self.assertIn(name, taskmap.build.__doc__)
+        names = [n for n in names if n not in files]
+        self.assertIn("cone_edges", names)
+        self.assertIn("contacts_per_link", names)
+        for function in (taskmap.build, taskmap.dataset):
+            for name in names:
+                with self.subTest(function=function.__name__, name=name):
+                    self.assertIn(name, function.__doc__)
+                    kwargs = {name: object()}  # a value of no knob's type
+                    if function is taskmap.build:
+                        kwargs.update(object=self.obj, hand="panda", output=self.path("k.h5"))
+                    else:
+                        kwargs.update(objects=self.obj, hands=["panda"],
+                                      output=self.path("kdir"))
+                    try:
+                        function(**kwargs)
+                    except TypeError as e:  # refused for its type, not as an unknown name
+                        self.assertNotIn("unexpected keyword", str(e))
+                    else:
+                        self.fail(name + " accepted an object()")
+        self.assertFalse(os.path.exists(self.path("k.h5")))
 
 
 if __name__ == "__main__":

@@ -167,8 +167,8 @@ int runMpiBuild(const MpiWorld& world, const BuildArgs& args, std::uint64_t bloc
     return 3;
   }
   if (args.timestamp) result.map.created_utc = mapCreationTime(true);
-  const std::optional<HoldLabels> labels = labelHolds(holdValidation(args), options.threads,
-                                                      options.clustering, *setup.hand, &result.map);
+  const std::optional<HoldLabels> labels = labelHolds(
+      holdValidation(args), options.threads, options.clustering, *setup.hand, nullptr, &result.map);
   printHoldLabels("taskmap-mpi build", labels, args.keep_holding, args.quiet);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(args.output, result.map);

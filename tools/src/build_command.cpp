@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -45,104 +46,44 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
                 "inputs)");
 }
 
+namespace {
+
+/// Declares one knob as a CLI11 option (a flag for a bool) with its help and checks.
+struct KnobDeclarer {
+  CLI::App* cmd;
+  template <class T>
+  void operator()(const KnobInfo& info, T& field) const {
+    const std::string name = knobName(info.name, KnobStyle::kCommandLine);
+    if constexpr (std::is_same_v<T, bool>) {
+      cmd->add_flag(name, field, info.help);
+    } else {
+      CLI::Option* o = cmd->add_option(name, field, info.help);
+      if (!info.choices.empty()) o->check(CLI::IsMember(info.choices));
+      if (info.check == KnobCheck::kPositive) o->check(CLI::PositiveNumber);
+      if (info.check == KnobCheck::kNonNegative) o->check(CLI::NonNegativeNumber);
+      if (info.check == KnobCheck::kRange) {
+        if constexpr (std::is_integral_v<T>)
+          o->check(CLI::Range(static_cast<T>(info.min), static_cast<T>(info.max)));
+        else
+          o->check(CLI::Range(info.min, info.max));
+      }
+      if (info.capture_default) o->capture_default_str();
+    }
+  }
+};
+
+}  // namespace
+
 void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
-  cmd->add_option("--sampler", args.sampler,
-                  "initial poses: volume (paper: point inside, uniform "
-                  "orientation), surface "
-                  "(approach along the inward normal of an area-weighted "
-                  "surface point, random "
-                  "roll and standoff; finds handles), mixed (even trials "
-                  "volume, odd surface), antipodal (parallel jaws: the pads on two surface "
-                  "points whose normals lie in each other's friction cones), enclose (palm on a "
-                  "surface point, no open finger inside the object)")
-      ->check(CLI::IsMember({"volume", "surface", "mixed", "antipodal", "enclose"}))
-      ->capture_default_str();
-  cmd->add_option("--valid", args.valid, "stop after this many force-closure grasps")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option("--trials", args.trials, "trial budget")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option("--seed", args.seed, "random seed")->capture_default_str();
-  cmd->add_option("--threads", args.threads, "worker threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024))
-      ->capture_default_str();
-  cmd->add_option("--friction", args.friction, "Coulomb friction coefficient mu")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  cmd->add_option("--cone-edges", args.cone_edges, "friction cone edges")
-      ->check(CLI::Range(3, 64))
-      ->capture_default_str();
-  cmd->add_option("--volume", args.volume,
-                  "wrench-space volume of the stored grasps: never (force closure and epsilon "
-                  "only; the volume needs the whole 6-D hull, most of the quality time on fine "
-                  "meshes), force_closure (every stored grasp: the builds before issue 33), "
-                  "always")
-      ->check(CLI::IsMember({"never", "force_closure", "always"}))
-      ->capture_default_str();
-  cmd->add_option("--contacts-per-link", args.contacts_per_link,
-                  "reduce each link's contacts to at most this many representatives before the "
-                  "wrench hull (docs/METHOD.md 4; changes force-closure verdicts), 0 = all")
-      ->check(CLI::Range(0, 64))
-      ->capture_default_str();
-  cmd->add_option("--grasp", args.grasp,
-                  "palm: the approach stops when the palm touches, the palm is pressed "
-                  "(power grasps); fingertip: it stops at the first contact or when the palm "
-                  "is --standoff from the object, no palm contact needed (pinch grasps). "
-                  "Default: the hand sidecar's grasp.mode (palm)")
-      ->check(CLI::IsMember({"palm", "fingertip"}));
-  cmd->add_option("--standoff", args.standoff,
-                  "fingertip grasps: palm-to-object distance where the approach stops, metres "
-                  "(default: the hand sidecar's grasp.standoff, else a tenth of the hand's "
-                  "palm-to-fingertip length, which keeps the palm off the object)")
-      ->check(CLI::Range(0.0, 0.5));
-  cmd->add_flag("--allow-size", args.allow_size,
-                "build an object whose size is implausible for the hand (over 20 times its "
-                "reach, or thinner than its thinnest finger link), refused by default as a "
-                "file in other units");
+  visitBuildKnobs(static_cast<BuildKnobs&>(args), KnobDeclarer{cmd});
   addPackagePathOption(cmd);
-  cmd->add_flag("--keep-invalid", args.keep_invalid,
-                "store every simulated grasp (status ok), not only force-closure ones");
-  cmd->add_flag("--no-cluster", args.no_cluster, "do not cluster the grasps");
-  cmd->add_flag("--validate", args.validate,
-                "label every stored grasp with the physics hold test before writing "
-                "(taskmap validate; docs/VALIDATION.md)");
-  cmd->add_flag("--keep-holding", args.keep_holding,
-                "with --validate: store only the grasps that hold in the physics test (the "
-                "others are dropped before clustering)");
-  cmd->add_flag("--hold-filter", args.hold_filter,
-                "store only grasps whose squeeze the hold filter finds balanced: the "
-                "position-controlled hand presses the free object into equilibrium and resists "
-                "1 N pushes (docs/METHOD.md 4b; costs trials)");
-  cmd->add_flag("--timestamp", args.timestamp,
-                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
-                "else none, so the same arguments give the same bytes)");
   cmd->add_flag("-q,--quiet", args.quiet, "no progress and no summary");
   cmd->add_flag("--progress", args.progress, "draw the progress bar even when not a terminal");
 }
 
 BuildOptions knobOptions(const BuildArgs& args) {
-  BuildOptions options;
-  options.sampler.kind = samplerKindFromString(args.sampler);
-  options.valid_target = args.valid;
-  options.max_trials = args.trials;
-  options.seed = args.seed;
-  options.threads = args.threads;
-  options.quality.friction = args.friction;
-  options.quality.cone_edges = args.cone_edges;
-  options.quality.volume = volumeModeFromString(args.volume);
-  options.quality.contacts_per_link = args.contacts_per_link;
-  options.keep_invalid = args.keep_invalid;
-  options.cluster = !args.no_cluster;
-  options.hold_filter.enabled = args.hold_filter;
-  options.check_size = !args.allow_size;
-  if (args.grasp == "palm")
-    options.simulation.grasp_mode = GraspMode::kPalm;
-  else if (args.grasp == "fingertip")
-    options.simulation.grasp_mode = GraspMode::kFingertip;
-  options.simulation.standoff = args.standoff;
-  return options;
+  return buildOptionsOf(args, KnobStyle::kCommandLine);
 }
 
 MeshLoadOptions meshLoadOptions(const BuildArgs& args) {
@@ -160,10 +101,7 @@ bool printHandWarnings(const std::string& label, const HandModel& hand) {
 }
 
 HoldValidation holdValidation(const BuildArgs& args) {
-  if (args.keep_holding && !args.validate)
-    throw Error("--keep-holding needs --validate (the hold labels decide what is kept)");
-  if (!args.validate) return HoldValidation::kOff;
-  return args.keep_holding ? HoldValidation::kKeepHolding : HoldValidation::kLabel;
+  return holdValidationOf(args, KnobStyle::kCommandLine);
 }
 
 FileBuildOptions fileBuildOptions(const BuildArgs& args) {

@@ -12,32 +12,20 @@
 #include <CLI/CLI.hpp>
 
 #include "mesh_options.hpp"
+#include "taskmap/builder/build_knobs.hpp"
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
 
 namespace taskmap::cli {
 
-/// The command line of a build, as parsed.
-struct BuildArgs {
-  std::string object, hand, output, sampler = "mixed";
+/// The command line of a build, as parsed: the knobs (taskmap/builder/build_knobs.hpp, the one
+/// list the command line and Python share), the files, the mesh options and the printing.
+struct BuildArgs : BuildKnobs {
+  std::string object, hand, output;
   double scale = 1.0;
-  std::uint64_t valid = 1000, trials = 200000, seed = 1;
-  int threads = 0;
-  double friction = 0.5;
-  int cone_edges = 8;
-  std::string volume = "never";  ///< which stored grasps get the wrench-space volume
-
-  int contacts_per_link = 0;  ///< per-link contact reduction before the hull (0 = none)
-  std::string grasp;          ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
-  double standoff = -1.0;     ///< metres; negative = the hand sidecar's
-  MeshRepairArgs repair;      ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
-  bool keep_invalid = false, no_cluster = false, quiet = false, progress = false;
-  bool timestamp = false;     ///< store the current time as created_utc
-  bool allow_size = false;    ///< build an object whose size is implausible for the hand
-  bool validate = false;      ///< label the grasps with the physics hold test before writing
-  bool keep_holding = false;  ///< with validate: store only the grasps that hold
-  bool hold_filter = false;   ///< refuse grasps the squeeze-balance filter finds unbalanced
-  bool force = false;         ///< replace an existing output that is not a task map
+  MeshRepairArgs repair;  ///< --no-repair, --repair wrap, --wrap-alpha, --wrap-offset
+  bool quiet = false, progress = false;
+  bool force = false;  ///< replace an existing output that is not a task map
 };
 
 /// The library's options of a build command line: the knobs, the mesh options and the hold
@@ -64,9 +52,8 @@ bool printHandWarnings(const std::string& label, const HandModel& hand);
 /// Adds the build options (--object, --hand, -o, --scale and the knobs) to a subcommand.
 void addBuildOptions(CLI::App& cmd, BuildArgs& args);
 
-/// Adds the knobs of a build (--sampler, --valid, --trials, --seed, --threads, --friction,
-/// --cone-edges, --grasp, --standoff, --allow-size, --keep-invalid, --no-cluster, --timestamp,
-/// -q, --progress) to a subcommand.
+/// Adds the knobs of a build (every knob of visitBuildKnobs, --package-path, -q, --progress) to
+/// a subcommand.
 void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 
 /// The BuildOptions of the knobs (not validated; no extra_params_json).

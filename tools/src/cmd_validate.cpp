@@ -95,7 +95,10 @@ void runValidate(const ValidateArgs& args) {
   };
   ValidationSummary s;
   try {
-    s = validateMap(&map, hand, args.options, progress, &g_stop);
+    ValidateControl control;
+    control.progress = progress;
+    control.stop = &g_stop;
+    s = validateMap(&map, hand, args.options, control);
     if (terminal) std::fprintf(stderr, "\n");
     if (s.status == ValidationSummary::Status::kCompleted)
       writeMap(args.output.empty() ? args.map : args.output, map);

@@ -149,8 +149,13 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   if (args.iterations < 1) throw Error("--iterations must be >= 1");
   if (args.hold_test && !args.resimulate)
     throw Error("--hold-test tests the re-simulated grasp: drop --no-resimulate");
-  if (args.descent != "bfgs" && args.descent != "gradient")
-    throw Error("--descent must be 'bfgs' or 'gradient', not '" + args.descent + "'");
+  const Descent descent = [&args] {
+    try {
+      return descentFromString(args.descent);
+    } catch (const Error& e) {
+      throw Error(std::string("--") + e.what());
+    }
+  }();
   TaskMapOptions map_options;
   map_options.sample_weight = sampleWeightFromString(args.sample_weight);
   const TaskMap map = TaskMap::load(resolveMapPath(args.map), map_options);
@@ -163,7 +168,7 @@ void runMapReach(const MapReachArgs& args, const RobotModel& robot,
   p.reach = options;
   GraspPlanOptions o;
   o.all_clusters = args.all_clusters;
-  o.bfgs = args.descent == "bfgs";
+  o.descent = descent;
   o.optimizer.max_iterations = args.iterations;
   o.map_weights.proximity = args.proximity_weight;
   o.map_weights.quality = args.quality_weight;

@@ -32,9 +32,7 @@ void checkHand(const TaskMapData& map, const HandModel& hand) {
 
 /// Runs the tests of grasps [0, n) on `threads` workers; results[i] is grasp i's.
 bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, int threads,
-              std::vector<HoldResult>* results,
-              const std::function<void(const ValidateProgress&)>& progress,
-              const std::atomic<bool>* stop) {
+              std::vector<HoldResult>* results, const ValidateControl& control) {
   results->assign(n, HoldResult{});
   std::atomic<std::size_t> next{0}, done{0}, holding{0};
   std::atomic<bool> failed{false};
@@ -42,7 +40,7 @@ bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, i
   std::mutex error_mutex;
   auto worker = [&] {
     for (;;) {
-      if ((stop && stop->load()) || failed.load()) return;
+      if (control.stopRequested() || failed.load()) return;
       const std::size_t i = next.fetch_add(1);
       if (i >= n) return;
       try {
@@ -59,13 +57,22 @@ bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, i
   };
   std::vector<std::thread> pool;
   for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-  while (done.load() < n && !failed.load() && !(stop && stop->load())) {
-    if (progress) progress({done.load(), n, holding.load()});
-    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  const auto report = [&] {
+    if (control.progress) control.progress({done.load(), n, holding.load()});
+  };
+  try {
+    while (done.load() < n && !failed.load() && !control.stopRequested()) {
+      report();
+      std::this_thread::sleep_for(std::chrono::duration<double>(control.interval_seconds));
+    }
+  } catch (...) {  // the callback threw: stop the workers, then pass it on
+    failed.store(true);
+    for (auto& th : pool) th.join();
+    throw;
   }
   for (auto& th : pool) th.join();
   if (failed) throw Error("validate: " + error);
-  if (progress) progress({done.load(), n, holding.load()});
+  report();
   return done.load() == n;
 }
 
@@ -247,10 +254,9 @@ ObjectModel mapObjectModel(const TaskMapData& map) {
 }
 
 ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
-                              const ValidateOptions& options,
-                              const std::function<void(const ValidateProgress&)>& progress,
-                              const std::atomic<bool>* stop) {
+                              const ValidateOptions& options, const ValidateControl& control) {
   options.validate();
+  control.validate();
   checkHand(*map, hand);
   ValidationSummary s;
   const HoldTester tester(hand, mapObjectModel(*map), options.hold);
@@ -263,7 +269,7 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
   std::vector<HoldResult> results;
   const double cpu0 = cpuSeconds();
   const auto wall0 = std::chrono::steady_clock::now();
-  const bool complete = runTests(tester, *map, n, threads, &results, progress, stop);
+  const bool complete = runTests(tester, *map, n, threads, &results, control);
   s.cpu_seconds = cpuSeconds() - cpu0;
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (!complete) {

@@ -79,7 +79,7 @@ double percentile(std::vector<double> v, double p) {
 
 /// Reduction and pre-test on the ok grasps of a keep-invalid build.
 void reductionReport(const ObjectModel& object, const HandModel& hand, BuildOptions o) {
-  o.keep_invalid = true;
+  o.stored = StoredGrasps::kAllCompleted;
   o.cluster = false;
   const BuildResult all = buildMap(object, hand, o);
   const auto& mp = object.massProperties();

@@ -32,7 +32,8 @@ const HandModel& barrett() {
 BuildOptions options() {
   BuildOptions o;
   o.threads = 1;
-  o.keep_invalid = true;  // more stored grasps than a real build: an upper bound on bytes
+  o.stored =
+      StoredGrasps::kAllCompleted;  // more stored grasps than a real build: an upper bound on bytes
   return o;
 }
 

@@ -45,9 +45,10 @@ Setup& setup(const std::string& hand_name, const std::string& object_name, bool 
     const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/" + hand_name + "/" +
                                            hand_name + ".urdf");
     GraspSimOptions o;
-    o.profile = true;
     o.require_palm_contact = !finger_first;
-    s.sim = std::make_unique<GraspSimulator>(object, hand, o);
+    GraspSimDiagnostics d;
+    d.profile = true;
+    s.sim = std::make_unique<GraspSimulator>(object, hand, o, d);
     for (int i = 0; i < kPoses; ++i) {
       Rng rng(7, static_cast<std::uint64_t>(i));
       Pose p;

@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads")
       options.threads = std::stoi(next());
     else if (a == "--keep-invalid")  // 2-finger% then covers every completed trial
-      options.keep_invalid = true;
+      options.stored = taskmap::StoredGrasps::kAllCompleted;
     else if (a == "--no-centre")
       options.simulation.centre_coupled = false;
     else if (a == "--grasp")

@@ -1,7 +1,7 @@
 // Grasp trials per second per core, culled and lean collision queries (the default) against the
-// baseline (GraspSimOptions::culled_queries = false: Bullet's BVH, GJK on every triangle in each
-// link shape's bounding box, every exact hit computed), side by side in one process on the same
-// trials, for every hand x object of the reference set (bundled hands, the Robotiq 2F-85 style
+// baseline (GraspSimDiagnostics::culled_queries = false: Bullet's BVH, GJK on every triangle in
+// each link shape's bounding box, every exact hit computed), side by side in one process on the
+// same trials, for every hand x object of the reference set (bundled hands, the Robotiq 2F-85 style
 // test hand, bundled objects) and of the real set (--real DIR, default
 // $TASKMAP_REAL_DIR: hands/franka_hand, hands/allegro_right, objects/*.obj; see the README of
 // that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
@@ -10,7 +10,7 @@
 // joints: bit for bit) and how many also have the same contacts bit for bit (box and hull contacts
 // on fine meshes come from separating axes, not EPA: equal up to rounding, different at tied
 // features, a face flat on a triangle, and where Bullet's GJK calls an overlapping pair apart;
-// GraspSimOptions::separating_axis_contacts).
+// GraspSimDiagnostics::separating_axis_contacts).
 //   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
 //                  [--profile 1]
 // (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path; --profile 1
@@ -161,7 +161,7 @@ Rate run(const GraspSimulator& sim, const ObjectModel& object, Poses& poses, dou
   return r;
 }
 
-/// The new path's phases (GraspSimOptions::profile), queries per trial, outcome counts and the
+/// The new path's phases (GraspSimDiagnostics::profile), queries per trial, outcome counts and the
 /// quality stage's CPU time relative to the simulation's.
 void printProfile(const std::vector<GraspResult>& results, double quality_over_sim) {
   double retract = 0.0, close = 0.0, contacts = 0.0, queries = 0.0;
@@ -245,10 +245,10 @@ void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
   so.approach_axis = hand.approachAxis();
   const Sampler sampler(object, so);
   Poses poses{sampler, {}};
-  GraspSimOptions fast, base;
+  GraspSimDiagnostics fast, base;
   base.culled_queries = false;
   fast.profile = profile;
-  const GraspSimulator sim_new(object, hand, fast), sim_old(object, hand, base);
+  const GraspSimulator sim_new(object, hand, {}, fast), sim_old(object, hand, {}, base);
   const Rate rn = run(sim_new, object, poses, seconds, 32, bo.quality, bo.trials, bo.block);
   const Rate ro = run(sim_old, object, poses, baseline_seconds, baseline_seconds > 0 ? 4 : 1,
                       bo.quality, baseline_seconds > 0 ? bo.trials : 0, bo.block);

@@ -49,7 +49,8 @@ const Setup& setup() {
 TrajectoryProblem withStepProducts(const TrajectoryProblem& base, int mode) {
   TrajectoryProblem p = base;
   p.step_derivative = mode == 0 ? StepDerivative::kAnalytic : StepDerivative::kFiniteDifferences;
-  p.central_step_jacobian = mode == 1;
+  p.step_jacobian_differences =
+      mode == 1 ? FiniteDifferences::kCentral : FiniteDifferences::kForward;
   if (mode == 2) p.step_jacobian_epsilon = 1e-8;
   return p;
 }

@@ -30,7 +30,7 @@ void expectSameParams(const BuildParams& a, const BuildParams& b) {
   EXPECT_EQ(x.seed, y.seed);
   EXPECT_EQ(x.valid_target, y.valid_target);
   EXPECT_EQ(x.max_trials, y.max_trials);
-  EXPECT_EQ(x.keep_invalid, y.keep_invalid);
+  EXPECT_EQ(x.stored, y.stored);
   EXPECT_EQ(x.cluster, y.cluster);
   EXPECT_EQ(x.quality.friction, y.quality.friction);
   EXPECT_EQ(x.quality.cone_edges, y.quality.cone_edges);
@@ -82,7 +82,7 @@ BuildOptions allChanged() {
   o.seed = 77;
   o.valid_target = 12;
   o.max_trials = 3456;
-  o.keep_invalid = true;
+  o.stored = StoredGrasps::kAllCompleted;
   o.cluster = false;
   o.quality.friction = 0.7;
   o.quality.cone_edges = 11;

@@ -149,7 +149,7 @@ TEST(MapBuilderTest, TrialsPastTheTargetAreNotScored) {
 
 TEST(MapBuilderTest, KeepInvalidStoresEveryCompletedTrial) {
   BuildOptions o = smallBuild(2);
-  o.keep_invalid = true;
+  o.stored = StoredGrasps::kAllCompleted;
   const BuildResult all = buildMap(box(), panda(), o);
   const BuildResult valid = buildMap(box(), panda(), smallBuild(2));
   EXPECT_EQ(all.map.sampling.trials, valid.map.sampling.trials);

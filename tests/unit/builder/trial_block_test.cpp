@@ -96,7 +96,7 @@ TEST(TrialBlockTest, BlocksMustBeConsecutiveFromZero) {
 
 TEST(TrialBlockTest, EncodingRoundTripsBitForBit) {
   BuildOptions o = smallBuild(2);
-  o.keep_invalid = true;
+  o.stored = StoredGrasps::kAllCompleted;
   const TrialBlock block = std::move(runBlocks(o, 120, 120).front());
   ASSERT_GT(block.valid(), 0u);
   const std::size_t joints = panda().jointNames().size();

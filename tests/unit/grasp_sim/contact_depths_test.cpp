@@ -1,5 +1,5 @@
-// GraspSimOptions::separating_axis_contacts against EPA (the option false) on a real scan and the
-// reference mug, with box hands (panda, humanoid) and the Franka hand (hull palm): the same
+// GraspSimDiagnostics::separating_axis_contacts against EPA (the option false) on a real scan and
+// the reference mug, with box hands (panda, humanoid) and the Franka hand (hull palm): the same
 // simulated grasps (status, palm pose, joints: bit for bit on these poses; a finger whose only
 // contact is a pair Bullet's GJK calls apart could change the status), and contacts that move only
 // at tied features, so that force closure and epsilon (taskmap::quality, the stage that reads
@@ -32,9 +32,9 @@ TEST(ContactDepths, SameGraspsAndForceClosureWithinTolerance) {
           std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf"}) {
       SCOPED_TRACE(object_path + " " + hand_path);
       const HandModel hand = HandModel::load(hand_path);
-      GraspSimOptions epa_options;
-      epa_options.separating_axis_contacts = false;
-      const GraspSimulator sat(object, hand), epa(object, hand, epa_options);
+      GraspSimDiagnostics epa_diagnostics;
+      epa_diagnostics.separating_axis_contacts = false;
+      const GraspSimulator sat(object, hand), epa(object, hand, {}, epa_diagnostics);
       int ok = 0, fc_agree = 0;
       std::vector<double> rel, moved;
       for (const Pose& p : testing::randomPoses(120, mp.bounds_min, mp.bounds_max, 7)) {
@@ -72,8 +72,8 @@ TEST(ContactDepths, SameGraspsAndForceClosureWithinTolerance) {
           ok, fc_agree, q(rel, 0.5), q(rel, 0.9), q(rel, 1.0), rel.size(), q(moved, 0.5),
           q(moved, 0.9), q(moved, 0.99));
       ASSERT_GT(ok, 10);
-      // The documented tolerance (GraspSimOptions::separating_axis_contacts): most contacts equal
-      // up to rounding, the force-closure verdict kept on at least 97% of the grasps, epsilon
+      // The documented tolerance (GraspSimDiagnostics::separating_axis_contacts): most contacts
+      // equal up to rounding, the force-closure verdict kept on at least 97% of the grasps, epsilon
       // within 10% on nine in ten of the grasps both call force closure (Franka x banana: 4.3%).
       EXPECT_LT(q(moved, 0.5), 1e-12);
       EXPECT_GE(fc_agree, ok * 97 / 100);

@@ -270,11 +270,11 @@ TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
           testing::testHandPath("panda_mimic")}) {
       SCOPED_TRACE(std::string(object_name) + " " + hand_path);
       const HandModel hand = HandModel::load(hand_path);
-      GraspSimOptions baseline, culled;
+      GraspSimDiagnostics baseline, culled;
       baseline.culled_queries = false;
       culled.separating_axis_contacts =
           false;  // EPA, as the baseline (contact_depths_test.cpp has the rest)
-      const GraspSimulator fast(object, hand, culled), slow(object, hand, baseline);
+      const GraspSimulator fast(object, hand, {}, culled), slow(object, hand, {}, baseline);
       int ok = 0;
       for (const Pose& p : randomPoses(40, lo, hi)) {
         const GraspResult a = fast.simulate(p), b = slow.simulate(p);

@@ -73,7 +73,7 @@ TEST(RobotModel, MountComesFromTheSidecarOrIsAskedFor) {
 TEST(RobotModel, HumanoidHandPerLinkBoxesBecomeSweptRectangles) {
   RobotModel robot = RobotModel::load(test::robotsDir() + "/panda/panda.urdf");
   HandMount mount = RobotModel::humanoidMountOnPanda();
-  mount.per_link_shapes = true;
+  mount.hand_shapes = HandShapes::kPerLink;
   robot.mountHand(HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf"),
                   mount);
   ASSERT_GE(robot.palmBody(), 0);

@@ -90,7 +90,7 @@ TEST(TrajectoryOptimizer, GradientMatchesCentralDifferencesOfWholeRollouts) {
   EXPECT_LT(rel_paths, 1e-6);
   // Forward differences for the step Jacobians: half the cost, error O(eps) plus round-off,
   // 7e-6 here at eps = 1e-8: near the 1e-5 bound, so the default stays central.
-  f.problem.central_step_jacobian = false;
+  f.problem.step_jacobian_differences = FiniteDifferences::kForward;
   f.problem.step_jacobian_epsilon = 1e-8;
   const TrajectoryCost forward = evaluateTrajectory(f.problem, f.points, true);
   const double rel_forward = (forward.gradient - fd).norm() / fd.norm();

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 
 #include "build_fixtures.hpp"
@@ -131,9 +132,36 @@ TEST(ValidateMap, RefusesAnotherHand) {
 TEST(ValidateMap, StopLeavesTheMapUnchanged) {
   TaskMapData map = boxMap();
   std::atomic<bool> stop{true};
-  const ValidationSummary s = validateMap(&map, testing::pandaHand(), ValidateOptions{}, {}, &stop);
+  ValidateControl control;
+  control.stop = &stop;
+  const ValidationSummary s = validateMap(&map, testing::pandaHand(), ValidateOptions{}, control);
   EXPECT_EQ(s.status, ValidationSummary::Status::kInterrupted);
   EXPECT_FALSE(map.validation.has_value());
+}
+
+TEST(ValidateMap, ACallbackThatThrowsStopsTheRunAndLeavesTheMapUnchanged) {
+  TaskMapData map = boxMap();
+  ValidateOptions o;
+  o.threads = 1;
+  ValidateControl control;
+  control.interval_seconds = 1e-3;
+  int calls = 0;
+  control.progress = [&calls](const ValidateProgress&) {
+    ++calls;
+    throw std::runtime_error("stop from the callback");
+  };
+  EXPECT_THROW(validateMap(&map, testing::pandaHand(), o, control), std::runtime_error);
+  EXPECT_EQ(calls, 1);
+  EXPECT_FALSE(map.validation.has_value());
+}
+
+TEST(ValidateMap, RefusesANonPositiveReportInterval) {
+  TaskMapData map = boxMap();
+  ValidateControl control;
+  control.interval_seconds = 0.0;
+  EXPECT_TRUE(testing::throwsError(
+      [&] { validateMap(&map, testing::pandaHand(), ValidateOptions{}, control); },
+      {"interval_seconds must be positive"}));
 }
 
 }  // namespace

@@ -36,6 +36,12 @@ constexpr std::uint64_t kMaxBuildCount = 1000000000000000ULL;
 /// params "volume": "never"; docs/PERFORMANCE.md, "The quality stage").
 QualityOptions buildQualityDefaults();
 
+/// Which simulated grasps a build stores.
+enum class StoredGrasps {
+  kForceClosure,  ///< the force-closure grasps (the paper's map; valid_target counts them)
+  kAllCompleted,  ///< every completed trial (status ok), force closure or not (`--keep-invalid`)
+};
+
 struct BuildOptions {
   SamplerOptions sampler;      ///< sampler kind and standoff (approach_axis is overridden)
   GraspSimOptions simulation;  ///< simulator knobs
@@ -52,8 +58,9 @@ struct BuildOptions {
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
   std::uint64_t max_trials = 200000;  ///< trial budget (>= 1, <= kMaxBuildCount)
   int threads = 0;                    ///< worker threads; 0 = all cores
-  bool keep_invalid = false;          ///< store every completed (status ok) trial, not only FC
-  bool cluster = true;                ///< cluster the stored grasps (needs >= 2 of them)
+  /// Which grasps are stored (params_json "keep_invalid": true for kAllCompleted).
+  StoredGrasps stored = StoredGrasps::kForceClosure;
+  bool cluster = true;  ///< cluster the stored grasps (needs >= 2 of them)
   /// Refuse an object whose size is implausible for the hand (size_check.hpp) before any
   /// trial; false (`--allow-size`) builds it anyway. Not stored: it does not change a map.
   bool check_size = true;

@@ -5,6 +5,7 @@
 /// may be a bundled hand's name ("barrett": dataDir()/hands/barrett/barrett.urdf); the output is
 /// written atomically, and only when the build found grasps and was not stopped.
 
+#include <atomic>
 #include <cstddef>
 #include <memory>
 #include <optional>
@@ -68,10 +69,11 @@ struct HoldLabels {
 
 /// Labels `map`'s grasps with the physics hold test on `threads` threads (0: all cores) and,
 /// with kKeepHolding, keeps only those that hold (re-clustered with `clustering`). Returns
-/// nothing for kOff. Throws Error when kKeepHolding keeps no grasp ("nothing written").
+/// nothing for kOff, and nothing (the map unchanged) when *stop became true during the test
+/// (nullptr: never stopped). Throws Error when kKeepHolding keeps no grasp ("nothing written").
 std::optional<HoldLabels> labelHolds(HoldValidation validation, int threads,
                                      const ClusteringOptions& clustering, const HandModel& hand,
-                                     TaskMapData* map);
+                                     const std::atomic<bool>* stop, TaskMapData* map);
 
 /// Result of a file build.
 struct FileBuildResult {

@@ -58,6 +58,7 @@
 #include "taskmap/core/contact.hpp"
 #include "taskmap/core/pose.hpp"
 #include "taskmap/core/triangle_mesh.hpp"
+#include "taskmap/grasp_sim/diagnostics.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
@@ -114,36 +115,12 @@ struct GraspSimOptions {
   /// contact per triangle (dozens), which adds nothing to the grasp but makes the 6-D wrench
   /// hull of the quality stage cost seconds.
   int max_contacts_per_link = 4;
-  /// Link-versus-object queries: true = for mesh (hull) links, and for every link on meshes of
-  /// 1000 faces or more, Bullet's tree walked with each link shape's face planes (box faces, hull
-  /// faces, a 26-DOP otherwise), overlap proofs and a branch-and-bound nearest-triangle search, so
-  /// that GJK/EPA runs only where the answer depends on it; and lean trial queries (only the
-  /// penetrating hits for contacts, a yes/no for the squeeze limit, the nearest facing hit for
-  /// coupled closing, shrinking thresholds for the approach): results bit for bit those of the
-  /// baseline (contacts too with separating_axis_contacts false; except where Bullet's GJK would
-  /// miss an overlap that a hull corner inside proves), much faster on fine meshes (docs/METHOD.md
-  /// §2); false = the baseline, GJK on every triangle in the link shape's padded bounding box found
-  /// through Bullet's tree, every exact hit computed.
-  bool culled_queries = true;
-  /// The final contacts of box and hull link shapes on meshes of 1000 faces or more (where
-  /// culled queries treat boxes): true = depth and witness point per penetrated triangle from
-  /// separating axes, docs/METHOD.md §2 "Contacts from separating axes": for a box the 13 axes
-  /// of the pair (the exact penetration depth; the witness from the features of the axis, the
-  /// centre of their overlap where they tie), for a hull its face of largest gap where the
-  /// triangle's deepest corner lies that deep inside every face (then exact; elsewhere EPA);
-  /// false = Bullet's EPA. EPA in double precision gives the same depths, and the same witness
-  /// where the deepest features are unique; they differ where features tie (a face flat on a
-  /// triangle: EPA returns some point of the overlap) and where Bullet's GJK calls an
-  /// overlapping pair apart (which can give a finger its first contact). Closing and squeeze
-  /// keep EPA: the pose and joints are the same either way, bit for bit. Needs culled_queries.
-  bool separating_axis_contacts = true;
-  /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
-  bool profile = false;
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
 
-/// Counters of one trial (deterministic except the seconds, which need options.profile).
+/// Counters of one trial (deterministic except the seconds, which need
+/// GraspSimDiagnostics::profile).
 struct GraspStats {
   int queries = 0;          ///< link-versus-object collision queries
   int closing_steps = 0;    ///< coarse closing steps and bisection evaluations
@@ -189,11 +166,12 @@ double resolveStandoff(const HandModel& hand, const GraspSimOptions& options);
 class GraspSimulator {
  public:
   /// @param object the object (its mesh is copied). @param hand the hand (copied).
+  /// @param diagnostics baseline paths and profiling for tests and benchmarks.
   GraspSimulator(const ObjectModel& object, const HandModel& hand,
-                 const GraspSimOptions& options = {});
+                 const GraspSimOptions& options = {}, const GraspSimDiagnostics& diagnostics = {});
   /// Same for a raw closed, outward-oriented mesh in metres (object frame = mesh coordinates).
   GraspSimulator(const TriangleMesh& mesh, const HandModel& hand,
-                 const GraspSimOptions& options = {});
+                 const GraspSimOptions& options = {}, const GraspSimDiagnostics& diagnostics = {});
   ~GraspSimulator();
   GraspSimulator(const GraspSimulator&) = delete;
   GraspSimulator& operator=(const GraspSimulator&) = delete;
@@ -204,6 +182,8 @@ class GraspSimulator {
   const HandModel& hand() const;
   /// The options in force.
   const GraspSimOptions& options() const;
+  /// The diagnostics switches in force.
+  const GraspSimDiagnostics& diagnostics() const;
 
  private:
   struct Impl;

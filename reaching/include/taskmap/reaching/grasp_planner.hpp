@@ -16,6 +16,18 @@
 
 namespace taskmap {
 
+/// The descent planGrasp runs (docs/REACHING.md "Descent").
+enum class Descent {
+  kBfgs,      ///< quasi-Newton, optimizeTrajectoryBfgs (the default)
+  kGradient,  ///< normalised steepest descent, optimizeTrajectory
+};
+
+/// "bfgs" or "gradient".
+const char* toString(Descent descent);
+
+/// Descent of its name ("bfgs", "gradient"); throws Error naming both for anything else.
+Descent descentFromString(const std::string& name);
+
 /// Options of planGrasp.
 struct GraspPlanOptions {
   /// descent; a caller's on_iteration is called after the planner's own bookkeeping of each
@@ -27,9 +39,7 @@ struct GraspPlanOptions {
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
-  /// Descent: BFGS (optimizeTrajectoryBfgs, default) or the normalised gradient descent of
-  /// optimizeTrajectory (docs/REACHING.md "Descent").
-  bool bfgs = true;
+  Descent descent = Descent::kBfgs;  ///< BFGS or the normalised gradient descent
   /// With all_clusters: optimise every reachable cluster for only this many iterations, then
   /// re-run the cheapest (safe first) with the full optimizer.max_iterations (docs/REACHING.md
   /// "Screening"). 0 = off (every cluster optimised fully); >= 0. Default 5.

@@ -61,6 +61,14 @@ struct RobotBody {
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  ///< centre of mass, body frame, metres
 };
 
+/// The hand's collision shapes in a robot model.
+enum class HandShapes {
+  /// One sphere-swept rectangle enclosing all the hand's link primitives at hand_q, in the
+  /// palm frame (one primitive per body, as in the paper; the default).
+  kEnvelope,
+  kPerLink,  ///< every hand link keeps its own primitives (more pairs, tighter fit)
+};
+
 /// How a hand is mounted: the hand's palm frame in the flange body frame (the adapter).
 struct HandMount {
   std::string flange;  ///< body the hand is attached to (e.g. "fer_link8")
@@ -68,10 +76,8 @@ struct HandMount {
   Eigen::Isometry3d palm_in_flange = Eigen::Isometry3d::Identity();
   /// Hand joint values (HandModel::jointNames order); empty means the hand's preshape.
   Eigen::VectorXd hand_q;
-  /// false (default): the hand collides as one sphere-swept rectangle enclosing all its link
-  /// primitives at hand_q, in the palm frame (one primitive per body, as in the paper);
-  /// true: every hand link keeps its own primitives (more pairs, tighter fit).
-  bool per_link_shapes = false;
+  /// How the hand collides with the robot and the scene.
+  HandShapes hand_shapes = HandShapes::kEnvelope;
 };
 
 /// The mount of `hand` on the arm body `flange`: the palm frame in the flange frame from the
@@ -102,7 +108,7 @@ class RobotModel {
   /// Mounts a hand: each hand link becomes a fixed body "hand/<link>" (role kHand) under
   /// mount.flange, with its boxes as sphere-swept rectangles, cylinders and spheres as
   /// capsules, convex meshes as enclosing spheres; adds a body "palm" at the palm frame, which
-  /// carries the enveloping primitive unless mount.per_link_shapes. Throws Error on an unknown
+  /// carries the enveloping primitive with HandShapes::kEnvelope. Throws Error on an unknown
   /// flange, a second hand, or a wrong hand_q size.
   void mountHand(const HandModel& hand, const HandMount& mount);
   /// Adds an environment body fixed in the world at `pose`. Throws Error on a duplicate name.

@@ -38,6 +38,12 @@ enum class StepDerivative {
   kFiniteDifferences  ///< differences of lambda^T F, 2 (dofs + 12) steps each (the oracle)
 };
 
+/// Finite differences of a Jacobian.
+enum class FiniteDifferences {
+  kCentral,  ///< 2 evaluations per input, error O(eps^2)
+  kForward,  ///< 1 evaluation per input, error O(eps)
+};
+
 /// One trajectory optimisation problem. The pointers must outlive every call using it.
 struct TrajectoryProblem {
   const RobotModel* robot = nullptr;           ///< the robot (required)
@@ -55,9 +61,8 @@ struct TrajectoryProblem {
   /// Finite differences: step of the differences of lambda^T F (kFiniteDifferences); analytic:
   /// step of the directional central difference of the collision gradient. Radians.
   double step_jacobian_epsilon = 1e-6;
-  /// kFiniteDifferences only: central differences (2 step evaluations per input, error
-  /// O(eps^2)); false: forward differences (1 per input, error O(eps)).
-  bool central_step_jacobian = true;
+  /// kFiniteDifferences only: which differences.
+  FiniteDifferences step_jacobian_differences = FiniteDifferences::kCentral;
   /// Throws Error naming the problem (missing robot, sizes, limits, options).
   void validate() const;
 };

@@ -11,6 +11,7 @@
 #include <map>
 #include <string>
 
+#include "taskmap/core/run_control.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
@@ -33,6 +34,9 @@ struct ValidateProgress {
   std::size_t holding = 0;  ///< of those done, how many hold
 };
 
+/// Progress callback, interval and stop flag of a validation (run_control.hpp).
+using ValidateControl = RunControl<ValidateProgress>;
+
 /// What a validation found.
 struct ValidationSummary {
   /// How the validation ended.
@@ -54,12 +58,12 @@ struct ValidationSummary {
 /// Tests the grasps of `map` (its object mesh, hand joints and palm poses) with `hand`, which
 /// must be the map's hand (same actuated joints; throws Error naming both otherwise), and
 /// stores the labels in map->validation (replacing earlier ones), with the protocol's
-/// parameters. `progress` is called on the calling thread about every 0.25 s; when *stop
-/// becomes true the workers finish their current grasp and the map is left unchanged.
+/// parameters. control.progress is called on the calling thread about every
+/// control.interval_seconds; when control.stop becomes true the workers finish their current
+/// grasp, the map is left unchanged and the status is kInterrupted. An exception from the
+/// callback stops the workers and leaves validateMap with the map unchanged.
 ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
-                              const ValidateOptions& options,
-                              const std::function<void(const ValidateProgress&)>& progress = {},
-                              const std::atomic<bool>* stop = nullptr);
+                              const ValidateOptions& options, const ValidateControl& control = {});
 
 /// The summary as a JSON object, the one form the CLI (`validate --json`) and Python
 /// (`taskmap.validate`) report: tested, holding, hold_rate, force_closure_tested,
