@@ -115,6 +115,13 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                 "store only grasps whose squeeze the hold filter finds balanced: the "
                 "position-controlled hand presses the free object into equilibrium and resists "
                 "1 N pushes (docs/METHOD.md 4b; costs trials)");
+  cmd->add_option("--closing-check", args.closing_check,
+                  "closing: store only force-closure grasps whose closing, simulated in Bullet "
+                  "with the object free to move (the hold test's drive, 0.1 kg, friction 0.6), "
+                  "leaves the object within 1 cm and 15 degrees; pushes: the same, then six 1 N "
+                  "pushes of 0.2 s (docs/METHOD.md 2b; costs CPU time per grasp)")
+      ->check(CLI::IsMember({"off", "closing", "pushes"}))
+      ->capture_default_str();
   cmd->add_flag("--timestamp", args.timestamp,
                 "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
                 "else none, so the same arguments give the same bytes)");
@@ -136,6 +143,7 @@ BuildOptions knobOptions(const BuildArgs& args) {
   options.keep_invalid = args.keep_invalid;
   options.cluster = !args.no_cluster;
   options.hold_filter.enabled = args.hold_filter;
+  options.closing_check.mode = closingCheckModeFromString(args.closing_check);
   options.check_size = !args.allow_size;
   if (args.grasp == "palm")
     options.simulation.grasp_mode = GraspMode::kPalm;

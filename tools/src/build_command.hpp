@@ -37,7 +37,9 @@ struct BuildArgs {
   bool validate = false;      ///< label the grasps with the physics hold test before writing
   bool keep_holding = false;  ///< with validate: store only the grasps that hold
   bool hold_filter = false;   ///< refuse grasps the squeeze-balance filter finds unbalanced
-  bool force = false;         ///< replace an existing output that is not a task map
+  /// --closing-check: "off", "closing" or "pushes" (ClosingCheckMode)
+  std::string closing_check = "off";
+  bool force = false;  ///< replace an existing output that is not a task map
 };
 
 /// The library's options of a build command line: the knobs, the mesh options and the hold
