@@ -44,6 +44,10 @@ std::string adviceFor(const std::string& outcome) {
     return "grasps closed but the hold filter found none whose squeeze holds the free object: "
            "check the preshape and closing against the object size, or build without "
            "--hold-filter";
+  if (outcome == "pushed")
+    return "grasps reached force closure but the closing check found none whose closing keeps "
+           "the free object in place: check the preshape and closing against the object size, "
+           "or build without --closing-check";
   return "check the hand sidecar and the object";
 }
 

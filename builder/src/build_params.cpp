@@ -169,6 +169,52 @@ void visitHoldFilter(Io& io, P& p) {
   io("hold_filter_push_joint_weight", h.balance.push_joint_weight);
 }
 
+constexpr const char* kClosingCheck = "closing_check";
+
+// The closing check's parameters: present only when it is on (default maps keep their bytes).
+template <class Io, class P>
+void visitClosingCheck(Io& io, P& p) {
+  auto& c = p.options.closing_check;
+  if constexpr (Io::kWriting) {
+    if (c.mode == ClosingCheckMode::kOff) return;
+    io.j[kClosingCheck] = toString(c.mode);
+  } else {
+    const auto it = io.j.find(kClosingCheck);
+    if (it == io.j.end()) return;
+    if (!it->is_string()) wrongValue(kClosingCheck, "must be \"closing\"");
+    try {
+      c.mode = closingCheckModeFromString(it->template get<std::string>());
+    } catch (const Error&) {
+      wrongValue(kClosingCheck, "must be \"closing\"");
+    }
+    io.j.erase(it);
+  }
+  io("closing_object_mass", c.object_mass);
+  io("closing_friction", c.friction);
+  io("closing_kp_revolute", c.kp_revolute);
+  io("closing_damping_revolute", c.damping_revolute);
+  io("closing_kp_prismatic", c.kp_prismatic);
+  io("closing_damping_prismatic", c.damping_prismatic);
+  io("closing_jaw_force", c.jaw_force);
+  io("closing_link_density", c.link_density);
+  io("closing_pregrasp_fraction", c.pregrasp_fraction);
+  io("closing_squeeze_fraction", c.squeeze_fraction);
+  io("closing_time", c.closing_time);
+  io("closing_interpolation_stages", c.interpolation_stages);
+  io("closing_timestep", c.timestep);
+  io("closing_substeps", c.substeps);
+  io("closing_solver_iterations", c.solver_iterations);
+  io("closing_contact_erp", c.contact_erp);
+  io("closing_max_settle_steps", c.max_settle_steps);
+  io("closing_push_force", c.push_force);
+  io("closing_push_duration", c.push_duration);
+  io("closing_max_translation", c.max_translation);
+  io("closing_max_rotation", c.max_rotation);
+  io("closing_max_penetration", c.max_penetration);
+  io("closing_object_max_pieces", c.object_max_pieces);
+  io("closing_margin", c.margin);
+}
+
 // The antipodal and enclosing samplers' parameters: present only for those samplers (maps of
 // the other samplers stay the same bytes); the jaws' widths are written for the record (derived
 // from the hand, read back as extra keys).
@@ -215,6 +261,7 @@ void visitParams(Io& io, P& p) {
   if (!Io::kWriting || o.quality.contacts_per_link > 0)
     io("contacts_per_link", o.quality.contacts_per_link);
   visitHoldFilter(io, p);
+  visitClosingCheck(io, p);
   auto& s = o.simulation;
   io("contact_tolerance", s.contact_tolerance);
   io("max_retraction", s.max_retraction);

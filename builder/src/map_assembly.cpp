@@ -22,10 +22,12 @@ namespace {
 constexpr const char* kForceClosure = "force_closure";
 constexpr const char* kNotForceClosure = "not_force_closure";
 constexpr const char* kUnbalanced = "unbalanced";
+constexpr const char* kPushed = "pushed";
 
 std::string outcomeName(const TrialOutcome& t) {
   if (t.status != GraspStatus::kOk) return toString(t.status);
   if (t.unbalanced) return kUnbalanced;
+  if (t.pushed) return kPushed;
   return t.force_closure ? kForceClosure : kNotForceClosure;
 }
 

@@ -20,6 +20,7 @@ void BuildOptions::validate() const {
   simulation.validate();
   quality.validate();
   hold_filter.validate();
+  closing_check.validate();
   if (valid_target < 1) throw Error("valid must be at least 1");
   if (max_trials < 1) throw Error("trials must be at least 1");
   if (valid_target > kMaxBuildCount)
@@ -87,13 +88,15 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   const int threads = detail::threadCount(options.threads);
   const Sampler sampler(object, detail::samplerOptionsFor(options, hand));
   const GraspSimulator simulator(object, hand, options.simulation);
+  const std::unique_ptr<const ClosingChecker> closing =
+      detail::makeClosingChecker(object, hand, options);
   const MassProperties& mp = object.massProperties();
   timing.setup_seconds = detail::secondsSince(t_start);
 
   detail::Scheduler scheduler(0, options.max_trials, options.block_size, options.valid_target);
-  const detail::TrialPoolSetup setup{sampler,           simulator,        options,
-                                     mp.center_of_mass, mp.torque_scale,  threads,
-                                     control.stop,      control.progress, control.interval_seconds};
+  const detail::TrialPoolSetup setup{
+      sampler,         simulator, closing.get(), options,          mp.center_of_mass,
+      mp.torque_scale, threads,   control.stop,  control.progress, control.interval_seconds};
   detail::runTrialPool(setup, scheduler, timing);
   const bool interrupted = control.stopRequested() && !scheduler.done();
   BuildResult result =

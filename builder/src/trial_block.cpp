@@ -27,6 +27,7 @@ namespace {
 constexpr std::uint8_t kFlagForceClosure = 1;
 constexpr std::uint8_t kFlagGrasp = 2;
 constexpr std::uint8_t kFlagUnbalanced = 4;
+constexpr std::uint8_t kFlagPushed = 8;
 
 class Writer {
  public:
@@ -128,9 +129,9 @@ std::string encodeTrialBlock(const TrialBlock& block) {
   w.put<std::uint64_t>(block.trials.size());
   for (const TrialOutcome& t : block.trials) {
     w.put<std::uint8_t>(static_cast<std::uint8_t>(t.status));
-    const auto flags = static_cast<std::uint8_t>((t.force_closure ? kFlagForceClosure : 0) |
-                                                 (t.grasp ? kFlagGrasp : 0) |
-                                                 (t.unbalanced ? kFlagUnbalanced : 0));
+    const auto flags = static_cast<std::uint8_t>(
+        (t.force_closure ? kFlagForceClosure : 0) | (t.grasp ? kFlagGrasp : 0) |
+        (t.unbalanced ? kFlagUnbalanced : 0) | (t.pushed ? kFlagPushed : 0));
     w.put<std::uint8_t>(flags);
     w.put<double>(t.epsilon);
     w.put<double>(t.volume);
@@ -153,12 +154,15 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (status >= statuses) r.fail("unknown grasp status " + std::to_string(status));
     t.status = static_cast<GraspStatus>(status);
     const auto flags = r.get<std::uint8_t>();
-    if ((flags & ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced)) != 0)
+    if ((flags & ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced | kFlagPushed)) != 0)
       r.fail("unknown trial flags");
     t.force_closure = (flags & kFlagForceClosure) != 0;
     t.unbalanced = (flags & kFlagUnbalanced) != 0;
     if (t.unbalanced && (t.force_closure || t.status != GraspStatus::kOk))
       r.fail("unbalanced trial that is force closure or not status ok");
+    t.pushed = (flags & kFlagPushed) != 0;
+    if (t.pushed && (t.force_closure || t.unbalanced || t.status != GraspStatus::kOk))
+      r.fail("pushed trial that is force closure, unbalanced or not status ok");
     if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
     t.epsilon = r.get<double>();
     t.volume = r.get<double>();
@@ -173,6 +177,7 @@ struct TrialRunner::Impl {
   const int threads;
   const Sampler sampler;
   const GraspSimulator simulator;
+  const std::unique_ptr<const ClosingChecker> closing;
   const Eigen::Vector3d com;
   const double torque_scale;
   BuildTiming timing;
@@ -182,6 +187,7 @@ struct TrialRunner::Impl {
         threads(detail::threadCount(o.threads)),
         sampler(object, detail::samplerOptionsFor(o, hand)),
         simulator(object, hand, o.simulation),
+        closing(detail::makeClosingChecker(object, hand, o)),
         com(object.massProperties().center_of_mass),
         torque_scale(object.massProperties().torque_scale) {}
 };
@@ -209,6 +215,7 @@ bool TrialRunner::run(std::uint64_t first, std::uint64_t last, TrialBlock* block
   const ProgressCallback none;
   const detail::TrialPoolSetup setup{impl_->sampler,
                                      impl_->simulator,
+                                     impl_->closing.get(),
                                      impl_->options,
                                      impl_->com,
                                      impl_->torque_scale,

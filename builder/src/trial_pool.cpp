@@ -37,6 +37,13 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
   return o;
 }
 
+std::unique_ptr<const ClosingChecker> makeClosingChecker(const ObjectModel& object,
+                                                         const HandModel& hand,
+                                                         const BuildOptions& options) {
+  if (options.closing_check.mode == ClosingCheckMode::kOff) return nullptr;
+  return std::make_unique<const ClosingChecker>(object, hand, options.closing_check);
+}
+
 // A block is simulated, then scored: each stage then runs on caches its previous trial left
 // warm (the quality of a many-contact grasp touches megabytes, which would evict the object's
 // tree between two simulations). Outcomes do not depend on the order.
@@ -104,10 +111,17 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
     return t;
   }
   const QualityResult q = evaluateGrasp(g.contacts, com, torque_scale, options.quality);
-  times.quality += threadCpuSeconds() - t0;
   t.force_closure = q.force_closure;
   t.epsilon = q.epsilon;
   t.volume = q.volume;
+  if (t.force_closure && closing != nullptr) {  // only grasps a map could store
+    const double t1 = threadCpuSeconds();
+    t.pushed = !closing->check(g.pose, g.joints).holds;
+    t.force_closure = !t.pushed;
+    times.closing_check += threadCpuSeconds() - t1;
+    ++times.closing_checks;
+  }
+  times.quality += threadCpuSeconds() - t0;
   if (t.force_closure || options.stored == StoredGrasps::kAllCompleted)
     t.grasp = std::make_unique<TrialGrasp>(
         TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
@@ -131,6 +145,7 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
   for (int w = 0; w < threads; ++w)
     workers.push_back(Worker{setup.sampler,
                              setup.simulator,
+                             setup.closing,
                              options,
                              setup.center_of_mass,
                              setup.torque_scale,
@@ -189,6 +204,8 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
     timing.sampling_seconds += w.times.sampling;
     timing.simulation_seconds += w.times.simulation;
     timing.quality_seconds += w.times.quality;
+    timing.closing_check_seconds += w.times.closing_check;
+    timing.closing_checks += w.times.closing_checks;
     timing.trials_simulated += w.times.trials;
     timing.grasps_scored += w.times.scored;
   }

@@ -37,10 +37,16 @@ int threadCount(int requested);
 /// The options the sampler gets: the hand's approach axis.
 SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand);
 
+/// The closing checker of a build, or null when options.closing_check is off.
+std::unique_ptr<const ClosingChecker> makeClosingChecker(const ObjectModel& object,
+                                                         const HandModel& hand,
+                                                         const BuildOptions& options);
+
 struct StageTimes {
-  double sampling = 0.0, simulation = 0.0, quality = 0.0;
+  double sampling = 0.0, simulation = 0.0, quality = 0.0, closing_check = 0.0;
   std::uint64_t trials = 0;
-  std::uint64_t scored = 0;  ///< ok grasps scored
+  std::uint64_t closing_checks = 0;  ///< grasps the closing check simulated
+  std::uint64_t scored = 0;          ///< ok grasps scored
 };
 
 // Shared state of one run of the pool over the trials [first, last): blocks of block_size
@@ -140,6 +146,7 @@ class Scheduler {
 struct Worker {
   const Sampler& sampler;
   const GraspSimulator& simulator;
+  const ClosingChecker* closing;  ///< null when the closing check is off
   const BuildOptions& options;
   const Eigen::Vector3d com;
   const double torque_scale;
@@ -162,6 +169,7 @@ struct Worker {
 struct TrialPoolSetup {
   const Sampler& sampler;
   const GraspSimulator& simulator;
+  const ClosingChecker* closing;  ///< null when the closing check is off
   const BuildOptions& options;
   Eigen::Vector3d center_of_mass;
   double torque_scale;

@@ -225,6 +225,14 @@ void printBuildSummary(const std::string& label, const BuildArgs& args, const Bu
                 percent(t.simulation_seconds, stages).c_str(),
                 percent(t.quality_seconds, stages).c_str(), stages);
   os << line;
+  if (t.closing_checks > 0) {
+    std::snprintf(line, sizeof line,
+                  "  closing   %llu force-closure grasps checked with the object free, %.1f ms "
+                  "CPU each (part of quality)\n",
+                  static_cast<unsigned long long>(t.closing_checks),
+                  1e3 * t.closing_check_seconds / static_cast<double>(t.closing_checks));
+    os << line;
+  }
   os << "  wrote     " << args.output << "\n";
   if (!args.quiet) std::cout << os.str();
   if (result.status == BuildStatus::kTrialBudgetExhausted)

@@ -50,6 +50,33 @@ void expectSameParams(const BuildParams& a, const BuildParams& b) {
   EXPECT_EQ(h.balance.push_force, k.balance.push_force);
   EXPECT_EQ(h.balance.push_tolerance, k.balance.push_tolerance);
   EXPECT_EQ(h.balance.push_joint_weight, k.balance.push_joint_weight);
+  const ClosingCheckOptions& cc = x.closing_check;
+  const ClosingCheckOptions& cd = y.closing_check;
+  EXPECT_EQ(cc.mode, cd.mode);
+  EXPECT_EQ(cc.object_mass, cd.object_mass);
+  EXPECT_EQ(cc.friction, cd.friction);
+  EXPECT_EQ(cc.kp_revolute, cd.kp_revolute);
+  EXPECT_EQ(cc.damping_revolute, cd.damping_revolute);
+  EXPECT_EQ(cc.kp_prismatic, cd.kp_prismatic);
+  EXPECT_EQ(cc.damping_prismatic, cd.damping_prismatic);
+  EXPECT_EQ(cc.jaw_force, cd.jaw_force);
+  EXPECT_EQ(cc.link_density, cd.link_density);
+  EXPECT_EQ(cc.pregrasp_fraction, cd.pregrasp_fraction);
+  EXPECT_EQ(cc.squeeze_fraction, cd.squeeze_fraction);
+  EXPECT_EQ(cc.closing_time, cd.closing_time);
+  EXPECT_EQ(cc.interpolation_stages, cd.interpolation_stages);
+  EXPECT_EQ(cc.timestep, cd.timestep);
+  EXPECT_EQ(cc.substeps, cd.substeps);
+  EXPECT_EQ(cc.solver_iterations, cd.solver_iterations);
+  EXPECT_EQ(cc.contact_erp, cd.contact_erp);
+  EXPECT_EQ(cc.max_settle_steps, cd.max_settle_steps);
+  EXPECT_EQ(cc.push_force, cd.push_force);
+  EXPECT_EQ(cc.push_duration, cd.push_duration);
+  EXPECT_EQ(cc.max_translation, cd.max_translation);
+  EXPECT_EQ(cc.max_rotation, cd.max_rotation);
+  EXPECT_EQ(cc.max_penetration, cd.max_penetration);
+  EXPECT_EQ(cc.object_max_pieces, cd.object_max_pieces);
+  EXPECT_EQ(cc.margin, cd.margin);
   const GraspSimOptions& s = x.simulation;
   const GraspSimOptions& t = y.simulation;
   EXPECT_EQ(s.contact_tolerance, t.contact_tolerance);
@@ -101,6 +128,32 @@ BuildOptions allChanged() {
   h.balance.push_force = 1.5;
   h.balance.push_tolerance = 0.25;
   h.balance.push_joint_weight = 0.3;
+  ClosingCheckOptions& cc = o.closing_check;
+  cc.mode = ClosingCheckMode::kPushes;
+  cc.object_mass = 0.2;
+  cc.friction = 0.5;
+  cc.kp_revolute = 6.0;
+  cc.damping_revolute = 0.2;
+  cc.kp_prismatic = 15000.0;
+  cc.damping_prismatic = 90.0;
+  cc.jaw_force = 60.0;
+  cc.link_density = 700.0;
+  cc.pregrasp_fraction = 0.8;
+  cc.squeeze_fraction = 1.2;
+  cc.closing_time = 0.6;
+  cc.interpolation_stages = 8;
+  cc.timestep = 0.003;
+  cc.substeps = 3;
+  cc.solver_iterations = 12;
+  cc.contact_erp = 0.3;
+  cc.max_settle_steps = 40;
+  cc.push_force = 2.0;
+  cc.push_duration = 0.3;
+  cc.max_translation = 0.02;
+  cc.max_rotation = 0.2;
+  cc.max_penetration = 0.005;
+  cc.object_max_pieces = 32;
+  cc.margin = 4e-4;
   GraspSimOptions& s = o.simulation;
   s.contact_tolerance = 7e-4;
   s.max_retraction = 0.05;
@@ -136,6 +189,7 @@ TEST(BuildParamsTest, EveryFieldRoundTrips) {
   EXPECT_NE(p.options.hold_filter.balance.push_joint_weight,
             defaults.options.hold_filter.balance.push_joint_weight);
   EXPECT_NE(p.options.simulation.standoff, defaults.options.simulation.standoff);
+  EXPECT_NE(p.options.closing_check.margin, defaults.options.closing_check.margin);
   EXPECT_NE(p.options.clustering.threshold, defaults.options.clustering.threshold);
   // The exclusive cut, the palm mode (no standoff stored) and the filter off.
   BuildOptions o = allChanged();
@@ -148,6 +202,11 @@ TEST(BuildParamsTest, EveryFieldRoundTrips) {
   EXPECT_FALSE(q.options.hold_filter.enabled);
   EXPECT_EQ(q.options.hold_filter.kp_revolute, HoldFilterOptions().kp_revolute);
   EXPECT_EQ(buildParamsJson(q).find("hold_filter"), std::string::npos);
+  o.closing_check.mode = ClosingCheckMode::kOff;
+  const BuildParams off = buildParamsOf(o, testing::pandaHand());
+  EXPECT_EQ(buildParamsJson(off).find("\"closing_"), std::string::npos);
+  EXPECT_EQ(buildParamsFromJson(buildParamsJson(off)).options.closing_check.mode,
+            ClosingCheckMode::kOff);
   expectSameParams(q, buildParamsFromJson(buildParamsJson(q)));
 }
 

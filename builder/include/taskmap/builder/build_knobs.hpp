@@ -36,6 +36,7 @@ struct BuildKnobs {
   bool validate = false;          ///< label the grasps with the physics hold test
   bool keep_holding = false;      ///< with validate: store only the grasps that hold
   bool hold_filter = false;       ///< refuse grasps the squeeze-balance filter finds unbalanced
+  std::string closing_check = "off";  ///< "off", "closing" or "pushes" (ClosingCheckMode)
   bool timestamp = false;         ///< store the current time as created_utc
 };
 
@@ -171,6 +172,13 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "position-controlled hand presses the free object into equilibrium and resists 1 N "
              "pushes (docs/METHOD.md 4b; costs trials)"},
     k.hold_filter);
+  v(KnobInfo{"closing_check",
+             "closing: store only force-closure grasps whose closing, simulated in Bullet with "
+             "the object free to move (the hold test's drive, 0.1 kg, friction 0.6), leaves the "
+             "object within 1 cm and 15 degrees; pushes: the same, then six 1 N pushes of 0.2 s "
+             "(docs/METHOD.md 2b; costs CPU time per grasp)",
+             {"off", "closing", "pushes"}},
+    k.closing_check);
   v(KnobInfo{"timestamp",
              "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, else "
              "none, so the same arguments give the same bytes)"},

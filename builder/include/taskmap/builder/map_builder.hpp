@@ -17,6 +17,7 @@
 #include "taskmap/builder/hold_filter.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/run_control.hpp"
+#include "taskmap/grasp_sim/closing_check.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
@@ -53,6 +54,10 @@ struct BuildOptions {
   /// The hold filter run before quality (off by default): grasps whose squeeze cannot hold the
   /// free object are not stored (outcome `unbalanced`); hold_filter.hpp, docs/METHOD.md §4b.
   HoldFilterOptions hold_filter;
+  /// The closing check run on force-closure grasps (off by default): grasps whose closing, with
+  /// the object free to move, pushes it away are not stored (outcome `pushed`);
+  /// grasp_sim/closing_check.hpp, docs/METHOD.md §2b.
+  ClosingCheckOptions closing_check;
   ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
   std::uint64_t seed = 1;             ///< run seed
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
@@ -93,9 +98,14 @@ struct BuildTiming {
   double wall_seconds = 0.0;        ///< whole buildMap call
   double sampling_seconds = 0.0;    ///< Sampler::sample, CPU seconds summed over threads
   double simulation_seconds = 0.0;  ///< GraspSimulator::simulate, CPU seconds summed over threads
-  double quality_seconds = 0.0;     ///< evaluateGrasp, CPU seconds summed over threads
-  double clustering_seconds = 0.0;  ///< clusterGrasps, wall seconds (one thread)
-  double setup_seconds = 0.0;       ///< building sampler and simulator before the trials, wall
+  /// evaluateGrasp and (when on) the hold filter and the closing check, CPU seconds summed over
+  /// threads
+  double quality_seconds = 0.0;
+  /// The closing check's part of quality_seconds (0 when it is off)
+  double closing_check_seconds = 0.0;
+  std::uint64_t closing_checks = 0;    ///< force-closure grasps the closing check simulated
+  double clustering_seconds = 0.0;     ///< clusterGrasps, wall seconds (one thread)
+  double setup_seconds = 0.0;          ///< building sampler and simulator before the trials, wall
   std::uint64_t trials_simulated = 0;  ///< trials actually run, including discarded ones
   /// Simulated grasps (status ok) whose quality was computed: none past the trial that
   /// completes the valid target once every earlier block has finished

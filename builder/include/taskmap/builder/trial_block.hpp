@@ -33,8 +33,11 @@ struct TrialOutcome {
   GraspStatus status = GraspStatus::kNoFingerContact;  ///< simulator outcome
   bool force_closure = false;                          ///< status ok and force closure
   bool unbalanced = false;  ///< status ok, refused by the hold filter (no quality computed)
-  double epsilon = 0.0;     ///< Ferrari-Canny epsilon (status ok)
-  double volume = 0.0;      ///< GWS volume (status ok)
+  /// Force closure by its contacts, refused by the closing check (the closing pushed the free
+  /// object away); force_closure is then false and the trial does not count as valid.
+  bool pushed = false;
+  double epsilon = 0.0;               ///< Ferrari-Canny epsilon (status ok)
+  double volume = 0.0;                ///< GWS volume (status ok)
   std::unique_ptr<TrialGrasp> grasp;  ///< stored grasp, if any (a pointer: most trials have none)
 };
 

@@ -1,0 +1,121 @@
+#pragma once
+/// @file closing_check.hpp
+/// Closing with the object free to move (docs/METHOD.md §2b): after the kinematic trial found
+/// a grasp's joints, a Bullet dynamics world (float64, private) replays how a position-controlled
+/// hand closes on a free object: the hand a fixed-base multibody at the palm pose (revolute and
+/// prismatic joints, mimic joints driven with their driver's target), the object a free rigid
+/// body of the hold test's mass made of its convex pieces, no gravity, friction 0.6. The joints
+/// are driven from a pregrasp (pregrasp_fraction of the way from the preshape to the grasp)
+/// through the grasp to the squeeze target (squeeze_fraction), as the hold test of
+/// docs/VALIDATION.md closes; the check then measures how far the object moved and turned. Links
+/// that touch first and push the object away before the stored contacts form fail it.
+/// Units: metres, radians, kilograms, newtons, seconds.
+
+#include <memory>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "taskmap/core/pose.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/meshes/object_model.hpp"
+
+namespace taskmap {
+
+/// Whether and how a build runs the closing check.
+enum class ClosingCheckMode {
+  kOff,      ///< no check (default)
+  kClosing,  ///< simulate the closing with the object free; refuse grasps that move it
+  /// kClosing, then push the object with push_force along -x, +x, -y, +y, -z, +z of the object
+  /// frame, one after the other (push_duration each, the hand holding its squeeze target)
+  kPushes,
+};
+
+/// Stable lowercase name: "off", "closing", "pushes".
+const char* toString(ClosingCheckMode mode);
+/// Parses a name of toString; throws Error listing the names for anything else.
+ClosingCheckMode closingCheckModeFromString(const std::string& name);
+
+/// The check's numbers. Drive, mass, friction and closing path are the hold test's
+/// (docs/VALIDATION.md, "Parameters"); the thresholds are the check's own.
+struct ClosingCheckOptions {
+  ClosingCheckMode mode = ClosingCheckMode::kOff;  ///< off by default
+  double object_mass = 0.1;                        ///< kg, the free object's mass
+  double friction = 0.6;                           ///< Coulomb friction of hand-object contacts
+  double kp_revolute = 5.0;                        ///< N m / rad, position gain of revolute joints
+  double damping_revolute = 0.1;                   ///< N m s / rad, revolute joint damping
+  double kp_prismatic = 20000.0;                   ///< N / m, position gain of prismatic joints
+  double damping_prismatic = 100.0;                ///< N s / m, prismatic joint damping
+  double jaw_force = 70.0;         ///< N, force limit of each prismatic joint (parallel jaw)
+  double link_density = 800.0;     ///< kg / m^3, hand links' mass from their shapes
+  double pregrasp_fraction = 0.9;  ///< start: this far from the preshape to the grasp
+  double squeeze_fraction = 1.1;   ///< end target: this far from the preshape past the grasp
+  double closing_time = 0.8;       ///< s, pregrasp to grasp and grasp to squeeze, half each
+  int interpolation_stages = 10;   ///< control targets per half (linear steps)
+  double timestep = 0.004;         ///< s, control period
+  int substeps = 4;                ///< Bullet steps per control period (>= 1)
+  int solver_iterations = 10;      ///< Bullet constraint solver iterations per step (>= 1)
+  /// Bullet's contact error reduction (btContactSolverInfo::m_erp2): the share of a
+  /// penetration removed per step (the stored grasps start pressed in by the squeeze).
+  double contact_erp = 0.2;
+  /// Steps of the quasi-static start (the object's velocity zeroed after each) that remove the
+  /// hand's overlap with the object before the closing (0: none; docs/METHOD.md §2b).
+  int max_settle_steps = 50;
+  double push_force = 1.0;     ///< N, kPushes: the hold test's push (10 x 0.1 kg)
+  double push_duration = 0.2;  ///< s per direction, kPushes
+  /// m: the grasp fails when the object's origin moves this far from its start (closing and
+  /// pushes)
+  double max_translation = 0.01;
+  double max_rotation = 0.2617993877991494;  ///< rad (15 deg): or turns this far
+  double max_penetration = 0.01;             ///< m: a hand starting deeper inside the object fails
+  int object_max_pieces = 64;  ///< convex pieces of a non-convex object (ConvexPiecesOptions)
+  double margin = 5e-4;        ///< m, Bullet collision margin of every shape
+  /// Throws Error naming the option when a value is out of range.
+  void validate() const;
+};
+
+/// Outcome of the check for one grasp.
+struct ClosingCheckResult {
+  bool holds = false;  ///< the object stayed within both thresholds
+  /// The object origin's displacement when the check ended (object frame at the start), m
+  Eigen::Vector3d displacement = Eigen::Vector3d::Zero();
+  double translation = 0.0;          ///< |displacement|, m
+  double rotation = 0.0;             ///< the object's rotation when the check ended, rad
+  double initial_penetration = 0.0;  ///< deepest hand-object overlap at the pregrasp, m
+  bool unstable = false;             ///< non-finite state (counts as not holding)
+  /// Largest distance between a link origin placed by Bullet and by HandModel::linkPoses at
+  /// the pregrasp (m; a consistency check of the multibody's kinematics).
+  double placement_error = 0.0;
+  int failed_push = -1;  ///< kPushes: index (-x, +x, -y, +y, -z, +z) of the push that failed
+  int steps = 0;         ///< Bullet steps taken (the check stops once the object left a threshold)
+};
+
+/// Runs the check for one hand and one object. Construction builds what every trial shares (the
+/// object's convex pieces and shapes, the link shapes and masses, the multibody's joint
+/// layout); check() builds its own dynamics world, is const, thread-safe, and its result depends
+/// on its arguments only.
+class ClosingChecker {
+ public:
+  /// @param object the solid (its mass properties shape the free body); @param hand the hand.
+  /// Throws Error for invalid options or an unusable object mesh.
+  ClosingChecker(const ObjectModel& object, const HandModel& hand,
+                 const ClosingCheckOptions& options);
+  ~ClosingChecker();
+  ClosingChecker(const ClosingChecker&) = delete;
+  ClosingChecker& operator=(const ClosingChecker&) = delete;
+
+  /// Checks a grasp: palm frame `palm` in the object frame, actuated joints `joints`
+  /// (HandModel::jointNames() order). Throws Error on a size mismatch.
+  ClosingCheckResult check(const Pose& palm, const Eigen::VectorXd& joints) const;
+  /// Convex pieces the object became.
+  int objectPieces() const;
+  /// The options in force.
+  const ClosingCheckOptions& options() const;
+
+  struct Model;  ///< private (Bullet shapes)
+
+ private:
+  std::unique_ptr<Model> model_;
+};
+
+}  // namespace taskmap

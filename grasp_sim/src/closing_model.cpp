@@ -1,0 +1,154 @@
+// ClosingChecker::Model: the Bullet shapes, link masses and joint layout shared by every check.
+#include "closing_model.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+#include <BulletCollision/CollisionShapes/btCylinderShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <Eigen/Eigenvalues>
+
+#include "collision_data.hpp"
+#include "taskmap/core/constants.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/meshes/convex_pieces.hpp"
+
+namespace taskmap {
+namespace {
+
+/// Volume of a convex shape, m^3 (hulls: half their bounding box), as the hold test's model.
+double shapeVolume(const CollisionShape& s) {
+  switch (s.type) {
+    case ShapeType::kBox:
+      return s.box_size.prod();
+    case ShapeType::kCylinder:
+      return kPi * s.radius * s.radius * s.length;
+    case ShapeType::kSphere:
+      return 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
+    case ShapeType::kConvex: {
+      Eigen::AlignedBox3d box;
+      for (const auto& p : s.points) box.extend(p);
+      return s.points.empty() ? 0.0 : 0.5 * box.sizes().prod();
+    }
+  }
+  return 0.0;
+}
+
+std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margin) {
+  std::unique_ptr<btConvexShape> shape;
+  switch (s.type) {
+    case ShapeType::kBox:
+      shape = std::make_unique<btBoxShape>(bt(Eigen::Vector3d(0.5 * s.box_size)));
+      break;
+    case ShapeType::kCylinder:
+      shape = std::make_unique<btCylinderShapeZ>(btVector3(s.radius, s.radius, 0.5 * s.length));
+      break;
+    case ShapeType::kSphere:
+      return std::make_unique<btSphereShape>(s.radius);  // its margin is its radius
+    case ShapeType::kConvex: {
+      auto hull = std::make_unique<btConvexHullShape>(
+          s.points.front().data(), static_cast<int>(s.points.size()), sizeof(Eigen::Vector3d));
+      hull->optimizeConvexHull();
+      shape = std::move(hull);
+      break;
+    }
+  }
+  shape->setMargin(margin);
+  return shape;
+}
+
+}  // namespace
+
+ClosingLink ClosingChecker::Model::makeLink(int link, int parent, int joint) {
+  ClosingLink c;
+  c.link = link;
+  c.parent = parent;
+  c.joint = joint;
+  const HandLink& l = hand.links()[static_cast<std::size_t>(link)];
+  double volume = 0.0;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& s : l.shapes) {
+    const double v = shapeVolume(s);
+    volume += v;
+    centre += v * s.origin.translation();
+  }
+  if (volume > 0.0) centre /= volume;
+  double radius = 0.0;
+  for (const auto& s : l.shapes)
+    radius = std::max(radius, (s.origin.translation() - centre).norm() + s.boundingRadius());
+  // The hold test's mass and sphere inertia about the shapes' centre, moved to the link origin
+  // (the multibody link's centre of mass) by the parallel-axis term.
+  c.mass = std::max(options.link_density * volume, 1e-3);
+  c.inertia = std::max(0.4 * c.mass * radius * radius, 1e-8) + c.mass * centre.squaredNorm();
+  if (l.shapes.empty()) return c;
+  c.shape = std::make_unique<btCompoundShape>(true, static_cast<int>(l.shapes.size()));
+  for (const auto& s : l.shapes) {
+    convex.push_back(convexShape(s, options.margin));
+    c.shape->addChildShape(bt(s.origin), convex.back().get());
+  }
+  return c;
+}
+
+void ClosingChecker::Model::makeObject(const ObjectModel& o) {
+  const MassProperties& mp = o.massProperties();
+  // Principal axes of the inertia (per unit density) scaled to the check's mass.
+  const Eigen::Matrix3d inertia = (options.object_mass / mp.volume) * mp.inertia;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(inertia);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  if (axes.determinant() < 0.0) axes.col(2) = -axes.col(2);
+  object_inertia = eig.eigenvalues().cwiseMax(1e-12);
+  object_principal = Eigen::Isometry3d::Identity();
+  object_principal.linear() = axes;
+  object_principal.translation() = mp.center_of_mass;
+  ConvexPiecesOptions po;
+  po.max_pieces = options.object_max_pieces;
+  const ConvexPieces pieces = convexPieces(o.mesh(), po, "object '" + o.name() + "'");
+  object_pieces = static_cast<int>(pieces.pieces.size());
+  object = std::make_unique<btCompoundShape>(true, object_pieces);
+  const Eigen::Isometry3d to_principal = object_principal.inverse();
+  for (const auto& piece : pieces.pieces) {
+    std::vector<Eigen::Vector3d> local;
+    local.reserve(piece.size());
+    for (const auto& p : piece) local.push_back(to_principal * p);
+    auto hull = std::make_unique<btConvexHullShape>(
+        local.front().data(), static_cast<int>(local.size()), sizeof(Eigen::Vector3d));
+    hull->optimizeConvexHull();
+    hull->setMargin(options.margin);
+    object->addChildShape(btTransform::getIdentity(), hull.get());
+    convex.push_back(std::move(hull));
+  }
+}
+
+ClosingChecker::Model::Model(const ObjectModel& o, const HandModel& h,
+                             const ClosingCheckOptions& opt)
+    : hand(h), options(opt) {
+  options.validate();
+  const auto& hl = hand.links();
+  const auto& hj = hand.joints();
+  std::vector<std::vector<int>> children(hl.size());
+  int root = -1;
+  for (std::size_t j = 0; j < hj.size(); ++j)
+    children[static_cast<std::size_t>(hj[j].parent_link)].push_back(static_cast<int>(j));
+  for (std::size_t l = 0; l < hl.size(); ++l)
+    if (hl[l].parent_joint < 0) root = static_cast<int>(l);
+  if (root < 0) throw Error("closing check: hand '" + hand.name() + "' has no root link");
+  multibody_of.assign(hl.size(), -2);
+  base = makeLink(root, -1, -1);
+  multibody_of[static_cast<std::size_t>(root)] = -1;
+  // Breadth first from the root: a multibody link's parent comes before it.
+  std::vector<int> queue{root};
+  for (std::size_t next = 0; next < queue.size(); ++next) {
+    const int l = queue[next];
+    for (int j : children[static_cast<std::size_t>(l)]) {
+      const int child = hj[static_cast<std::size_t>(j)].child_link;
+      multibody_of[static_cast<std::size_t>(child)] = static_cast<int>(links.size());
+      links.push_back(makeLink(child, multibody_of[static_cast<std::size_t>(l)], j));
+      queue.push_back(child);
+    }
+  }
+  makeObject(o);
+}
+
+}  // namespace taskmap

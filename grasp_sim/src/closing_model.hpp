@@ -1,0 +1,53 @@
+#pragma once
+// Private to grasp_sim: what every closing check of one hand and object shares (Bullet shapes,
+// link masses, the multibody's joint layout), built once and read by all threads.
+
+#include <memory>
+#include <vector>
+
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexShape.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "taskmap/grasp_sim/closing_check.hpp"
+#include "taskmap/meshes/hand_model.hpp"
+
+namespace taskmap {
+
+struct ClosingWorld;  // one check's Bullet world (closing_world.cpp)
+
+/// One hand link as a multibody link (its centre of mass at the link frame's origin).
+struct ClosingLink {
+  int link = -1;    ///< index into HandModel::links()
+  int parent = -1;  ///< multibody index of the parent link, -1 for the base (root link)
+  int joint = -1;   ///< index into HandModel::joints() of the joint from the parent
+  double mass = 0.0;
+  double inertia = 0.0;                    ///< kg m^2, about each axis through the link origin
+  std::unique_ptr<btCompoundShape> shape;  ///< null for links without collision shapes
+};
+
+struct ClosingChecker::Model {
+  HandModel hand;
+  ClosingCheckOptions options;
+  ClosingLink base;                                    ///< the root link (fixed)
+  std::vector<ClosingLink> links;                      ///< the others, parents first
+  std::vector<std::unique_ptr<btConvexShape>> convex;  ///< every convex child shape (owned)
+  std::unique_ptr<btCompoundShape> object;             ///< pieces in the principal frame
+  Eigen::Isometry3d object_principal;                  ///< principal frame in the object frame
+  Eigen::Vector3d object_inertia = Eigen::Vector3d::Zero();  ///< principal moments, kg m^2
+  int object_pieces = 0;
+  std::vector<int> multibody_of;  ///< per hand link: multibody index (-1 base, -2 none)
+
+  Model(const ObjectModel& object, const HandModel& h, const ClosingCheckOptions& o);
+  /// Runs one check (closing_world.cpp).
+  ClosingCheckResult run(const Pose& palm, const Eigen::VectorXd& joints) const;
+  /// kPushes: the six pushes after the closing, the hand holding `squeeze` (closing_world.cpp).
+  void push(const Eigen::VectorXd& squeeze, double h, ClosingWorld* w, ClosingCheckResult* r) const;
+
+ private:
+  ClosingLink makeLink(int link, int parent, int joint);
+  void makeObject(const ObjectModel& object);
+};
+
+}  // namespace taskmap

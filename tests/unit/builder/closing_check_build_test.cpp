@@ -1,0 +1,68 @@
+// The closing check in a build (BuildOptions::closing_check): refused trials are counted as
+// `pushed`, every stored grasp passes the check again, the map is the same for any thread
+// count, the parameters are recorded only when the check is on, and `pushed` trials round-trip
+// through the blocks of taskmap-mpi.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "build_fixtures.hpp"
+#include "taskmap/builder/map_builder.hpp"
+#include "taskmap/builder/trial_block.hpp"
+#include "taskmap/grasp_sim/closing_check.hpp"
+
+namespace taskmap {
+namespace {
+
+TEST(ClosingCheckBuild, StoresOnlyGraspsThatPassAndCountsTheOthers) {
+  // The humanoid's closing pushes most of its force-closure grasps of the box away.
+  const HandModel hand =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf");
+  BuildOptions o;
+  o.seed = 5;
+  o.valid_target = 4;
+  o.threads = 1;
+  o.closing_check.mode = ClosingCheckMode::kClosing;
+  const BuildResult one = buildMap(testing::boxObject(), hand, o);
+  ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
+  EXPECT_GT(one.map.sampling.outcomes.at("pushed"), 0u);
+  EXPECT_GT(one.timing.closing_checks, 0u);
+  EXPECT_GT(one.timing.closing_check_seconds, 0.0);
+  const ClosingChecker checker(testing::boxObject(), hand, o.closing_check);
+  for (std::size_t i = 0; i < one.map.grasps.size(); ++i) {
+    const Eigen::VectorXd q = one.map.grasps.joints.row(static_cast<Eigen::Index>(i)).transpose();
+    EXPECT_TRUE(checker.check(one.map.grasps.poseAt(i), q).holds) << "grasp " << i;
+  }
+  EXPECT_NE(one.map.sampling.params_json.find("\"closing_check\":\"closing\""), std::string::npos);
+  o.threads = 2;
+  const BuildResult two = buildMap(testing::boxObject(), hand, o);
+  EXPECT_EQ(one.map.grasps.pose, two.map.grasps.pose);
+  EXPECT_EQ(one.map.grasps.joints, two.map.grasps.joints);
+  EXPECT_EQ(one.map.sampling.outcomes, two.map.sampling.outcomes);
+  // Off (the default), the map records no check and no trial is pushed.
+  o.closing_check.mode = ClosingCheckMode::kOff;
+  const BuildResult off = buildMap(testing::boxObject(), hand, o);
+  EXPECT_EQ(off.map.sampling.outcomes.count("pushed"), 0u);
+  EXPECT_EQ(off.map.sampling.params_json.find("\"closing_"), std::string::npos);
+  EXPECT_EQ(off.timing.closing_checks, 0u);
+}
+
+TEST(ClosingCheckBuild, PushedTrialsRoundTripThroughBlocks) {
+  TrialBlock block;
+  block.first = 3;
+  block.trials.resize(2);
+  block.trials[0].status = GraspStatus::kOk;
+  block.trials[0].pushed = true;
+  block.trials[1].status = GraspStatus::kOk;
+  block.trials[1].force_closure = true;
+  const TrialBlock back = decodeTrialBlock(encodeTrialBlock(block), 2, "block");
+  EXPECT_TRUE(back.trials[0].pushed);
+  EXPECT_FALSE(back.trials[1].pushed);
+  EXPECT_EQ(back.valid(), 1u);
+  // A pushed trial that claims force closure is malformed.
+  block.trials[0].force_closure = true;
+  EXPECT_THROW(decodeTrialBlock(encodeTrialBlock(block), 2, "block"), Error);
+}
+
+}  // namespace
+}  // namespace taskmap

@@ -1,0 +1,186 @@
+// The closing check (grasp_sim/closing_check.hpp): closing with the object free to move.
+// Oracles: a one-jaw grasp of an offset box must push the box over by its offset (closed
+// form), the centred grasp of the same box must leave it in place; a barrett grasp of a
+// cylinder that the physics hold test (MuJoCo, validate) holds passes; the verdict is a pure
+// function of the grasp (threads, repeats); options are validated with messages naming them.
+#include "taskmap/grasp_sim/closing_check.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "error_matchers.hpp"
+#include "grasp_fixtures.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/validate/hold_test.hpp"
+#include "test_meshes.hpp"
+
+namespace taskmap {
+namespace {
+
+using testing::fromAbove;
+
+ClosingCheckOptions closingOn() {
+  ClosingCheckOptions o;
+  o.mode = ClosingCheckMode::kClosing;
+  return o;
+}
+
+HandModel pandaMimic() {
+  return HandModel::load(testing::testHandPath("panda_mimic"));
+}
+
+TEST(ClosingCheck, ModeNamesAndOptionErrors) {
+  EXPECT_STREQ(toString(ClosingCheckMode::kOff), "off");
+  EXPECT_STREQ(toString(ClosingCheckMode::kClosing), "closing");
+  EXPECT_STREQ(toString(ClosingCheckMode::kPushes), "pushes");
+  EXPECT_EQ(closingCheckModeFromString("pushes"), ClosingCheckMode::kPushes);
+  EXPECT_TRUE(testing::throwsError([] { closingCheckModeFromString("on"); },
+                                   {"\"off\", \"closing\" or \"pushes\"", "\"on\""}));
+  ClosingCheckOptions o;
+  EXPECT_NO_THROW(o.validate());
+  o.object_mass = 0.0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"object_mass", "positive", "kg"}));
+  o = ClosingCheckOptions();
+  o.contact_erp = 1.5;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"contact_erp", "(0, 1]"}));
+  o = ClosingCheckOptions();
+  o.squeeze_fraction = 0.5;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"squeeze_fraction", "[1, 2]"}));
+  o = ClosingCheckOptions();
+  o.substeps = 0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"substeps", ">= 1"}));
+  o = ClosingCheckOptions();
+  o.object_max_pieces = 65;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"object_max_pieces", "[1, 64]"}));
+  o = ClosingCheckOptions();
+  o.timestep = 0.2;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"timestep", "closing_time"}));
+  // The constructor validates, and check() names a joint count that does not fit.
+  const ObjectModel box = ObjectModel::fromMesh(testing::makeBox(0.04, 0.03, 0.1), "box");
+  o = closingOn();
+  o.max_rotation = -1.0;
+  EXPECT_TRUE(
+      testing::throwsError([&] { ClosingChecker(box, pandaMimic(), o); }, {"max_rotation"}));
+  const ClosingChecker checker(box, pandaMimic(), closingOn());
+  EXPECT_TRUE(testing::throwsError(
+      [&] { checker.check(fromAbove(Eigen::Vector3d::Zero()), Eigen::VectorXd::Zero(3)); },
+      {"3 joint values", "panda", "1 actuated"}));
+}
+
+// A 4 cm box 15 mm off the centre of mimic jaws. Without centring the kinematic closing stops
+// at the first touch (one jaw, the other 30 mm from the box); closing that grasp with the box
+// free, the touching jaw drives on to the squeeze target (10 % past the grasp) and pushes the
+// box along the closing direction (object x) at least that far, nothing stopping it. The
+// centred grasp of the same trial (both jaws) keeps it within a few millimetres.
+TEST(ClosingCheck, OneJawPushMovesTheBoxByItsOffset) {
+  const double off = 0.015;
+  const TriangleMesh mesh = testing::makeBox(0.04, 0.03, 0.10);
+  const ObjectModel box = ObjectModel::fromMesh(mesh, "box");
+  const HandModel hand = pandaMimic();
+  GraspSimOptions stiff;
+  stiff.centre_coupled = false;
+  const GraspResult one =
+      GraspSimulator(mesh, hand, stiff).simulate(fromAbove(Eigen::Vector3d(off, 0.0, -0.01)));
+  ASSERT_EQ(one.status, GraspStatus::kOk) << one.message;
+  ASSERT_EQ(one.fingers_in_contact.size(), 1u);
+  const GraspResult both =
+      GraspSimulator(mesh, hand).simulate(fromAbove(Eigen::Vector3d(off, 0.0, -0.01)));
+  ASSERT_EQ(both.status, GraspStatus::kOk) << both.message;
+  ASSERT_EQ(both.fingers_in_contact.size(), 2u);
+
+  ClosingCheckOptions loose = closingOn();
+  loose.max_translation = 0.05;  // see the whole push
+  const ClosingChecker measure(box, hand, loose);
+  const ClosingCheckResult pushed = measure.check(one.pose, one.joints);
+  EXPECT_LT(pushed.placement_error, 1e-9);
+  const double travel = 0.1 * std::abs(one.joints[0] - hand.preshape()[0]);  // grasp to squeeze
+  EXPECT_GT(std::abs(pushed.displacement.x()), travel);
+  EXPECT_GT(std::abs(pushed.displacement.x()), pushed.displacement.tail<2>().norm());
+  const ClosingChecker checker(box, hand, closingOn());
+  const ClosingCheckResult refused = checker.check(one.pose, one.joints);
+  EXPECT_FALSE(refused.holds);
+  EXPECT_GE(refused.translation, checker.options().max_translation);
+  const ClosingCheckResult held = checker.check(both.pose, both.joints);
+  EXPECT_TRUE(held.holds) << held.translation << " m, " << held.rotation << " rad";
+  EXPECT_LT(held.translation, 0.005);
+}
+
+/// The first trials of barrett on a lying cylinder that close with all three fingers.
+std::vector<GraspResult> barrettCylinderGrasps(const TriangleMesh& mesh, int n) {
+  const HandModel hand = testing::referenceHand("barrett");
+  const GraspSimulator sim(mesh, hand);
+  std::vector<GraspResult> out;
+  for (const Pose& p : testing::randomPoses(400, Eigen::Vector3d(-0.03, -0.03, -0.03),
+                                            Eigen::Vector3d(0.03, 0.03, 0.03), 7)) {
+    GraspResult g = sim.simulate(p);
+    if (g.status == GraspStatus::kOk && g.fingers_in_contact.size() == 3 && g.palm_contact)
+      out.push_back(std::move(g));
+    if (static_cast<int>(out.size()) == n) break;
+  }
+  return out;
+}
+
+// A barrett grasp of a cylinder that the physics hold test holds firmly (the object moves less
+// than 5 mm under every push) passes the check, which keeps the object within 2 mm.
+TEST(ClosingCheck, BarrettGraspThatHoldsInPhysicsPasses) {
+  const TriangleMesh mesh = testing::makeCylinder(0.035, 0.16, 48, 0);
+  const ObjectModel cylinder = ObjectModel::fromMesh(mesh, "cylinder");
+  const HandModel hand = testing::referenceHand("barrett");
+  const std::vector<GraspResult> grasps = barrettCylinderGrasps(mesh, 8);
+  ASSERT_FALSE(grasps.empty());
+  const HoldTester validator(hand, cylinder);
+  const ClosingChecker checker(cylinder, hand, closingOn());
+  int firm = 0;
+  for (const GraspResult& g : grasps) {
+    const HoldResult h = validator.test(g.pose, g.joints);
+    if (!h.holds || h.max_translation > 0.005) continue;
+    ++firm;
+    const ClosingCheckResult r = checker.check(g.pose, g.joints);
+    EXPECT_TRUE(r.holds) << r.translation << " m, " << r.rotation << " rad";
+    EXPECT_LT(r.translation, 0.002);
+    EXPECT_LT(r.placement_error, 1e-9);
+  }
+  EXPECT_GE(firm, 1) << "no grasp held firmly in the hold test";
+}
+
+// Each check builds its own world: the same grasp gives the same numbers, bit for bit, repeated
+// and from several threads at once (also in the push mode).
+TEST(ClosingCheck, VerdictIsAPureFunctionOfTheGrasp) {
+  const TriangleMesh mesh = testing::makeCylinder(0.035, 0.16, 48, 0);
+  const ObjectModel cylinder = ObjectModel::fromMesh(mesh, "cylinder");
+  const HandModel hand = testing::referenceHand("barrett");
+  const std::vector<GraspResult> grasps = barrettCylinderGrasps(mesh, 3);
+  ASSERT_EQ(grasps.size(), 3u);
+  ClosingCheckOptions o = closingOn();
+  o.mode = ClosingCheckMode::kPushes;
+  o.push_duration = 0.05;
+  const ClosingChecker checker(cylinder, hand, o);
+  std::vector<ClosingCheckResult> first;
+  for (const GraspResult& g : grasps) first.push_back(checker.check(g.pose, g.joints));
+  std::vector<std::vector<ClosingCheckResult>> par(3);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 3; ++t)
+    threads.emplace_back([&, t] {
+      for (std::size_t i = 0; i < grasps.size(); ++i) {
+        const std::size_t k = (i + static_cast<std::size_t>(t)) % grasps.size();
+        par[static_cast<std::size_t>(t)].resize(grasps.size());
+        par[static_cast<std::size_t>(t)][k] = checker.check(grasps[k].pose, grasps[k].joints);
+      }
+    });
+  for (auto& th : threads) th.join();
+  for (const auto& run : par)
+    for (std::size_t i = 0; i < grasps.size(); ++i) {
+      EXPECT_EQ(run[i].holds, first[i].holds);
+      EXPECT_EQ(run[i].translation, first[i].translation);
+      EXPECT_EQ(run[i].rotation, first[i].rotation);
+      EXPECT_EQ(run[i].steps, first[i].steps);
+      EXPECT_EQ(run[i].failed_push, first[i].failed_push);
+    }
+}
+
+}  // namespace
+}  // namespace taskmap
