@@ -55,8 +55,11 @@ void addBuildKnobs(CLI::App& cmd_ref, BuildArgs& args) {
                   "roll and standoff; finds handles), mixed (even trials "
                   "volume, odd surface), antipodal (parallel jaws: the pads on two surface "
                   "points whose normals lie in each other's friction cones), enclose (palm on a "
-                  "surface point, no open finger inside the object)")
-      ->check(CLI::IsMember({"volume", "surface", "mixed", "antipodal", "enclose"}))
+                  "surface point, no open finger inside the object), antipodal_palm (parallel "
+                  "jaws: an antipodal pair, the palm placed where it meets the surface behind "
+                  "it, no open finger inside the object)")
+      ->check(
+          CLI::IsMember({"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm"}))
       ->capture_default_str();
   cmd->add_option("--valid", args.valid, "stop after this many force-closure grasps")
       ->check(CLI::PositiveNumber)
