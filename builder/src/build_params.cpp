@@ -220,7 +220,7 @@ void visitClosingCheck(Io& io, P& p) {
 // from the hand, read back as extra keys).
 template <class Io, class S>
 void visitSamplerExtras(Io& io, S& s) {
-  const bool antipodal = s.kind == SamplerKind::kAntipodal;
+  const bool antipodal = s.kind == SamplerKind::kAntipodal || s.kind == SamplerKind::kAntipodalPalm;
   if (!Io::kWriting || antipodal || s.kind == SamplerKind::kEnclose) io("attempts", s.attempts);
   if (!Io::kWriting || antipodal) {
     io("antipodal_friction", s.friction);
@@ -230,6 +230,10 @@ void visitSamplerExtras(Io& io, S& s) {
     if (antipodal && s.jaws) {
       io.j["jaw_open_width"] = s.jaws->open_width;
       io.j["jaw_closed_width"] = s.jaws->closed_width;
+      if (s.kind == SamplerKind::kAntipodalPalm) {
+        io.j["jaw_palm_front"] = s.jaws->palm_front;
+        io.j["place_palm"] = s.place_palm;
+      }
     }
   }
 }
@@ -323,7 +327,8 @@ BuildParams buildParamsFromJson(const std::string& text) {
 BuildParams buildParamsOf(const BuildOptions& options, const HandModel& hand) {
   BuildParams p;
   p.options = options;
-  if (options.sampler.kind == SamplerKind::kAntipodal)
+  if (options.sampler.kind == SamplerKind::kAntipodal ||
+      options.sampler.kind == SamplerKind::kAntipodalPalm)
     p.options.sampler = detail::samplerOptionsFor(options, hand);
   p.options.sampler.approach_axis = hand.approachAxis();
   GraspSimOptions& s = p.options.simulation;
@@ -338,7 +343,8 @@ namespace detail {
 std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   BuildParams p;
   p.options = o;
-  if (o.sampler.kind == SamplerKind::kAntipodal) p.options.sampler = samplerOptionsFor(o, hand);
+  if (o.sampler.kind == SamplerKind::kAntipodal || o.sampler.kind == SamplerKind::kAntipodalPalm)
+    p.options.sampler = samplerOptionsFor(o, hand);
   p.options.sampler.approach_axis = hand.approachAxis();
   GraspSimOptions& s = p.options.simulation;
   if (!s.grasp_mode) s.grasp_mode = hand.graspMode();

@@ -34,7 +34,11 @@ double secondsSince(Clock::time_point t0);
 /// may run on (its CPU affinity mask, so `mpirun --bind-to core` or taskset are respected).
 int threadCount(int requested);
 
-/// The options the sampler gets: the hand's approach axis.
+/// Spacing of the finger points the antipodal_palm sampler tests for being inside, metres.
+constexpr double kFingerCheckSpacing = 0.01;
+
+/// The options the sampler gets: the hand's approach axis, the build's friction, the jaws and
+/// finger points the kind needs, and (antipodal_palm) whether the palm must touch.
 SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand);
 
 /// The closing checker of a build, or null when options.closing_check is off.

@@ -23,6 +23,8 @@ const char* toString(SamplerKind kind) {
       return "antipodal";
     case SamplerKind::kEnclose:
       return "enclose";
+    case SamplerKind::kAntipodalPalm:
+      return "antipodal_palm";
   }
   return "mixed";
 }
@@ -33,7 +35,9 @@ SamplerKind samplerKindFromString(const std::string& name) {
   if (name == "mixed") return SamplerKind::kMixed;
   if (name == "antipodal") return SamplerKind::kAntipodal;
   if (name == "enclose") return SamplerKind::kEnclose;
-  throw Error("unknown sampler '" + name + "': use volume, surface, mixed, antipodal or enclose");
+  if (name == "antipodal_palm") return SamplerKind::kAntipodalPalm;
+  throw Error("unknown sampler '" + name +
+              "': use volume, surface, mixed, antipodal, enclose or antipodal_palm");
 }
 
 void JawGeometry::validate() const {
@@ -44,6 +48,9 @@ void JawGeometry::validate() const {
     throw Error("jaw open_width must be a positive length in metres");
   if (!std::isfinite(closed_width) || closed_width >= open_width)
     throw Error("jaw closed_width must be finite and below open_width (metres)");
+  if (!std::isfinite(palm_front)) throw Error("jaw palm_front must be finite (metres)");
+  if (!palm_min.allFinite() || !palm_max.allFinite() || (palm_min.array() > palm_max.array()).any())
+    throw Error("jaw palm_min and palm_max must be finite with palm_min <= palm_max (metres)");
 }
 
 void SamplerOptions::validate() const {
@@ -136,6 +143,79 @@ Eigen::Vector3d padCentre(const std::vector<Eigen::Vector3d>& pts, const Eigen::
 }
 
 constexpr double kPadBand = 0.002;  ///< metres: a pad is the finger's points this near its face
+/// antipodal_palm: spins tried per pair, evenly spaced from the drawn one.
+constexpr int kSpins = 4;
+/// Rays from a surface point start this far along so as not to hit their own triangle, metres.
+constexpr double kRayStart = 1e-7;
+/// antipodal_palm: the palm-face rays run this far in front of the surface point, metres.
+constexpr double kPalmClearance = 0.01;
+
+/// The palm-rigid links' shape points at q, palm frame.
+std::vector<Eigen::Vector3d> palmPoints(const HandModel& hand, const Eigen::VectorXd& q) {
+  const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    const HandLink& link = hand.links()[l];
+    if (!link.palm) continue;
+    std::vector<Eigen::Vector3d> pts;
+    for (const CollisionShape& s : link.shapes) shapePoints(s, &pts);
+    for (const Eigen::Vector3d& p : pts) out.push_back(poses[l] * p);
+  }
+  return out;
+}
+
+/// The palm's front along a and its extent across (along c and c x a), from its points.
+void palmExtent(const std::vector<Eigen::Vector3d>& palm, const Eigen::Vector3d& a,
+                JawGeometry* g) {
+  if (palm.empty()) return;
+  const Eigen::Vector3d c = g->closing_axis, v = c.cross(a);
+  g->palm_front = -1e300;
+  g->palm_min.setConstant(1e300);
+  g->palm_max.setConstant(-1e300);
+  for (const Eigen::Vector3d& p : palm) {
+    g->palm_front = std::max(g->palm_front, a.dot(p));
+    const Eigen::Vector2d x(c.dot(p), v.dot(p));
+    g->palm_min = g->palm_min.cwiseMin(x);
+    g->palm_max = g->palm_max.cwiseMax(x);
+  }
+}
+
+/// Extra points of a shape for inside tests, shape's link frame: a grid at most `spacing` apart
+/// on each box face, rings on a cylinder's side, midpoints of hull points closer than 2 spacing.
+void densePoints(const CollisionShape& s, double spacing, std::vector<Eigen::Vector3d>* out) {
+  std::vector<Eigen::Vector3d> local;
+  if (s.type == ShapeType::kBox) {
+    const Eigen::Vector3d h = 0.5 * s.box_size;
+    for (int k = 0; k < 3; ++k) {
+      const int i = (k + 1) % 3, j = (k + 2) % 3;
+      const int ni = std::max(1, static_cast<int>(std::ceil(s.box_size[i] / spacing)));
+      const int nj = std::max(1, static_cast<int>(std::ceil(s.box_size[j] / spacing)));
+      for (double sign : {-1.0, 1.0})
+        for (int a = 0; a <= ni; ++a)
+          for (int b = 0; b <= nj; ++b) {
+            Eigen::Vector3d p;
+            p[k] = sign * h[k];
+            p[i] = -h[i] + s.box_size[i] * a / ni;
+            p[j] = -h[j] + s.box_size[j] * b / nj;
+            local.push_back(p);
+          }
+    }
+  } else if (s.type == ShapeType::kCylinder) {
+    const int rings = std::max(1, static_cast<int>(std::ceil(s.length / spacing)));
+    for (int r = 0; r <= rings; ++r)
+      for (int k = 0; k < 8; ++k) {
+        const double phi = 2.0 * M_PI * k / 8.0;
+        local.emplace_back(s.radius * std::cos(phi), s.radius * std::sin(phi),
+                           -0.5 * s.length + s.length * r / rings);
+      }
+  } else if (s.type == ShapeType::kConvex) {
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      for (std::size_t j = i + 1; j < s.points.size(); ++j)
+        if ((s.points[i] - s.points[j]).norm() < 2.0 * spacing)
+          local.push_back(0.5 * (s.points[i] + s.points[j]));
+  }
+  for (const Eigen::Vector3d& p : local) out->push_back(s.origin * p);
+}
 
 }  // namespace
 
@@ -163,6 +243,7 @@ std::optional<JawGeometry> jawGeometry(const HandModel& hand) {
   g.pad_midpoint = 0.5 * (pad0 + pad1);
   // On the axis: halfway between the faces; across it: the pads' mean.
   g.pad_midpoint += (0.5 * (face0 + face1) - c.dot(g.pad_midpoint)) * c;
+  palmExtent(palmPoints(hand, open), a, &g);
   return g;
 }
 
@@ -170,6 +251,27 @@ std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand) {
   std::vector<Eigen::Vector3d> out;
   for (const std::vector<Eigen::Vector3d>& f : fingerPoints(hand, hand.preshape()))
     out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+std::vector<Eigen::Vector3d> fingerCheckPoints(const HandModel& hand, double spacing) {
+  if (!std::isfinite(spacing) || !(spacing > 0.0))
+    throw Error("fingerCheckPoints needs a positive spacing in metres");
+  std::vector<Eigen::Vector3d> out = openFingerPoints(hand);
+  const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(hand.preshape());
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    const HandLink& link = hand.links()[l];
+    if (link.finger < 0) continue;
+    std::vector<Eigen::Vector3d> pts;
+    for (const CollisionShape& s : link.shapes) densePoints(s, spacing, &pts);
+    for (const Eigen::Vector3d& p : pts) out.push_back(poses[l] * p);
+  }
+  // Farthest from the palm first: fingertips enter the object first, so a rejected pose is
+  // usually rejected by its first points.
+  const Eigen::Vector3d a = hand.approachAxis().normalized();
+  std::stable_sort(
+      out.begin(), out.end(),
+      [&a](const Eigen::Vector3d& x, const Eigen::Vector3d& y) { return a.dot(x) > a.dot(y); });
   return out;
 }
 
@@ -209,6 +311,12 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
     throw Error(
         "the enclose sampler needs the points of the hand's open fingers (openFingerPoints); "
         "the hand has no finger links with collision shapes: use --sampler mixed");
+  if (options_.kind == SamplerKind::kAntipodalPalm &&
+      (!options_.jaws || options_.finger_points.empty()))
+    throw Error(
+        "the antipodal_palm sampler needs a parallel-jaw hand (two fingers whose pads face each "
+        "other) with finger collision shapes (SamplerOptions::jaws and finger_points); use "
+        "--sampler mixed, surface or volume for this hand");
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
@@ -272,10 +380,122 @@ bool Sampler::fingersOutside(const Pose& palm) const {
   return true;
 }
 
+// Fingertip grasps (place_palm false): the pads on the pair, accepted when no finger point is
+// inside.
+std::optional<Pose> Sampler::palmJawPose(const AntipodalPair& pair, double spin) const {
+  const Pose pose = jawPose(pair, spin);
+  if (!fingersOutside(pose)) return std::nullopt;
+  return pose;
+}
+
+// Rays in the plane of the palm's front, from the point `face` (object frame, in front of the
+// pads' midpoint) to the palm's extent along the closing axis and across it: none may meet
+// the surface (a part wider than the hand's opening would pass through the palm).
+bool Sampler::palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const {
+  const JawGeometry& jaws = *options_.jaws;
+  const Eigen::Vector3d a = options_.approach_axis, c = jaws.closing_axis, v = c.cross(a);
+  const Eigen::Vector2d m(c.dot(jaws.pad_midpoint), v.dot(jaws.pad_midpoint));
+  const Eigen::Vector3d axes[2] = {pose.orientation * c, pose.orientation * v};
+  for (int k = 0; k < 2; ++k) {
+    const double reach[2] = {jaws.palm_max[k] - m[k], m[k] - jaws.palm_min[k]};
+    for (int side = 0; side < 2; ++side) {
+      if (!(reach[side] > 0.0)) continue;
+      const Eigen::Vector3d d = side == 0 ? axes[k] : Eigen::Vector3d(-axes[k]);
+      if (object_.castRay(face, d, 0.0, reach[side])) return false;
+    }
+  }
+  return true;
+}
+
+// Palm grasps: the palm's front on the surface point q, the approach w = -n(q); for a closing
+// direction c across w, the pads at depth d ahead of the palm's front (a·m - palm_front). The
+// jaws must span the object there: from the probe point x = q + min(d, t/2) w (t: where the
+// ray from q along w leaves the solid) the rays along +c and -c leave it at p2 and p1, with
+// min_w <= |p2 - p1| <= max_w and both normals in the friction cones about the axis (the
+// antipodal condition at the pads' depth). The pads' midpoint then sits at depth d on the line
+// through (p1 + p2) / 2 along w. Accepted when the palm's face is clear and no finger point is
+// inside.
+std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmFirstAttempt(const SurfaceSample& q,
+                                                                        double roll, double min_w,
+                                                                        double max_w) const {
+  const JawGeometry& jaws = *options_.jaws;
+  const Eigen::Vector3d a = options_.approach_axis;
+  const Eigen::Vector3d w = -q.normal;
+  const Eigen::Vector3d e1 = w.unitOrthogonal(), e2 = w.cross(e1);
+  Eigen::Vector3d c = std::cos(roll) * e1 + std::sin(roll) * e2;
+  const double depth = a.dot(jaws.pad_midpoint) - jaws.palm_front;
+  const std::optional<RayHit> through = object_.castRay(q.point, w, kRayStart);
+  if (!through || !(depth > 0.0)) return std::nullopt;
+  const Eigen::Vector3d x = q.point + std::min(depth, 0.5 * through->distance) * w;
+  // The drawn closing direction finds a wall; the closing axis then turns onto that wall's
+  // normal (across w), so that the pads face it.
+  const std::optional<RayHit> probe = object_.castRay(x, c, 0.0, max_w);
+  if (!probe) return std::nullopt;
+  c = probe->normal - probe->normal.dot(w) * w;
+  if (!(c.norm() > 0.5)) return std::nullopt;
+  c.normalize();
+  const std::optional<RayHit> plus = object_.castRay(x, c, 0.0, max_w);
+  const std::optional<RayHit> minus = object_.castRay(x, -c, 0.0, max_w);
+  if (!plus || !minus) return std::nullopt;
+  const double width = plus->distance + minus->distance;
+  const double cos_cone = 1.0 / std::sqrt(1.0 + options_.friction * options_.friction);
+  if (width < min_w || width > max_w || plus->normal.dot(c) < cos_cone ||
+      -minus->normal.dot(c) < cos_cone)
+    return std::nullopt;
+  const AntipodalPair pair{minus->point, minus->normal, plus->point, plus->normal};
+  // Palm orientation: closing axis onto c, approach onto w.
+  const Eigen::Vector3d cp = (jaws.closing_axis - jaws.closing_axis.dot(a) * a).normalized();
+  Eigen::Matrix3d palm, world;
+  palm << cp, a, cp.cross(a);
+  world << c, w, c.cross(w);
+  const Eigen::Matrix3d r = world * palm.transpose();
+  const Eigen::Vector3d centre = 0.5 * (pair.p1 + pair.p2);
+  Pose pose;
+  pose.orientation = Eigen::Quaterniond(r).normalized();
+  pose.position = centre + (depth - (centre - q.point).dot(w)) * w - r * jaws.pad_midpoint;
+  if (!palmFaceClear(pose, q.point - kPalmClearance * w)) return std::nullopt;
+  if (!fingersOutside(pose)) return std::nullopt;
+  return std::make_pair(pair, pose);
+}
+
+// Each attempt draws its numbers whether accepted or not: palm grasps a surface point and a
+// roll, trying kSpins rolls evenly spaced from it; fingertip grasps an antipodal attempt and a
+// spin, trying kSpins spins likewise.
+std::optional<std::pair<AntipodalPair, Pose>> Sampler::drawPalmJaw(Rng& rng) const {
+  const JawGeometry& jaws = *options_.jaws;
+  const double min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
+  const double max_w = jaws.open_width - options_.width_margin;
+  if (max_w <= min_w) return std::nullopt;
+  for (int k = 0; k < options_.attempts; ++k) {
+    if (options_.place_palm) {
+      const SurfaceSample q = object_.sampleSurface(rng);
+      const double roll = rng.uniform(0.0, 2.0 * M_PI);
+      for (int j = 0; j < kSpins; ++j) {
+        auto drawn = palmFirstAttempt(q, roll + M_PI * j / kSpins, min_w, max_w);
+        if (drawn) return drawn;
+      }
+      continue;
+    }
+    const std::optional<AntipodalPair> p =
+        antipodalAttempt(object_, rng, options_.friction, min_w, max_w);
+    const double spin = rng.uniform(0.0, 2.0 * M_PI);
+    if (!p) continue;
+    for (int j = 0; j < kSpins; ++j) {
+      const std::optional<Pose> pose = palmJawPose(*p, spin + 2.0 * M_PI * j / kSpins);
+      if (pose) return std::make_pair(*p, *pose);
+    }
+  }
+  return std::nullopt;
+}
+
 std::optional<AntipodalPair> Sampler::antipodalPair(std::uint64_t seed, std::uint64_t trial) const {
-  if (kindOfTrial(trial) != SamplerKind::kAntipodal) return std::nullopt;
+  const SamplerKind kind = kindOfTrial(trial);
   Rng rng(seed, trial);
-  return drawPair(rng);
+  if (kind == SamplerKind::kAntipodal) return drawPair(rng);
+  if (kind != SamplerKind::kAntipodalPalm) return std::nullopt;
+  const auto drawn = drawPalmJaw(rng);
+  if (!drawn) return std::nullopt;
+  return drawn->first;
 }
 
 Pose Sampler::sample(std::uint64_t seed, std::uint64_t trial) const {
@@ -290,6 +510,10 @@ Pose Sampler::sample(std::uint64_t seed, std::uint64_t trial) const {
   if (kind == SamplerKind::kAntipodal) {
     const std::optional<AntipodalPair> pair = drawPair(rng);
     if (pair) return jawPose(*pair, rng.uniform(0.0, 2.0 * M_PI));
+  }
+  if (kind == SamplerKind::kAntipodalPalm) {
+    const auto drawn = drawPalmJaw(rng);
+    if (drawn) return drawn->second;
   }
   if (kind == SamplerKind::kEnclose) {
     // Each attempt draws a point and a roll; the palm origin sits on the surface.

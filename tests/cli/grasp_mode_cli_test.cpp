@@ -117,5 +117,30 @@ TEST_F(GraspModeCli, AntipodalSamplerIsSelectableAndRecorded) {
   EXPECT_FALSE(std::filesystem::exists(out("bad.h5")));
 }
 
+// --sampler antipodal_palm: the panda (palm grasps) stores grasps, the map records the sampler
+// and that the palm was placed; the Robotiq-style hand (fingertip grasps) keeps the pads on the
+// pair (place_palm false); a three-finger hand is refused, nothing written.
+TEST_F(GraspModeCli, AntipodalPalmSamplerIsSelectableAndRecorded) {
+  const CliRun run = runBuild("--object " + kCylinder + " --hand panda -o " + out("palm.h5") +
+                              " --sampler antipodal_palm --valid 5 --trials 400 --threads 2 "
+                              "--no-cluster -q");
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const TaskMapData map = readMap(out("palm.h5"));
+  EXPECT_EQ(map.sampling.sampler, "antipodal_palm");
+  const auto params = nlohmann::json::parse(map.sampling.params_json);
+  EXPECT_EQ(params.at("place_palm"), true);
+  const CliRun tip =
+      runBuild("--object " + kCylinder + " --hand " + kRobotiq + " -o " + out("tip.h5") +
+               " --sampler antipodal_palm --valid 3 --trials 400 --threads 2 --no-cluster -q");
+  ASSERT_EQ(tip.exit_code, 0) << tip.out;
+  EXPECT_EQ(nlohmann::json::parse(readMap(out("tip.h5")).sampling.params_json).at("place_palm"),
+            false);
+  const CliRun barrett = runBuild("--object " + kCylinder + " --hand barrett -o " + out("bad.h5") +
+                                  " --sampler antipodal_palm --valid 5 -q");
+  EXPECT_NE(barrett.exit_code, 0);
+  EXPECT_NE(barrett.out.find("parallel-jaw hand"), std::string::npos) << barrett.out;
+  EXPECT_FALSE(std::filesystem::exists(out("bad.h5")));
+}
+
 }  // namespace
 }  // namespace taskmap

@@ -10,8 +10,11 @@
 // the share of each trial outcome, old -> new, and the share of the first --hold (60) stored grasps
 // that hold in the physics test (validateMap, what `taskmap validate MAP --grasps 60` runs).
 // Rates are medians over --rounds interleaved builds (old, new, old, new, ...).
-//   sampler_rate [--real DIR] [--valid N] [--rounds R] [--only SUBSTRING] [--multi KIND]
-//                [--hold N]
+// --jaw KIND (default antipodal) is the new sampler of the parallel-jaw hands; --extra DIR
+// (default ../extra_real) adds issue 33's own pairs where their inputs exist there (the real
+// Robotiq 2F-85 URDF and sidecar, YCB soup can, mustard bottle, cracker box, scissors).
+//   sampler_rate [--real DIR] [--extra DIR] [--valid N] [--rounds R] [--only SUBSTRING]
+//                [--multi KIND] [--jaw KIND] [--hold N]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -102,7 +105,8 @@ int benchMain(int argc, char** argv) {
   std::uint64_t valid = 300;
   int rounds = 1;
   std::size_t hold = 60;
-  std::string only, multi = "enclose";
+  std::string only, multi = "enclose", jaw = "antipodal";
+  std::string extra = std::string(TASKMAP_SOURCE_DIR) + "/../extra_real";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--real")
@@ -117,10 +121,16 @@ int benchMain(int argc, char** argv) {
       multi = v;
     else if (a == "--hold")
       hold = std::stoull(v);
+    else if (a == "--jaw")
+      jaw = v;
+    else if (a == "--extra")
+      extra = v;
     else
-      throw Error("unknown option " + a + " (--real, --valid, --rounds, --only, --multi, --hold)");
+      throw Error("unknown option " + a +
+                  " (--real, --extra, --valid, --rounds, --only, --multi, --jaw, --hold)");
   }
   const SamplerKind multi_kind = samplerKindFromString(multi);
+  const SamplerKind jaw_kind = samplerKindFromString(jaw);
   const std::string src = TASKMAP_SOURCE_DIR;
   std::vector<std::pair<Item, std::vector<Item>>> sets;
   const std::vector<Item> reference_objects = {
@@ -149,11 +159,32 @@ int benchMain(int argc, char** argv) {
   } else {
     std::printf("real set not found at %s: reference set only\n", real.c_str());
   }
-  std::printf("%-20s %-12s %-9s %10s %10s %7s %9s %9s %13s  outcomes old->new\n", "hand", "object",
+  // Issue 33's own pairs where a copy of their inputs exists (see its README): the real Robotiq
+  // 2F-85 URDF with its sidecar, YCB soup can, mustard bottle, cracker box, scissors.
+  if (fs::exists(extra)) {
+    const std::string o = extra + "/objects/ycb_";
+    const std::vector<Item> extra_objects = {
+        {"ycb_soup_can", o + "005_tomato_soup_can.obj", "", 1.0},
+        {"ycb_mustard", o + "006_mustard_bottle.obj", "", 1.0},
+        {"ycb_cracker_box", o + "003_cracker_box.obj", "", 1.0},
+        {"ycb_scissors", o + "037_scissors.obj", "", 1.0}};
+    sets.push_back({{"robotiq_2f85", extra + "/hands/robotiq_2f85/robotiq_arg2f_85.urdf", "", 1.0},
+                    extra_objects});
+    if (fs::exists(real)) {
+      sets.push_back(
+          {{"franka", real + "/hands/franka_hand/franka_hand.urdf", "", 1.0}, extra_objects});
+      sets.push_back(
+          {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
+           extra_objects});
+    }
+    for (const std::string h : {"barrett", "humanoid"})
+      sets.push_back({{h, src + "/meshes/hands/" + h + "/" + h + ".urdf", "", 1.0}, extra_objects});
+  }
+  std::printf("%-20s %-15s %-14s %10s %10s %7s %9s %9s %13s  outcomes old->new\n", "hand", "object",
               "new", "old g/s", "new g/s", "ratio", "old t/g", "new t/g", "hold old/new");
   for (const auto& [hi, objects] : sets) {
     const HandModel hand = HandModel::load(hi.path);
-    const SamplerKind new_kind = jawGeometry(hand) ? SamplerKind::kAntipodal : multi_kind;
+    const SamplerKind new_kind = jawGeometry(hand) ? jaw_kind : multi_kind;
     for (const Item& oi : objects) {
       if (!only.empty() && (hi.name + " " + oi.name).find(only) == std::string::npos) continue;
       if (!fs::exists(oi.path)) continue;
@@ -185,7 +216,7 @@ int benchMain(int argc, char** argv) {
         return r.stored ? 1e3 * sec / static_cast<double>(r.stored) : 0.0;
       };
       std::printf(
-          "%-20s %-12s %-9s %10.1f %10.1f %6.2fx %9.1f %9.1f %13s  ms/grasp sim %.2f->%.2f "
+          "%-20s %-15s %-14s %10.1f %10.1f %6.2fx %9.1f %9.1f %13s  ms/grasp sim %.2f->%.2f "
           "quality %.2f->%.2f %s\n",
           hi.name.c_str(), oi.name.c_str(), toString(new_kind), o, n, o > 0 ? n / o : 0.0,
           per(old_first), per(new_first), hold_text, ms(old_first, old_first.simulation),

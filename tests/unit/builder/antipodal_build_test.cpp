@@ -61,6 +61,29 @@ TEST(AntipodalBuildTest, SameMapForAnyThreadCount) {
       one.map, buildMap(banana(), franka(), jawBuild(SamplerKind::kAntipodal, 3)).map);
 }
 
+TEST(AntipodalBuildTest, PalmPlacementStoresInFewerTrialsThanMixedAndRecordsItself) {
+  // antipodal_palm on the real Franka hand (palm grasps) and the YCB banana: trial counts for
+  // the same 12 stored grasps, not times.
+  const BuildResult mixed = buildMap(banana(), franka(), jawBuild(SamplerKind::kMixed, 2));
+  const BuildResult palm = buildMap(banana(), franka(), jawBuild(SamplerKind::kAntipodalPalm, 2));
+  ASSERT_EQ(palm.status, BuildStatus::kComplete) << palm.message;
+  EXPECT_EQ(palm.map.grasps.size(), 12u);
+  EXPECT_LT(palm.map.sampling.trials, mixed.map.sampling.trials)
+      << "antipodal_palm " << palm.map.sampling.trials << " trials, mixed "
+      << mixed.map.sampling.trials;
+  // Its trials seldom end without the palm touching (the mixed sampler's do, often).
+  const auto& out = palm.map.sampling.outcomes;
+  const auto it = out.find("no_palm_contact");
+  EXPECT_TRUE(it == out.end() || 4 * it->second < palm.map.sampling.trials);
+  EXPECT_EQ(palm.map.sampling.sampler, "antipodal_palm");
+  const nlohmann::json p = nlohmann::json::parse(palm.map.sampling.params_json);
+  EXPECT_EQ(p.at("sampler"), "antipodal_palm");
+  EXPECT_EQ(p.at("place_palm"), true);
+  EXPECT_NEAR(p.at("jaw_palm_front").get<double>(), jawGeometry(franka())->palm_front, 1e-12);
+  testing::expectSameMapContent(
+      palm.map, buildMap(banana(), franka(), jawBuild(SamplerKind::kAntipodalPalm, 1)).map);
+}
+
 TEST(AntipodalBuildTest, MultiFingerHandIsRefusedWithAClearMessage) {
   const HandModel barrett =
       HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");

@@ -29,10 +29,11 @@ SamplerOptions optionsOf(SamplerKind kind) {
 
 TEST(SamplerTest, KindNamesRoundTrip) {
   for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed,
-                 SamplerKind::kAntipodal, SamplerKind::kEnclose})
+                 SamplerKind::kAntipodal, SamplerKind::kEnclose, SamplerKind::kAntipodalPalm})
     EXPECT_EQ(samplerKindFromString(toString(k)), k);
-  EXPECT_TRUE(testing::throwsError([&] { samplerKindFromString("random"); },
-                                   {"volume, surface, mixed, antipodal or enclose"}));
+  EXPECT_TRUE(
+      testing::throwsError([&] { samplerKindFromString("random"); },
+                           {"volume, surface, mixed, antipodal, enclose or antipodal_palm"}));
 }
 
 TEST(SamplerTest, InvalidOptionsAreRefused) {

@@ -106,8 +106,9 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "and standoff; finds handles), mixed (even trials volume, odd surface), antipodal "
              "(parallel jaws: the pads on two surface points whose normals lie in each other's "
              "friction cones), enclose (palm on a surface point, no open finger inside the "
-             "object)",
-             {"volume", "surface", "mixed", "antipodal", "enclose"}},
+             "object), antipodal_palm (parallel jaws: an antipodal pair, the palm placed where "
+             "it meets the surface behind it, no open finger inside the object)",
+             {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm"}},
     k.sampler);
   v(KnobInfo{"valid", "stop after this many force-closure grasps", {}, C::kPositive}, k.valid);
   v(KnobInfo{"trials", "trial budget", {}, C::kPositive}, k.trials);

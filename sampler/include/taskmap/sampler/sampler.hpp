@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -40,9 +41,19 @@ enum class SamplerKind {
   /// fingertip, meets the surface and the fingers enclose the part. Needs finger_points; a
   /// trial whose attempts all fail falls back to kSurface.
   kEnclose,
+  /// Parallel jaws whose palm must touch (docs/METHOD.md §2 "Antipodal pairs with the palm on
+  /// the surface"). With SamplerOptions::place_palm: the palm's front flat on an area-weighted
+  /// surface point q (approach along -n(q)); the jaws' closing axis turned onto the normal of
+  /// the wall a drawn direction meets; accepted when, at the pads' depth (or halfway through the
+  /// object when it is thinner), the two surface points across that axis fit the opening with
+  /// their normals in the friction cones, no surface crosses the palm's face plane 1 cm behind
+  /// q, and no point of the open fingers (SamplerOptions::finger_points) is inside. Without
+  /// place_palm (fingertip grasps): kAntipodal's pads on the pair, with the finger check. Needs
+  /// jaws and finger_points; a trial whose attempts all fail falls back to kSurface.
+  kAntipodalPalm,
 };
 
-/// "volume", "surface", "mixed", "antipodal", "enclose".
+/// "volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm".
 const char* toString(SamplerKind kind);
 /// Parses a sampler name; throws Error listing the valid names on an unknown one.
 SamplerKind samplerKindFromString(const std::string& name);
@@ -56,6 +67,13 @@ struct JawGeometry {
   Eigen::Vector3d pad_midpoint = Eigen::Vector3d::Zero();
   double open_width = 0.0;    ///< metres between the pads' inner faces in the preshape, > 0
   double closed_width = 0.0;  ///< metres between them with the closing joints at their targets
+  /// Palm frame, metres along the approach axis: the front-most point of the palm-rigid links'
+  /// collision shapes (their points as openFingerPoints takes them); 0 when they have none.
+  double palm_front = 0.0;
+  /// Palm frame, metres: the palm-rigid links' points' smallest and largest coordinates along
+  /// the closing axis (x) and along closing axis x approach axis (y); zero when they have none.
+  Eigen::Vector2d palm_min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d palm_max = Eigen::Vector2d::Zero();  ///< see palm_min, metres
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };
@@ -70,6 +88,12 @@ std::optional<JawGeometry> jawGeometry(const HandModel& hand);
 /// Points spanning the collision shapes of every finger link in the open preshape, palm frame,
 /// metres: box corners, hull points, the extremes of spheres and cylinders along their axes.
 std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand);
+
+/// Points on the collision shapes of every finger link in the open preshape, palm frame,
+/// metres, for inside tests: openFingerPoints, plus points at most `spacing` apart on every
+/// box face (a grid) and cylinder side, and the midpoints of hull points closer than 2 spacing.
+/// Throws Error unless spacing > 0.
+std::vector<Eigen::Vector3d> fingerCheckPoints(const HandModel& hand, double spacing);
 
 /// Options of the sampler.
 struct SamplerOptions {
@@ -96,6 +120,9 @@ struct SamplerOptions {
   /// Antipodal sampler: a pair is kept when closed_width + margin <= |p2 - p1| <=
   /// open_width - margin, metres, >= 0.
   double width_margin = 0.002;
+  /// kAntipodalPalm: palm grasps, the palm's front placed on the surface (true), or fingertip
+  /// grasps, the pads on an antipodal pair (false). The builder sets it from the grasp mode.
+  bool place_palm = true;
   /// Throws Error naming the option when a value is out of range (non-unit axis, bad range).
   void validate() const;
 };
@@ -116,16 +143,21 @@ std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rn
 /// Draws initial palm poses (palm frame in the object frame). Immutable, thread-safe.
 class Sampler {
  public:
-  /// @param object the solid to sample (copies share state). Throws Error on invalid options
-  /// and for kAntipodal without jaws or kEnclose without finger points.
+  /// @param object the solid to sample (copies share state). Throws Error on invalid options,
+  /// for kAntipodal without jaws, kEnclose without finger points and kAntipodalPalm without
+  /// either.
   Sampler(ObjectModel object, const SamplerOptions& options);
 
   /// Initial pose of trial `trial` of a run seeded with `seed`: a pure function of both.
   Pose sample(std::uint64_t seed, std::uint64_t trial) const;
-  /// Antipodal sampler: the pair trial `trial` grasps, empty when it fell back to kSurface (or
+  /// Antipodal samplers: the pair trial `trial` grasps, empty when it fell back to kSurface (or
   /// the sampler is of another kind). A pure function of seed and trial, as sample().
   std::optional<AntipodalPair> antipodalPair(std::uint64_t seed, std::uint64_t trial) const;
-  /// The concrete kind (kVolume, kSurface, kAntipodal or kEnclose) trial `trial` uses.
+  /// kAntipodalPalm without place_palm: the palm pose that puts the pads on `pair` with the
+  /// approach at angle `spin` about it, or empty when a finger point is inside the object.
+  std::optional<Pose> palmJawPose(const AntipodalPair& pair, double spin) const;
+  /// The concrete kind (kVolume, kSurface, kAntipodal, kEnclose or kAntipodalPalm) trial
+  /// `trial` uses.
   SamplerKind kindOfTrial(std::uint64_t trial) const;
   /// The options given at construction.
   const SamplerOptions& options() const { return options_; }
@@ -133,7 +165,12 @@ class Sampler {
  private:
   Pose surfacePose(Rng& rng) const;
   std::optional<AntipodalPair> drawPair(Rng& rng) const;
+  std::optional<std::pair<AntipodalPair, Pose>> drawPalmJaw(Rng& rng) const;
+  std::optional<std::pair<AntipodalPair, Pose>> palmFirstAttempt(const SurfaceSample& q,
+                                                                 double roll, double min_w,
+                                                                 double max_w) const;
   bool fingersOutside(const Pose& palm) const;
+  bool palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const;
   Pose jawPose(const AntipodalPair& pair, double spin) const;
 
   ObjectModel object_;

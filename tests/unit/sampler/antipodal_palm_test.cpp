@@ -1,0 +1,186 @@
+// The antipodal_palm sampler of parallel jaws whose palm must touch: every accepted pose has the
+// palm's front on the surface (oracle: the plane through the palm-rigid points' front-most
+// coordinate along the approach touches the surface within 20 µm, on a line along the approach
+// through the pair, object behind it, free space in front), the pair at the pads'
+// depth lies on the surface with its normals in the friction cones about the jaws' closing axis
+// (the axis through the pads), the open fingers' points outside the object, determinism on any
+// thread, and the fingertip variant (place_palm false) keeping the pads on the pair.
+#include <cmath>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "error_matchers.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/sampler/sampler.hpp"
+
+namespace taskmap {
+namespace {
+
+const HandModel& franka() {
+  static const HandModel h =
+      HandModel::load(std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf");
+  return h;
+}
+const ObjectModel& banana() {
+  static const ObjectModel o =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  return o;
+}
+const ObjectModel& cylinder() {
+  static const ObjectModel o =
+      ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj");
+  return o;
+}
+
+SamplerOptions palmOptions(const HandModel& h) {
+  SamplerOptions o;
+  o.kind = SamplerKind::kAntipodalPalm;
+  o.approach_axis = h.approachAxis().normalized();
+  o.jaws = jawGeometry(h);
+  o.finger_points = fingerCheckPoints(h, 0.01);
+  o.friction = 0.5;
+  return o;
+}
+
+// Largest coordinate along the approach of the palm-rigid links' shape points at `pose`
+// (object frame): box corners and hull points, as the sampler takes them.
+double palmFrontAt(const HandModel& h, const Pose& pose, const Eigen::Vector3d& w) {
+  const std::vector<Eigen::Isometry3d> poses = h.linkPoses(h.preshape());
+  double front = -1e300;
+  for (std::size_t l = 0; l < h.links().size(); ++l) {
+    if (!h.links()[l].palm) continue;
+    for (const CollisionShape& s : h.links()[l].shapes) {
+      std::vector<Eigen::Vector3d> pts = s.points;
+      if (s.type == ShapeType::kBox)
+        for (int i = 0; i < 8; ++i)
+          pts.push_back(0.5 * Eigen::Vector3d((i & 1) ? s.box_size.x() : -s.box_size.x(),
+                                              (i & 2) ? s.box_size.y() : -s.box_size.y(),
+                                              (i & 4) ? s.box_size.z() : -s.box_size.z()));
+      for (const Eigen::Vector3d& p : pts) {
+        const Eigen::Vector3d x = pose.position + pose.orientation * (poses[l] * (s.origin * p));
+        front = std::max(front, w.dot(x));
+      }
+    }
+  }
+  return front;
+}
+
+TEST(AntipodalPalmTest, PalmFrontOnTheSurfaceAndPairInTheCones) {
+  const HandModel& h = franka();
+  const double cos_cone = std::cos(std::atan(0.5));
+  for (const ObjectModel* obj : {&banana(), &cylinder()}) {
+    SCOPED_TRACE(obj->name());
+    const Sampler s(*obj, palmOptions(h));
+    const JawGeometry& g = *s.options().jaws;
+    const Eigen::Vector3d a = h.approachAxis().normalized();
+    int accepted = 0;
+    for (std::uint64_t t = 0; t < 100; ++t) {
+      const std::optional<AntipodalPair> p = s.antipodalPair(5, t);
+      if (!p) continue;
+      ++accepted;
+      const Pose pose = s.sample(5, t);
+      const Eigen::Matrix3d r = pose.orientation.toRotationMatrix();
+      const Eigen::Vector3d w = r * a, c = r * g.closing_axis;
+      // The pair: on the surface, across the closing axis, in the friction cones.
+      EXPECT_LT(obj->distanceToSurface(p->p1), 1e-9);
+      EXPECT_LT(obj->distanceToSurface(p->p2), 1e-9);
+      const Eigen::Vector3d u = (p->p2 - p->p1).normalized();
+      EXPECT_NEAR(u.dot(c), 1.0, 1e-9);
+      EXPECT_GE(-p->n1.dot(u), cos_cone - 1e-12);
+      EXPECT_GE(p->n2.dot(u), cos_cone - 1e-12);
+      const double width = (p->p2 - p->p1).norm();
+      EXPECT_LE(width, g.open_width - 0.002 + 1e-12);
+      // The pads' midpoint on the line through the pair's midpoint along the approach.
+      const Eigen::Vector3d pads = pose.position + r * g.pad_midpoint;
+      const Eigen::Vector3d off = pads - 0.5 * (p->p1 + p->p2);
+      EXPECT_LT((off - off.dot(w) * w).norm(), 1e-9);
+      // The palm's front: the plane w·x = front (the oracle takes the palm's points at the
+      // pose) touches the surface at a point whose line along w crosses the pair's segment (the
+      // surface point drawn): searched along the segment, outside just in front of the plane,
+      // inside just behind it.
+      const double front = palmFrontAt(h, pose, w);
+      const double depth = a.dot(g.pad_midpoint) - g.palm_front;
+      EXPECT_NEAR(w.dot(pads) - front, depth, 1e-9);
+      bool touches = false;
+      for (int k = 0; k <= 4000 && !touches; ++k) {
+        const Eigen::Vector3d x = p->p1 + (k / 4000.0) * (p->p2 - p->p1);
+        const Eigen::Vector3d y = x - (w.dot(x) - front) * w;
+        touches = obj->distanceToSurface(y) < 2e-5 && !obj->contains(y - 1e-4 * w) &&
+                  obj->contains(y + 1e-4 * w);
+      }
+      EXPECT_TRUE(touches) << "trial " << t;
+      // No open finger point inside.
+      for (const Eigen::Vector3d& q : s.options().finger_points)
+        ASSERT_FALSE(obj->contains(pose.position + r * q)) << "trial " << t;
+    }
+    EXPECT_GT(accepted, 60);
+  }
+}
+
+TEST(AntipodalPalmTest, PosesArePureFunctionsOfSeedAndTrialOnAnyThread) {
+  const Sampler s(banana(), palmOptions(franka()));
+  std::vector<Pose> here(64), there(64);
+  for (std::uint64_t t = 0; t < 64; ++t) here[t] = s.sample(9, 63 - t);
+  std::thread th([&] {
+    for (std::uint64_t t = 0; t < 64; ++t) there[t] = s.sample(9, 63 - t);
+  });
+  th.join();
+  for (std::size_t i = 0; i < 64; ++i) {
+    EXPECT_EQ(here[i].position, there[i].position);
+    EXPECT_EQ(here[i].orientation.coeffs(), there[i].orientation.coeffs());
+  }
+  EXPECT_NE(s.sample(9, 1).position, s.sample(9, 2).position);
+}
+
+TEST(AntipodalPalmTest, FingertipVariantKeepsThePadsOnThePair) {
+  SamplerOptions o = palmOptions(franka());
+  o.place_palm = false;
+  const Sampler s(banana(), o);
+  const JawGeometry& g = *s.options().jaws;
+  int accepted = 0;
+  for (std::uint64_t t = 0; t < 40; ++t) {
+    const std::optional<AntipodalPair> p = s.antipodalPair(2, t);
+    if (!p) continue;
+    ++accepted;
+    const Pose pose = s.sample(2, t);
+    const Eigen::Vector3d mid = pose.position + pose.orientation * g.pad_midpoint;
+    EXPECT_LT((mid - 0.5 * (p->p1 + p->p2)).norm(), 1e-9);
+  }
+  EXPECT_GT(accepted, 20);
+}
+
+TEST(AntipodalPalmTest, NeedsJawsAndFingerPoints) {
+  SamplerOptions o = palmOptions(franka());
+  o.finger_points.clear();
+  EXPECT_TRUE(testing::throwsError([&] { Sampler(banana(), o); },
+                                   {"antipodal_palm sampler needs a parallel-jaw", "--sampler"}));
+  o = palmOptions(franka());
+  o.jaws.reset();
+  EXPECT_TRUE(testing::throwsError([&] { Sampler(banana(), o); },
+                                   {"antipodal_palm sampler needs a parallel-jaw", "--sampler"}));
+  EXPECT_EQ(samplerKindFromString("antipodal_palm"), SamplerKind::kAntipodalPalm);
+  EXPECT_STREQ(toString(SamplerKind::kAntipodalPalm), "antipodal_palm");
+  EXPECT_TRUE(
+      testing::throwsError([&] { fingerCheckPoints(franka(), 0.0); }, {"positive spacing"}));
+}
+
+TEST(AntipodalPalmTest, FingerCheckPointsCoverBoxFacesAtTheSpacing) {
+  // The barrett's fingers are boxes: the dense points include every vertex (openFingerPoints)
+  // and add a grid on the faces.
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const std::vector<Eigen::Vector3d> sparse = openFingerPoints(barrett);
+  const std::vector<Eigen::Vector3d> dense = fingerCheckPoints(barrett, 0.01);
+  EXPECT_GT(dense.size(), 3 * sparse.size());
+  for (const Eigen::Vector3d& v : sparse) {
+    double best = 1e300;
+    for (const Eigen::Vector3d& d : dense) best = std::min(best, (d - v).norm());
+    EXPECT_LT(best, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace taskmap
