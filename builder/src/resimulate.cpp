@@ -2,30 +2,16 @@
 // quality options (build_params.hpp), one trial, scored with the map's centre of mass.
 #include "taskmap/builder/resimulate.hpp"
 
-#include <algorithm>
-#include <filesystem>
-#include <system_error>
-
 #include "taskmap/builder/build_params.hpp"
-#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
 #include "taskmap/validate/hold_test.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap {
 namespace {
-
-/// Does the URDF at path hold the map's hand (same SHA-256)?
-bool matchesHand(const std::string& path, const std::string& sha256) {
-  if (path.empty() || !std::filesystem::is_regular_file(path)) return false;
-  try {
-    return HandModel::load(path).urdfSha256() == sha256;
-  } catch (const Error&) {
-    return false;
-  }
-}
 
 QualityOptions qualityOptions(const TaskMapData& map, const BuildParams& params) {
   QualityOptions o = params.options.quality;
@@ -51,27 +37,11 @@ TriangleMesh objectMesh(const MapObject& object) {
 }  // namespace
 
 std::string mapHandUrdf(const TaskMapData& map) {
-  std::string recorded;
   try {
-    recorded = buildParamsFromJson(map.sampling.params_json).hand;
-  } catch (const Error&) {
-    // Parameters of the wrong types (a hand-made map): look for the hand by content.
+    return findMapHandUrdf(map);
+  } catch (const Error& e) {
+    throw Error(std::string("cannot re-simulate: ") + e.what() + "; pass --no-resimulate");
   }
-  if (matchesHand(recorded, map.hand.urdf_sha256)) return recorded;
-  // A map built elsewhere (another checkout, the install tree): the bundled hand with that content.
-  const std::filesystem::path hands = std::filesystem::path(dataDir()) / "hands";
-  std::error_code ec;
-  std::vector<std::string> candidates;
-  for (const auto& entry : std::filesystem::directory_iterator(hands, ec)) {
-    const std::string name = entry.path().filename().string();
-    candidates.push_back((entry.path() / (name + ".urdf")).string());
-  }
-  std::sort(candidates.begin(), candidates.end());
-  for (const std::string& urdf : candidates)
-    if (matchesHand(urdf, map.hand.urdf_sha256)) return urdf;
-  throw Error("cannot re-simulate: the map's hand '" + map.hand.name + "' (URDF SHA-256 " +
-              map.hand.urdf_sha256.substr(0, 12) + "...) is neither at the recorded path '" +
-              recorded + "' nor a bundled hand under " + hands.string() + "; pass --no-resimulate");
 }
 
 Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object) {

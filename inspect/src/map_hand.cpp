@@ -1,68 +1,16 @@
 // The map's hand for pictures and scene files (map_hand.hpp).
 #include "taskmap/inspect/map_hand.hpp"
 
-#include <algorithm>
 #include <filesystem>
-#include <system_error>
-
-#include <nlohmann/json.hpp>
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/hand_check.hpp"
 
 namespace taskmap {
 
-namespace {
-
-/// The build parameters a map records (params_json), {} when they are not a JSON object.
-nlohmann::json mapParams(const TaskMapData& map) {
-  try {
-    const nlohmann::json j = nlohmann::json::parse(map.sampling.params_json);
-    if (j.is_object()) return j;
-  } catch (const nlohmann::json::exception&) {
-    // A map whose params are not JSON (imported, hand-made): nothing is recorded.
-  }
-  return nlohmann::json::object();
-}
-
-/// Does the URDF at path hold the map's hand (same SHA-256)?
-bool matchesHand(const std::string& path, const std::string& sha256) {
-  if (path.empty() || !std::filesystem::is_regular_file(path)) return false;
-  try {
-    return HandModel::load(path).urdfSha256() == sha256;
-  } catch (const Error&) {
-    return false;
-  }
-}
-
-}  // namespace
-
 void MapHandOptions::validate() const {
   if (!hand.empty() && !std::filesystem::is_regular_file(hand))
     throw Error("hand '" + hand + "' is not a file; give the URDF of the hand");
-}
-
-std::string findMapHandUrdf(const TaskMapData& map, const std::string& hands_dir) {
-  const nlohmann::json params = mapParams(map);
-  const auto it = params.find("hand");
-  const std::string recorded = it != params.end() && it->is_string() ? it->get<std::string>() : "";
-  if (matchesHand(recorded, map.hand.urdf_sha256)) return recorded;
-  // A map built elsewhere (another checkout, the install tree): the bundled hand with that content.
-  std::vector<std::string> candidates;
-  std::error_code ec;
-  if (!hands_dir.empty()) {
-    for (const auto& entry : std::filesystem::directory_iterator(hands_dir, ec)) {
-      const std::string name = entry.path().filename().string();
-      candidates.push_back((entry.path() / (name + ".urdf")).string());
-    }
-  }
-  std::sort(candidates.begin(), candidates.end());
-  for (const std::string& urdf : candidates)
-    if (matchesHand(urdf, map.hand.urdf_sha256)) return urdf;
-  throw Error("the map's hand '" + map.hand.name + "' (URDF SHA-256 " +
-              map.hand.urdf_sha256.substr(0, 12) + "...) is neither at the recorded path '" +
-              recorded + "'" +
-              (hands_dir.empty() ? std::string() : " nor a bundled hand under " + hands_dir));
 }
 
 MapHandResult findMapHand(const TaskMapData& map, const MapHandOptions& options) {

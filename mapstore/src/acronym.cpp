@@ -1,11 +1,10 @@
-// ACRONYM per-object grasp files (HDF5 C API; see acronym.hpp for the layout).
+// ACRONYM per-object grasp files on mapstore's HDF5 layer (hdf5_io.hpp; layout: acronym.hpp).
 #include "taskmap/mapstore/acronym.hpp"
 
 #include <hdf5.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <ctime>
 #include <filesystem>
 #include <mutex>
@@ -30,147 +29,25 @@
 namespace taskmap {
 namespace {
 
-// Owning HDF5 id with its close function.
-class Handle {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Handle(hid_t id, Closer closer) : id_(id), closer_(closer) {}
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  Handle(Handle&& other) noexcept : id_(other.id_), closer_(other.closer_) { other.id_ = -1; }
-  Handle& operator=(Handle&&) = delete;
-  ~Handle() {
-    if (id_ >= 0) closer_(id_);
-  }
-  bool valid() const { return id_ >= 0; }
-  operator hid_t() const { return id_; }  // NOLINT: used as a plain hid_t in HDF5 calls
-  /// Closes now; false when closing failed.
-  bool close() {
-    const herr_t r = id_ >= 0 ? closer_(id_) : 0;
-    id_ = -1;
-    return r >= 0;
-  }
-
- private:
-  hid_t id_;
-  Closer closer_;
-};
-
-// ---------------------------------------------------------------- writing
-
-class Writer {
- public:
-  Writer(hid_t file, std::string path) : file_(file), path_(std::move(path)) {
-    H5Pset_create_intermediate_group(lcpl_, 1);
-  }
-
-  void doubles(const std::string& name, const std::vector<hsize_t>& dims, const double* data) {
-    Handle space(dims.empty()
-                     ? H5Screate(H5S_SCALAR)
-                     : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
-                 H5Sclose);
-    write(name, space, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, data);
-  }
-  void scalar(const std::string& name, double v) { doubles(name, {}, &v); }
-  void int64s(const std::string& name, const std::vector<std::int64_t>& v) {
-    const hsize_t dims[1] = {v.size()};
-    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-    write(name, space, H5T_STD_I64LE, H5T_NATIVE_INT64, v.data());
-  }
-  // Scalar variable-length UTF-8 string (what h5py writes for `f[name] = "text"`).
-  void string(const std::string& name, const std::string& value) {
-    Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
-    H5Tset_size(type, H5T_VARIABLE);
-    H5Tset_cset(type, H5T_CSET_UTF8);
-    Handle space(H5Screate(H5S_SCALAR), H5Sclose);
-    const char* ptr = value.c_str();
-    write(name, space, type, type, &ptr);
-  }
-
- private:
-  void write(const std::string& name, hid_t space, hid_t file_type, hid_t mem_type,
-             const void* data) {
-    createParents(name);
-    Handle ds(H5Dcreate2(file_, name.c_str(), file_type, space, lcpl_, dcpl_, H5P_DEFAULT),
-              H5Dclose);
-    // Empty datasets are created without writing (HDF5 refuses a null buffer).
-    const bool empty = H5Sget_simple_extent_npoints(space) == 0;
-    if (!ds.valid() ||
-        (!empty && H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)) {
-      throw Error("cannot write '" + path_ + "': HDF5 failed to write dataset " + name);
-    }
-  }
-
-  // Groups on the way to name, created without modification times (same export, same bytes).
-  void createParents(const std::string& name) {
-    for (auto slash = name.find('/'); slash != std::string::npos;
-         slash = name.find('/', slash + 1)) {
-      const std::string group = name.substr(0, slash);
-      if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) > 0) continue;
-      Handle g(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, gcpl_, H5P_DEFAULT), H5Gclose);
-      if (!g.valid()) throw Error("cannot write '" + path_ + "': cannot create group " + group);
-    }
-  }
-
-  static hid_t untimed(hid_t cls) {
-    const hid_t plist = H5Pcreate(cls);
-    H5Pset_obj_track_times(plist, 0);
-    return plist;
-  }
-
-  hid_t file_;
-  std::string path_;
-  Handle lcpl_{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
-  Handle gcpl_{untimed(H5P_GROUP_CREATE), H5Pclose};
-  Handle dcpl_{untimed(H5P_DATASET_CREATE), H5Pclose};
-};
-
-// ---------------------------------------------------------------- reading
-
 // Foreign files carry no seal: they are read whole into memory (at most kMaxAcronymBytes)
 // and every dataset may declare at most what its file could hold after deflate's best ratio.
 constexpr std::size_t kMaxAcronymBytes = std::size_t{1} << 30;
 constexpr hsize_t kMaxInflation = 1032;
 
+/// The datasets of one ACRONYM file on the HDF5 layer (hdf5_io.hpp); its errors name the file
+/// and ask whether it is an ACRONYM grasp file.
 class Reader {
  public:
   Reader(hid_t file, std::string path, std::size_t file_bytes)
       : file_(file), path_(std::move(path)), max_values_((file_bytes + 4096) * kMaxInflation / 8) {}
 
-  bool has(const std::string& name) const {
-    // Check every prefix so that a missing group is not an HDF5 error.
-    std::size_t pos = 0;
-    while (true) {
-      pos = name.find('/', pos + 1);
-      const std::string prefix = name.substr(0, pos);
-      if (H5Lexists(file_, prefix.c_str(), H5P_DEFAULT) <= 0) return false;
-      if (pos == std::string::npos) return true;
-    }
-  }
+  bool has(const std::string& name) const { return h5::exists(file_, name); }
 
-  // Numeric dataset as doubles with its shape; any integer or float type.
+  /// Numeric dataset as doubles with its shape; any integer or float type.
   std::vector<double> doubles(const std::string& name, std::vector<hsize_t>* dims) const {
-    Handle ds = open(name);
-    Handle type(H5Dget_type(ds), H5Tclose);
-    const H5T_class_t cls = H5Tget_class(type);
-    if (cls != H5T_INTEGER && cls != H5T_FLOAT) fail(name, "is not numeric");
-    Handle space(H5Dget_space(ds), H5Sclose);
-    const int rank = H5Sget_simple_extent_ndims(space);
-    if (rank < 0) fail(name, "has an unreadable shape");
-    dims->assign(static_cast<std::size_t>(rank), 0);
-    if (rank > 0) H5Sget_simple_extent_dims(space, dims->data(), nullptr);
-    hsize_t count = 1;
-    for (hsize_t d : *dims) {
-      if (d != 0 && count > max_values_ / d) fail(name, "declares more values than the file holds");
-      count *= d;
-    }
-    if (count > max_values_) fail(name, "declares more values than the file holds");
-    std::vector<double> out(count);
-    if (count > 0 &&
-        H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) {
-      fail(name, "cannot be read as numbers");
-    }
-    return out;
+    h5::Array<double> a = guarded([&] { return h5::readAnyNumbers(file_, name, max_values_); });
+    *dims = std::move(a.dims);
+    return std::move(a.values);
   }
 
   double scalar(const std::string& name) const {
@@ -181,44 +58,25 @@ class Reader {
   }
 
   std::string string(const std::string& name) const {
-    Handle ds = open(name);
-    Handle type(H5Dget_type(ds), H5Tclose);
-    if (H5Tget_class(type) != H5T_STRING) fail(name, "is not a string");
-    Handle space(H5Dget_space(ds), H5Sclose);
-    if (H5Sget_simple_extent_npoints(space) != 1) fail(name, "should hold one string");
-    if (H5Tis_variable_str(type) > 0) {
-      Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
-      H5Tset_size(mem, H5T_VARIABLE);
-      H5Tset_cset(mem, H5Tget_cset(type));
-      char* ptr = nullptr;
-      if (H5Dread(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, &ptr) < 0) fail(name, "cannot be read");
-      std::string out = ptr ? ptr : "";
-      H5Dvlen_reclaim(mem, space, H5P_DEFAULT, &ptr);
-      return out;
-    }
-    const std::size_t size = H5Tget_size(type);
-    if (size > (std::size_t{1} << 20)) fail(name, "declares a string longer than 1 MiB");
-    std::string buf(size, '\0');
-    Handle mem(H5Tcopy(H5T_C_S1), H5Tclose);
-    H5Tset_size(mem, size);
-    if (size > 0 && H5Dread(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data()) < 0) {
-      fail(name, "cannot be read");
-    }
-    buf.resize(std::strlen(buf.c_str()));
-    return buf;
+    return guarded([&] { return h5::readOneString(file_, name); });
   }
 
   [[noreturn]] void fail(const std::string& name, const std::string& what) const {
-    throw Error("'" + path_ + "': dataset " + name + " " + what +
-                "; is this an ACRONYM grasp file?");
+    failWith("dataset " + name + " " + what);
   }
 
  private:
-  Handle open(const std::string& name) const {
-    if (!has(name)) fail(name, "is missing");
-    Handle ds(H5Dopen2(file_, name.c_str(), H5P_DEFAULT), H5Dclose);
-    if (!ds.valid()) fail(name, "cannot be opened (is it a group?)");
-    return ds;
+  [[noreturn]] void failWith(const std::string& message) const {
+    throw Error("'" + path_ + "': " + message + "; is this an ACRONYM grasp file?");
+  }
+  /// read() with its Error ("dataset <name> <problem>") naming the file.
+  template <typename Read>
+  auto guarded(Read read) const -> decltype(read()) {
+    try {
+      return read();
+    } catch (const Error& e) {
+      failWith(e.what());
+    }
   }
 
   hid_t file_;
@@ -233,6 +91,41 @@ void checkBaseToPalm(const Eigen::Isometry3d& t, const char* who) {
       r.determinant() < 0) {
     throw Error(std::string(who) + ": base_to_palm must be a finite rigid transform");
   }
+}
+
+/// The datasets of an ACRONYM file (acronym.hpp) written into `file` (under hdf5Mutex()):
+/// grasp transforms (N x 4 x 4, gripper base in the object frame) and success flags, our
+/// epsilon, the object's file, scale and mass properties, the gripper's type and base-to-palm.
+void writeAcronymDatasets(hid_t file, const TaskMapData& map, const AcronymExportOptions& options,
+                          const std::vector<double>& transforms,
+                          const std::vector<std::int64_t>& success,
+                          const Eigen::Matrix3d& inertia) {
+  using h5::Type;
+  const std::size_t n = map.grasps.size();
+  const double volume = map.object.volume;
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> inertia_rm = inertia;
+  const Eigen::Matrix<double, 4, 4, Eigen::RowMajor> b = options.base_to_palm.matrix();
+  const auto scalar = [&](const char* name, double v) {
+    h5::writePlain(file, name, Type::kF64, &v, {});
+  };
+  h5::writePlain(file, "grasps/transforms", Type::kF64, transforms.data(), {n, 4, 4});
+  h5::writePlain(file, "grasps/qualities/flex/object_in_gripper", Type::kI64, success.data(),
+                 {success.size()});
+  h5::writePlain(file, "grasps/qualities/taskmap/epsilon", Type::kF64, map.grasps.epsilon.data(),
+                 {n});
+  h5::writePlainString(
+      file, "object/file",
+      options.object_file.empty() ? map.object.name + ".obj" : options.object_file);
+  scalar("object/scale", map.object.scale);
+  scalar("object/density", options.density);
+  scalar("object/mass", options.density * volume);
+  scalar("object/friction", map.quality.friction);
+  scalar("object/volume", volume);
+  h5::writePlain(file, "object/com", Type::kF64, map.object.center_of_mass.data(), {3});
+  h5::writePlain(file, "object/inertia", Type::kF64, inertia_rm.data(), {3, 3});
+  h5::writePlainString(file, "gripper/type", map.hand.name);
+  h5::writePlain(file, "gripper/configuration", Type::kF64, nullptr, {0});
+  h5::writePlain(file, "gripper/taskmap_base_to_palm", Type::kF64, b.data(), {4, 4});
 }
 
 }  // namespace
@@ -297,46 +190,27 @@ void writeAcronym(const std::string& path, const TaskMapData& map,
         transforms[i * 16 + static_cast<std::size_t>(r * 4 + c)] = t(r, c);
   }
   std::vector<std::int64_t> success(g.force_closure.begin(), g.force_closure.end());
-  const double volume = map.object.volume;
   const Eigen::Matrix3d inertia = meshInertia(map.object.vertices, map.object.faces,
                                               map.object.center_of_mass, options.density);
-  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> inertia_rm = inertia;
-  const std::string object_file =
-      options.object_file.empty() ? map.object.name + ".obj" : options.object_file;
 
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   {
     std::lock_guard<std::mutex> lock(h5::hdf5Mutex());
     h5::silenceErrors();
     const h5::Id fcpl = h5::mapFileCreation(0);  // no user block; no root-group times
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT), H5Fclose);
-    if (!file.valid()) {
+    h5::Id file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT), H5Fclose);
+    if (file.get() < 0) {
       throw Error("cannot write '" + path + "': cannot create '" + tmp +
                   "'; check that the directory exists and is writable");
     }
     try {
-      Writer w(file, path);
-      w.doubles("grasps/transforms", {n, 4, 4}, transforms.data());
-      w.int64s("grasps/qualities/flex/object_in_gripper", success);
-      w.doubles("grasps/qualities/taskmap/epsilon", {n}, g.epsilon.data());
-      w.string("object/file", object_file);
-      w.scalar("object/scale", map.object.scale);
-      w.scalar("object/density", options.density);
-      w.scalar("object/mass", options.density * volume);
-      w.scalar("object/friction", map.quality.friction);
-      w.scalar("object/volume", volume);
-      w.doubles("object/com", {3}, map.object.center_of_mass.data());
-      w.doubles("object/inertia", {3, 3}, inertia_rm.data());
-      w.string("gripper/type", map.hand.name);
-      w.doubles("gripper/configuration", {0}, nullptr);
-      Eigen::Matrix<double, 4, 4, Eigen::RowMajor> b = options.base_to_palm.matrix();
-      w.doubles("gripper/taskmap_base_to_palm", {4, 4}, b.data());
-      if (!file.close()) throw Error("cannot write '" + path + "': HDF5 failed to close the file");
-    } catch (...) {
-      file.close();
+      writeAcronymDatasets(file, map, options, transforms, success, inertia);
+      if (!file.reset()) throw Error("HDF5 failed to close the file");
+    } catch (const Error& e) {
+      file.reset();
       std::error_code ec;
       std::filesystem::remove(tmp, ec);
-      throw;
+      throw Error("cannot write '" + path + "': " + e.what());
     }
   }
   commitTemporaryFile(tmp, path, "cannot write '" + path + "'");

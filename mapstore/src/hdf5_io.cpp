@@ -366,6 +366,109 @@ void writeStrings(hid_t loc, const std::string& name, const std::vector<std::str
         "cannot write dataset " + name);
 }
 
+namespace {
+
+/// Creates the groups on the way to `name` that do not exist yet (untimed).
+void createParents(hid_t loc, const std::string& name) {
+  for (auto slash = name.find('/', 1); slash != std::string::npos;
+       slash = name.find('/', slash + 1)) {
+    const std::string group = name.substr(0, slash);
+    if (!exists(loc, group)) createGroup(loc, group);
+  }
+}
+
+void createPlain(hid_t loc, const std::string& name, hid_t file_type, hid_t mem_type, hid_t space,
+                 const void* data) {
+  createParents(loc, name);
+  Id dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "cannot create property list");
+  untimed(dcpl, name);
+  Id dset = checked(H5Dcreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
+                    H5Dclose, "cannot create dataset " + name);
+  // An empty dataset is created without writing (HDF5 refuses a null buffer).
+  if (H5Sget_simple_extent_npoints(space) > 0)
+    check(H5Dwrite(dset, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data),
+          "cannot write dataset " + name);
+}
+
+/// Dataset `name` opened for reading, or Error("dataset <name> <problem>").
+Id openForeign(hid_t file, const std::string& name) {
+  if (!exists(file, name)) throw Error("dataset " + name + " is missing");
+  return checked(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose,
+                 "dataset " + name + " cannot be opened (is it a group?)");
+}
+
+}  // namespace
+
+void writePlain(hid_t loc, const std::string& name, Type type, const void* data,
+                const std::vector<hsize_t>& dims) {
+  Id space =
+      checked(dims.empty() ? H5Screate(H5S_SCALAR)
+                           : H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+              H5Sclose, "cannot create dataspace");
+  createPlain(loc, name, fileType(type), memType(type), space, data);
+}
+
+void writePlainString(hid_t loc, const std::string& name, const std::string& value) {
+  Id type = vlenStringType();
+  Id space = checked(H5Screate(H5S_SCALAR), H5Sclose, "cannot create dataspace");
+  const char* ptr = value.c_str();
+  createPlain(loc, name, type, type, space, &ptr);
+}
+
+Array<double> readAnyNumbers(hid_t file, const std::string& name, hsize_t max_values) {
+  const std::string D = "dataset " + name + " ";
+  Id ds = openForeign(file, name);
+  Id type = checked(H5Dget_type(ds), H5Tclose, D + "is not numeric");
+  const H5T_class_t cls = H5Tget_class(type);
+  if (cls != H5T_INTEGER && cls != H5T_FLOAT) throw Error(D + "is not numeric");
+  Id space = checked(H5Dget_space(ds), H5Sclose, D + "has an unreadable shape");
+  const int rank = H5Sget_simple_extent_ndims(space);
+  if (rank < 0) throw Error(D + "has an unreadable shape");
+  Array<double> a;
+  a.dims.assign(static_cast<std::size_t>(rank), 0);
+  if (rank > 0 && H5Sget_simple_extent_dims(space, a.dims.data(), nullptr) < 0)
+    throw Error(D + "has an unreadable shape");
+  hsize_t count = 1;
+  for (hsize_t d : a.dims) {
+    if (d != 0 && count > max_values / d)
+      throw Error(D + "declares more values than the file holds");
+    count *= d;
+  }
+  if (count > max_values) throw Error(D + "declares more values than the file holds");
+  a.values.resize(static_cast<std::size_t>(count));
+  if (count > 0)
+    check(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a.values.data()),
+          D + "cannot be read as numbers");
+  return a;
+}
+
+std::string readOneString(hid_t file, const std::string& name) {
+  const std::string D = "dataset " + name + " ";
+  Id ds = openForeign(file, name);
+  Id type = checked(H5Dget_type(ds), H5Tclose, D + "is not a string");
+  if (H5Tget_class(type) != H5T_STRING) throw Error(D + "is not a string");
+  Id space = checked(H5Dget_space(ds), H5Sclose, D + "should hold one string");
+  if (H5Sget_simple_extent_npoints(space) != 1) throw Error(D + "should hold one string");
+  const htri_t variable = H5Tis_variable_str(type);
+  if (variable < 0) throw Error(D + "cannot be read");
+  if (variable > 0) {
+    Id mem = checked(H5Tcopy(H5T_C_S1), H5Tclose, D + "cannot be read");
+    check(H5Tset_size(mem, H5T_VARIABLE), D + "cannot be read");
+    check(H5Tset_cset(mem, H5Tget_cset(type)), D + "cannot be read");  // as stored: no conversion
+    char* p = nullptr;
+    check(H5Dread(ds, mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, &p), D + "cannot be read");
+    std::string out = p != nullptr ? std::string(p) : std::string();
+    if (p != nullptr) H5free_memory(p);
+    return out;
+  }
+  const std::size_t size = H5Tget_size(type);
+  if (size > (std::size_t{1} << 20)) throw Error(D + "declares a string longer than 1 MiB");
+  std::vector<char> buffer(size + 1, '\0');
+  if (size > 0)
+    check(H5Dread(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer.data()), D + "cannot be read");
+  return std::string(buffer.data(), strnlen(buffer.data(), size));
+}
+
 bool exists(hid_t loc, const std::string& name) {
   // Check each path component: H5Lexists fails on a missing intermediate group.
   std::string prefix;

@@ -84,6 +84,15 @@ void writeVector(hid_t loc, const std::string& name, Type type, const void* data
 /// 1-D dataset of fixed-length UTF-8 strings (width of the longest, NUL-padded).
 void writeStrings(hid_t loc, const std::string& name, const std::vector<std::string>& values);
 
+// ---- writing files of other formats (ACRONYM export) ----
+/// Contiguous, unfiltered, untimed dataset `name` (a path relative to loc; missing groups on the
+/// way are created untimed) of shape dims (empty: a scalar), row-major data: what h5py writes
+/// for `f[name] = array`. An empty dataset is created without writing (data may be null).
+void writePlain(hid_t loc, const std::string& name, Type type, const void* data,
+                const std::vector<hsize_t>& dims);
+/// Scalar variable-length UTF-8 string dataset (h5py's `f[name] = "text"`), placed as writePlain.
+void writePlainString(hid_t loc, const std::string& name, const std::string& value);
+
 // ---- reading ----
 /// True when loc has a link (group, dataset) of that name.
 bool exists(hid_t loc, const std::string& name);
@@ -119,5 +128,17 @@ Array<double> readF64(hid_t file, const std::string& path, int rank, std::size_t
 Array<std::int64_t> readI64(hid_t file, const std::string& path, int rank, std::size_t cols = 0);
 /// Reads a 1-D string dataset.
 std::vector<std::string> readStrings(hid_t file, const std::string& path);
+
+// ---- reading files of other formats (ACRONYM import) ----
+// These throw Error("dataset <name> <problem>"), the problem one of: is missing, cannot be
+// opened (is it a group?), is not numeric / is not a string, has an unreadable shape, declares
+// more values than the file holds, cannot be read (as numbers), should hold one string,
+// declares a string longer than 1 MiB.
+/// Dataset `name` of any rank and integer or float type as doubles (dims and row-major values);
+/// refuses one that declares more than max_values values before allocating.
+Array<double> readAnyNumbers(hid_t file, const std::string& name, hsize_t max_values);
+/// The one string of dataset `name` (variable- or fixed-length, at most 1 MiB; a fixed-length
+/// string ends at its first NUL).
+std::string readOneString(hid_t file, const std::string& name);
 
 }  // namespace taskmap::h5

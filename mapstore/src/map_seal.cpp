@@ -211,4 +211,8 @@ std::string resealed(std::string bytes) {
   return bytes;
 }
 
+std::string sha256Hex(const std::string& bytes) {
+  return sha256(bytes.data(), bytes.size());
+}
+
 }  // namespace taskmap::seal

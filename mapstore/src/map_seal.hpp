@@ -25,6 +25,9 @@ std::string readVerified(const std::string& path, const std::string& kind, const
 /// 1024, 2048, ... (after a user block).
 bool hasHdf5Signature(const std::string& bytes);
 
+/// SHA-256 of bytes as 64 lower-case hex digits.
+std::string sha256Hex(const std::string& bytes);
+
 /// Reads the file whole (any content), refusing files larger than max_bytes.
 std::string readWhole(const std::string& path, std::size_t max_bytes);
 

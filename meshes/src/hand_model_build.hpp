@@ -10,10 +10,7 @@
 
 #include "collision_mesh.hpp"
 #include "taskmap/meshes/hand_model.hpp"
-
-namespace urdf {
-class ModelInterface;
-}
+#include "taskmap/meshes/urdf_model.hpp"
 
 namespace taskmap {
 
@@ -29,11 +26,10 @@ struct HandModelBuilder {
 
   // ---- URDF tree (hand_model_urdf.cpp) ----
   /// Reads and parses the URDF: path, SHA-256, robot name; checks it has a root link.
-  static std::shared_ptr<urdf::ModelInterface> parseUrdfFile(HandModel& h,
-                                                             const std::string& urdf_path);
+  static UrdfModel parseUrdfFile(HandModel& h, const std::string& urdf_path);
   /// Links (collision meshes converted with `options`) and joints depth-first, actuated
   /// joints, mimic chains resolved to their driver.
-  static void readUrdfTree(HandModel& h, const urdf::ModelInterface& model,
+  static void readUrdfTree(HandModel& h, const UrdfModel& model,
                            const detail::CollisionOptions& options);
 
   // ---- Sidecar (hand_model_sidecar.cpp) ----

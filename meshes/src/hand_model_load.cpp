@@ -11,7 +11,7 @@ HandModel HandModelBuilder::build(const std::string& urdf_path, const std::strin
   HandModel h;
   const auto model = parseUrdfFile(h, urdf_path);
   const nlohmann::json js = readSidecar(h, sidecar_arg);
-  readUrdfTree(h, *model,
+  readUrdfTree(h, model,
                detail::collisionOptionsOf(js, "hand sidecar '" + h.sidecar_path_ + "': "));
   applySidecar(h, js);
   derive(h, js);
@@ -21,7 +21,7 @@ HandModel HandModelBuilder::build(const std::string& urdf_path, const std::strin
 HandModel HandModelBuilder::buildKinematics(const std::string& urdf_path) {
   HandModel h;
   const auto model = parseUrdfFile(h, urdf_path);
-  readUrdfTree(h, *model,
+  readUrdfTree(h, model,
                detail::collisionOptionsOf(nlohmann::json::object(), "URDF '" + urdf_path + "': "));
   h.name_ = h.robot_name_;
   for (std::size_t l = 0; l < h.links_.size(); ++l)

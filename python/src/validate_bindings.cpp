@@ -7,6 +7,7 @@
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace py = pybind11;
@@ -23,10 +24,14 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
                       double object_mass, double friction, double jaw_force, double contact_patch,
                       py::object progress) {
   TaskMapData map = readMap(map_path);
-  const std::string urdf = hand.empty() ? recordedHandUrdf(map) : hand;
-  if (urdf.empty())
-    throw Error("validate: the hand URDF the map '" + map_path +
-                "' was built with is not where the build recorded it; pass hand=PATH");
+  std::string urdf = hand;
+  if (urdf.empty()) {
+    try {
+      urdf = findMapHandUrdf(map);
+    } catch (const Error& e) {
+      throw Error("validate: map '" + map_path + "': " + e.what() + "; pass hand=PATH");
+    }
+  }
   ValidateOptions o;
   o.threads = threads;
   o.grasps = grasps;
@@ -71,10 +76,10 @@ void bindValidate(py::module_& m) {
         "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
         "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
         "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
-        "was built with); threads: 0 all cores; grasps: test only the first N (0 all); "
-        "jaw_force: N per parallel jaw; contact_patch: metres (0: one contact per shape); "
-        "progress: called about every 0.25 s with a dict (done, total, holding). Ctrl-C "
-        "raises KeyboardInterrupt and writes nothing. "
+        "was built with, at its recorded path or a bundled hand with the same SHA-256); threads: "
+        "0 all cores; grasps: test only the first N (0 all); jaw_force: N per parallel jaw; "
+        "contact_patch: metres (0: one contact per shape); progress: called about every 0.25 s "
+        "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
         "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
         "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
         "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "

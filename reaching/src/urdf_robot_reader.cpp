@@ -1,69 +1,32 @@
-// RobotModel::load: URDF kinematic tree (urdfdom, private) and the capsule model sidecar.
+// RobotModel::load: URDF kinematic tree (the one URDF reader, meshes/urdf_model.hpp) and the
+// capsule model sidecar.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <limits>
-#include <mutex>
-#include <set>
-#include <sstream>
 
-#include <console_bridge/console.h>
-#include <urdf_parser/urdf_parser.h>
 #include <nlohmann/json.hpp>
 
+#include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
 #include "taskmap/meshes/ros_package.hpp"
+#include "taskmap/meshes/urdf_model.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {
 namespace {
 
-/// Collects urdfdom's console_bridge warnings so that the Error can quote them.
-class UrdfMessages : public console_bridge::OutputHandler {
- public:
-  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
-    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN)
-      text_ += (text_.empty() ? "" : "; ") + text;
-  }
-  std::string text_;
-};
-
-urdf::ModelInterfaceSharedPtr parseRobotUrdf(const std::string& path) {
+/// The robot URDF at `path`, read by the one URDF reader (urdf_model.hpp).
+UrdfModel parseRobotUrdf(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw Error("cannot read robot URDF '" + path + "': no such file or not readable");
-  std::stringstream ss;
   const std::string text = readRegularFile(path, "robot URDF");
   refuseXacro(path, text, "robot URDF", false);
   checkUrdfShape(text, "robot URDF", path);  // before TinyXML recurses into it
-  ss << text;
-  static std::mutex mutex;  // the console_bridge handler is process-global
-  std::lock_guard<std::mutex> lock(mutex);
-  UrdfMessages messages;
-  console_bridge::useOutputHandler(&messages);
-  urdf::ModelInterfaceSharedPtr model;
-  try {
-    model = urdf::parseURDF(ss.str());
-  } catch (const std::exception& e) {
-    messages.text_ += e.what();
-  }
-  console_bridge::restorePreviousOutputHandler();
-  if (!model)
-    throw Error("cannot parse robot URDF '" + path +
-                "': " + (messages.text_.empty() ? "malformed XML" : messages.text_));
-  return model;
-}
-
-Eigen::Isometry3d isometryOf(const urdf::Pose& p) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() << p.position.x, p.position.y, p.position.z;
-  const Eigen::Quaterniond q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
-  t.linear() =
-      (q.norm() > 1e-12 ? q.normalized() : Eigen::Quaterniond::Identity()).toRotationMatrix();
-  return t;
+  return parseUrdfModel(text, path, "robot URDF");
 }
 
 Eigen::Vector3d vec3(const nlohmann::json& j, const std::string& where) {
@@ -78,7 +41,7 @@ Eigen::Vector3d vec3(const nlohmann::json& j, const std::string& where) {
 
 }  // namespace
 
-/// Builds a RobotModel from urdfdom's tree (friend of RobotModel).
+/// Builds a RobotModel from the URDF's tree (friend of RobotModel).
 struct UrdfRobotReader {
   const std::string& path;
   RobotModel robot;
@@ -86,22 +49,18 @@ struct UrdfRobotReader {
 
   void fail(const std::string& what) const { throw Error("robot URDF '" + path + "': " + what); }
 
-  void addShapes(const urdf::Link& link, RobotBody& body) {
-    for (const auto& col : link.collision_array) {
-      if (!col || !col->geometry) continue;
-      const Eigen::Isometry3d o = isometryOf(col->origin);
-      const urdf::Geometry& g = *col->geometry;
-      if (g.type == urdf::Geometry::BOX) {
-        const auto& b = static_cast<const urdf::Box&>(g);
-        body.shapes.push_back(Primitive::fromBox(o, {b.dim.x, b.dim.y, b.dim.z}));
-      } else if (g.type == urdf::Geometry::CYLINDER) {
-        const auto& c = static_cast<const urdf::Cylinder&>(g);
-        const Eigen::Vector3d h = o.linear().col(2) * (0.5 * c.length);
+  void addShapes(const UrdfLink& link, RobotBody& body) {
+    for (const UrdfShape& col : link.collisions) {
+      const Eigen::Isometry3d& o = col.origin;
+      const UrdfGeometry& g = col.geometry;
+      if (g.type == UrdfGeometry::Type::kBox) {
+        body.shapes.push_back(Primitive::fromBox(o, g.box_size));
+      } else if (g.type == UrdfGeometry::Type::kCylinder) {
+        const Eigen::Vector3d h = o.linear().col(2) * (0.5 * g.length);
         body.shapes.push_back(
-            Primitive::capsule(o.translation() - h, o.translation() + h, c.radius));
-      } else if (g.type == urdf::Geometry::SPHERE) {
-        const double r = static_cast<const urdf::Sphere&>(g).radius;
-        body.shapes.push_back(Primitive::capsule(o.translation(), o.translation(), r));
+            Primitive::capsule(o.translation() - h, o.translation() + h, g.radius));
+      } else if (g.type == UrdfGeometry::Type::kSphere) {
+        body.shapes.push_back(Primitive::capsule(o.translation(), o.translation(), g.radius));
       } else {
         robot.warnings_.push_back("link '" + link.name +
                                   "': mesh collision geometry skipped (give a capsule model)");
@@ -109,11 +68,11 @@ struct UrdfRobotReader {
     }
   }
 
-  void addJoint(const urdf::Joint& j, RobotBody& body) {
-    body.origin = isometryOf(j.parent_to_joint_origin_transform);
-    if (j.type == urdf::Joint::FIXED) return;
-    if (j.type != urdf::Joint::REVOLUTE && j.type != urdf::Joint::CONTINUOUS &&
-        j.type != urdf::Joint::PRISMATIC)
+  void addJoint(const UrdfJoint& j, RobotBody& body) {
+    body.origin = j.origin;
+    if (j.type == UrdfJointType::kFixed) return;
+    if (j.type != UrdfJointType::kRevolute && j.type != UrdfJointType::kContinuous &&
+        j.type != UrdfJointType::kPrismatic)
       fail("joint '" + j.name +
            "' is floating or planar; only revolute, continuous, prismatic "
            "and fixed joints are supported");
@@ -121,12 +80,11 @@ struct UrdfRobotReader {
       fail("joint '" + j.name +
            "' mimics another joint; mimic joints are not supported "
            "in a robot arm (mount a hand with HandModel instead)");
-    const Eigen::Vector3d axis(j.axis.x, j.axis.y, j.axis.z);
-    if (!axis.allFinite() || axis.norm() < 1e-9) fail("joint '" + j.name + "' has a zero axis");
-    body.axis = axis.normalized();
-    body.joint = j.type == urdf::Joint::PRISMATIC ? JointType::kPrismatic : JointType::kRevolute;
-    double lo = -M_PI, hi = M_PI, vel = std::numeric_limits<double>::infinity();
-    if (j.type != urdf::Joint::CONTINUOUS) {
+    if (!j.axis.allFinite() || j.axis.norm() < 1e-9) fail("joint '" + j.name + "' has a zero axis");
+    body.axis = j.axis.normalized();
+    body.joint = j.type == UrdfJointType::kPrismatic ? JointType::kPrismatic : JointType::kRevolute;
+    double lo = -kPi, hi = kPi, vel = std::numeric_limits<double>::infinity();
+    if (j.type != UrdfJointType::kContinuous) {
       if (!j.limits) fail("joint '" + j.name + "' has no <limit>; give lower and upper limits");
       lo = j.limits->lower;
       hi = j.limits->upper;
@@ -141,50 +99,30 @@ struct UrdfRobotReader {
     velocity.push_back(vel);
   }
 
-  /// The tree depth-first from root (children in URDF order) with an explicit stack: the same
-  /// body order as a recursive walk, linear time and no call depth for any chain.
-  void addTree(const urdf::ModelInterface& model) {
-    std::vector<std::pair<urdf::LinkConstSharedPtr, int>> stack{{model.getRoot(), -1}};
-    std::set<std::string> seen;
-    while (!stack.empty()) {
-      const auto [link, parent] = stack.back();
-      stack.pop_back();
-      if (!link || !seen.insert(link->name).second)
-        fail("link '" + (link ? link->name : std::string("?")) +
-             "' is reached twice from the root: the joints do not form a tree");
-      const int index = addLink(link, parent);
-      for (auto it = link->child_links.rbegin(); it != link->child_links.rend(); ++it)
-        stack.emplace_back(*it, index);
+  /// One body per link, in the model's order (depth-first from the root, parents first): its
+  /// joint, shapes and inertia.
+  void addTree(const UrdfModel& model) {
+    for (const UrdfLink& link : model.links) {
+      RobotBody body;
+      body.name = link.name;
+      if (link.parent_joint >= 0) {
+        const UrdfJoint& j = model.joints[static_cast<std::size_t>(link.parent_joint)];
+        body.parent = j.parent_link;
+        addJoint(j, body);
+      }
+      addShapes(link, body);
+      if (link.inertial) {
+        body.mass = link.inertial->mass;
+        body.com = link.inertial->origin.translation();
+        if (!(body.mass >= 0.0) || !std::isfinite(body.mass) || !body.com.allFinite())
+          fail("link '" + link.name + "' has a negative or non-finite mass or centre of mass");
+      }
+      // RobotModel::addBody's work, once per body (its name check and path rebuild would make
+      // a long chain quadratic; URDF names are unique, the paths are rebuilt after the walk).
+      body.chain_depth = (body.parent >= 0 ? robot.bodies_[body.parent].chain_depth : 0) +
+                         (body.joint == JointType::kFixed ? 0 : 1);
+      robot.bodies_.push_back(std::move(body));
     }
-    if (seen.size() != model.links_.size()) {
-      std::string detached;
-      for (const auto& [name, link] : model.links_)
-        if (seen.count(name) == 0) detached += (detached.empty() ? "'" : ", '") + name + "'";
-      fail("link(s) " + detached + " not reachable from the root link '" + model.getRoot()->name +
-           "' (a cycle of joints, or a part not attached to the tree)");
-    }
-  }
-
-  /// Appends one body (its joint, shapes, inertia); returns its index.
-  int addLink(const urdf::LinkConstSharedPtr& link, int parent) {
-    RobotBody body;
-    body.name = link->name;
-    body.parent = parent;
-    if (link->parent_joint) addJoint(*link->parent_joint, body);
-    addShapes(*link, body);
-    if (link->inertial) {
-      body.mass = link->inertial->mass;
-      const urdf::Vector3& c = link->inertial->origin.position;
-      body.com = Eigen::Vector3d(c.x, c.y, c.z);
-      if (!(body.mass >= 0.0) || !std::isfinite(body.mass) || !body.com.allFinite())
-        fail("link '" + link->name + "' has a negative or non-finite mass or centre of mass");
-    }
-    // RobotModel::addBody's work, once per body (its name check and path rebuild would make
-    // a long chain quadratic; urdfdom's names are unique, the paths are rebuilt after the walk).
-    body.chain_depth = (body.parent >= 0 ? robot.bodies_[body.parent].chain_depth : 0) +
-                       (body.joint == JointType::kFixed ? 0 : 1);
-    robot.bodies_.push_back(std::move(body));
-    return static_cast<int>(robot.bodies_.size()) - 1;
   }
 
   void readCapsules(const std::string& file) {
@@ -220,11 +158,10 @@ struct UrdfRobotReader {
 };
 
 RobotModel RobotModel::load(const std::string& urdf_path) {
-  const urdf::ModelInterfaceSharedPtr model = parseRobotUrdf(urdf_path);
+  const UrdfModel model = parseRobotUrdf(urdf_path);
   UrdfRobotReader reader{urdf_path, {}, {}, {}, {}};
-  reader.robot.name_ = model->getName();
-  if (!model->getRoot()) reader.fail("no root link");
-  reader.addTree(*model);
+  reader.robot.name_ = model.name;
+  reader.addTree(model);
   reader.robot.rebuildPaths();
   if (reader.robot.dofs() == 0) reader.fail("no movable joint");
   const auto to_vec = [](const std::vector<double>& v) {

@@ -91,6 +91,17 @@ TEST_F(ValidateCliTest, RefusesWhatIsNotAMapAndAnotherHand) {
                                         std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
   EXPECT_NE(hand.code, 0);
   EXPECT_NE(hand.out.find("actuated joints"), std::string::npos) << hand.out;
+  // A map whose hand is neither at its recorded path nor bundled (no URDF has its SHA-256):
+  // the refusal names the map and the hand and says what to pass.
+  TaskMapData lost = readMap(map);
+  lost.hand.urdf_sha256 = std::string(64, '0');
+  writeMap(path("lost_hand.h5"), lost);
+  const auto no_hand = testing::runTaskmap("validate " + path("lost_hand.h5"));
+  EXPECT_NE(no_hand.code, 0);
+  for (const std::string& part :
+       {"validate: map '" + path("lost_hand.h5") + "': the map's hand 'panda_hand'",
+        std::string("is neither at the recorded path"), std::string("; pass --hand URDF")})
+    EXPECT_NE(no_hand.out.find(part), std::string::npos) << no_hand.out;
   // -o never replaces a file that is not a task map (nor the hand) without --force.
   std::ofstream(path("notes.txt")) << "my notes";
   const auto guard = testing::runTaskmap("validate " + map + " -o " + path("notes.txt"));

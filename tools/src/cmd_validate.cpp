@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
-#include "reach_resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap::cli {
@@ -77,7 +77,14 @@ void runValidate(const ValidateArgs& args) {
   if (!args.output.empty())
     checkOutputPath(args.output, {args.map, args.hand}, OutputKind::kTaskMap, args.force);
   TaskMapData map = readMap(args.map);
-  const std::string urdf = args.hand.empty() ? mapHandUrdf(map) : args.hand;
+  std::string urdf = args.hand;
+  if (urdf.empty()) {
+    try {
+      urdf = findMapHandUrdf(map);
+    } catch (const Error& e) {
+      throw Error("validate: map '" + args.map + "': " + e.what() + "; pass --hand URDF");
+    }
+  }
   const HandModel hand = HandModel::load(urdf);
   g_stop.store(false);
   struct sigaction action {};

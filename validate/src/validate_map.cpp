@@ -160,19 +160,6 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   return j.dump();
 }
 
-std::string recordedHandUrdf(const TaskMapData& map) {
-  const auto params = nlohmann::json::parse(map.sampling.params_json, nullptr, false);
-  if (!params.is_object() || !params.contains("hand") || !params["hand"].is_string()) return "";
-  const std::string path = params["hand"].get<std::string>();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return "";
-  try {
-    return sha256File(path) == map.hand.urdf_sha256 ? path : "";
-  } catch (const Error&) {
-    return "";
-  }
-}
-
 namespace {
 
 /// Copies row i of the grasps (and its contacts) from `in` to the end of `out`.

@@ -14,6 +14,7 @@
 
 #include "taskmap/builder/hold_filter.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
@@ -40,7 +41,7 @@ void report(const std::string& path, const taskmap::HoldFilterOptions& options) 
     std::fprintf(stderr, "%s: no hold labels (run taskmap validate)\n", path.c_str());
     return;
   }
-  const taskmap::HandModel hand = taskmap::HandModel::load(taskmap::recordedHandUrdf(map));
+  const taskmap::HandModel hand = taskmap::HandModel::load(taskmap::findMapHandUrdf(map));
   const taskmap::ObjectModel object = taskmap::mapObjectModel(map);
   const auto& mp = object.massProperties();
   int tp = 0, fp = 0, fn = 0, tn = 0;

@@ -209,6 +209,106 @@ TEST(AcronymTest, ReadsOtherNumericAndStringTypes) {
   std::filesystem::remove(path);
 }
 
+/// An HDF5 file at `path` with 2 identity transforms and flags, then `extra` run on it.
+template <typename Extra>
+void writeGraspFile(const std::string& path, Extra extra) {
+  hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+  H5Pset_create_intermediate_group(lcpl, 1);
+  double t[32] = {};
+  for (int g = 0; g < 2; ++g)
+    for (int k = 0; k < 4; ++k) t[g * 16 + k * 5] = 1.0;
+  const hsize_t tdims[3] = {2, 4, 4};
+  hid_t sp = H5Screate_simple(3, tdims, nullptr);
+  hid_t ds =
+      H5Dcreate2(file, "grasps/transforms", H5T_IEEE_F64LE, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, t);
+  H5Dclose(ds);
+  H5Sclose(sp);
+  const hsize_t sdims[1] = {2};
+  const std::int64_t s[2] = {1, 0};
+  sp = H5Screate_simple(1, sdims, nullptr);
+  ds = H5Dcreate2(file, "grasps/qualities/flex/object_in_gripper", H5T_STD_I64LE, sp, lcpl,
+                  H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(ds, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, s);
+  H5Dclose(ds);
+  H5Sclose(sp);
+  extra(file, lcpl);
+  H5Pclose(lcpl);
+  H5Fclose(file);
+}
+
+/// A fixed-length string dataset of `count` elements of `width` bytes, NUL-padded (what h5py
+/// writes for numpy bytes), holding `text` in every element.
+void writeFixedStrings(hid_t file, hid_t lcpl, const char* name, const std::string& text,
+                       std::size_t width, hsize_t count) {
+  hid_t st = H5Tcopy(H5T_C_S1);
+  H5Tset_size(st, width);
+  H5Tset_strpad(st, H5T_STR_NULLPAD);
+  hid_t sp = count == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &count, nullptr);
+  std::string data;
+  for (hsize_t i = 0; i < std::max<hsize_t>(count, 1); ++i) {
+    std::string one = text;
+    one.resize(width, '\0');
+    data += one;
+  }
+  hid_t ds = H5Dcreate2(file, name, st, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+  H5Dwrite(ds, st, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+  H5Dclose(ds);
+  H5Sclose(sp);
+  H5Tclose(st);
+}
+
+// h5py writes numpy bytes as fixed-length NUL-padded strings exactly as wide as the text: the
+// last character is part of the string (the reader before issue 29 dropped it).
+TEST(AcronymTest, ReadsFullWidthNullPaddedStringsWhole) {
+  const std::string path = tempPath("nullpad.h5");
+  writeGraspFile(path, [](hid_t file, hid_t lcpl) {
+    writeFixedStrings(file, lcpl, "object/file", "meshes/Mug/abc.obj", 18, 0);
+    writeFixedStrings(file, lcpl, "gripper/type", "franka", 6, 0);
+  });
+  const AcronymGrasps a = readAcronym(path);
+  EXPECT_EQ(a.object_file, "meshes/Mug/abc.obj");
+  EXPECT_EQ(a.gripper_type, "franka");
+  std::filesystem::remove(path);
+}
+
+TEST(AcronymTest, DatasetsOfTheWrongKindNameTheFileAndTheDataset) {
+  const std::string path = tempPath("kinds.h5");
+  const auto expect = [&](const std::string& fragment) {
+    const std::string m = errorMessage([&] { readAcronym(path); });
+    EXPECT_NE(m.find("'" + path + "': dataset " + fragment + "; is this an ACRONYM grasp file?"),
+              std::string::npos)
+        << m;
+  };
+  writeGraspFile(path, [](hid_t file, hid_t lcpl) {
+    writeFixedStrings(file, lcpl, "object/file", "a.obj", 8, 2);
+  });
+  expect("object/file should hold one string");
+  writeGraspFile(path, [](hid_t file, hid_t lcpl) {
+    H5Gclose(H5Gcreate2(file, "object/scale", lcpl, H5P_DEFAULT, H5P_DEFAULT));
+  });
+  expect("object/scale cannot be opened (is it a group?)");
+  writeGraspFile(path, [](hid_t file, hid_t lcpl) {
+    writeFixedStrings(file, lcpl, "object/mass", "heavy", 5, 0);
+  });
+  expect("object/mass is not numeric");
+  writeGraspFile(path, [](hid_t file, hid_t lcpl) {
+    const double two[2] = {1.0, 2.0};
+    const hsize_t n = 2;
+    hid_t sp = H5Screate_simple(1, &n, nullptr);
+    hid_t ds = H5Dcreate2(file, "object/file", H5T_IEEE_F64LE, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, two);
+    H5Dclose(ds);
+    ds = H5Dcreate2(file, "object/scale", H5T_IEEE_F64LE, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, two);
+    H5Dclose(ds);
+    H5Sclose(sp);
+  });
+  expect("object/file is not a string");
+  std::filesystem::remove(path);
+}
+
 TEST(AcronymTest, BadInputGivesClearErrors) {
   EXPECT_NE(errorMessage([] { readAcronym("/nonexistent/grasps.h5"); }).find("does not exist"),
             std::string::npos);

@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <filesystem>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -241,6 +243,66 @@ TEST(RobotModel, HostileUrdfsAreLoadedFastOrRefused) {
   e = timed(fifo, &s);
   EXPECT_NE(e.find("FIFO"), std::string::npos) << e;
   fs::remove_all(dir);
+}
+
+// Hands (meshes) and robots (reaching) read URDFs with one reader under one lock around
+// console_bridge's process-global output handler: loaded at once from many threads (two Python
+// threads, say), every good file loads and every broken one quotes exactly its own message.
+TEST(RobotModel, HandsAndRobotsLoadConcurrentlyWithTheirOwnMessages) {
+  // 200 fixed links, then a revolute joint without <limit>: urdfdom names that joint, after
+  // parsing long enough for the loads of other threads to overlap.
+  const auto broken = [](const std::string& joint) {
+    std::string xml = "<robot name=\"r\"><link name=\"l0\"/>";
+    for (int i = 1; i <= 200; ++i)
+      xml += "<link name=\"l" + std::to_string(i) + "\"/><joint name=\"f" + std::to_string(i) +
+             "\" type=\"fixed\"><parent link=\"l" + std::to_string(i - 1) + "\"/><child link=\"l" +
+             std::to_string(i) + "\"/></joint>";
+    return xml + "<link name=\"b\"/><joint name=\"" + joint +
+           "\" type=\"revolute\"><parent link=\"l200\"/><child link=\"b\"/>"
+           "<axis xyz=\"0 0 1\"/></joint></robot>";
+  };
+  const std::string hand_urdf = std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf";
+  const std::string robot_urdf = test::robotsDir() + "/panda/panda.urdf";
+  const std::size_t hand_links = HandModel::load(hand_urdf).links().size();
+  const std::size_t robot_bodies = RobotModel::load(robot_urdf).bodies().size();
+  constexpr int kThreads = 8;
+  constexpr int kRounds = 40;
+  std::vector<std::string> files(kThreads), expected(kThreads), failures(kThreads);
+  for (int t = 0; t < kThreads; ++t) {
+    files[t] = test::writeTempFile("race" + std::to_string(t) + ".urdf",
+                                   broken("race_joint" + std::to_string(t)));
+    // Even threads load hands, odd ones robots: the message a load alone gives.
+    expected[t] = errorOf([&] {
+      if (t % 2 == 0)
+        HandModel::loadKinematics(files[t]);
+      else
+        RobotModel::load(files[t]);
+    });
+    ASSERT_NE(expected[t].find("race_joint" + std::to_string(t)), std::string::npos);
+  }
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int r = 0; r < kRounds && failures[t].empty(); ++r) {
+        std::string got;
+        if (r % 8 == 0) {
+          const bool ok = t % 2 == 0 ? HandModel::load(hand_urdf).links().size() == hand_links
+                                     : RobotModel::load(robot_urdf).bodies().size() == robot_bodies;
+          if (!ok) failures[t] = "a good file loaded differently";
+          continue;
+        }
+        got = errorOf([&] {
+          if (t % 2 == 0)
+            HandModel::loadKinematics(files[t]);
+          else
+            RobotModel::load(files[t]);
+        });
+        if (got != expected[t]) failures[t] = got;
+      }
+    });
+  }
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(failures[t], "") << "thread " << t;
 }
 
 }  // namespace

@@ -42,9 +42,9 @@ struct Resimulation {
   std::optional<ResimulatedHold> hold;  ///< the hold test, when holdTestResimulated ran it
 };
 
-/// The URDF of the map's hand: the path the build recorded (BuildParams::hand) when its SHA-256
-/// matches the map's, else the bundled hand (dataDir()/hands) with that SHA-256. Throws Error
-/// naming the map's hand and what was tried when none matches.
+/// The URDF of the map's hand for re-simulation: findMapHandUrdf (mapstore/recorded_hand.hpp)
+/// with the bundled hands (dataDir()/hands). Throws Error naming the map's hand and what was
+/// tried, with the hint "pass --no-resimulate", when none matches.
 std::string mapHandUrdf(const TaskMapData& map);
 
 /// Re-simulates a grasp from `palm_in_object` (palm pose in the object frame, metres) with the

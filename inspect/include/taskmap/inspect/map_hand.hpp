@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/triangle_mesh.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"  // findMapHandUrdf
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
@@ -38,14 +39,9 @@ struct MapHandResult {
   std::optional<HandModel> hand;      ///< set when kLoaded
 };
 
-/// The URDF of the map's hand: the path the build recorded (params_json "hand") when its
-/// SHA-256 matches the map's, else the first (by name) `<hands_dir>/<name>/<name>.urdf` with
-/// that SHA-256. Throws Error naming the map's hand and what was tried when none matches.
-std::string findMapHandUrdf(const TaskMapData& map, const std::string& hands_dir);
-
 /// The map's hand: options.hand when given (throws Error when it does not load), else the URDF
-/// of findMapHandUrdf. A hand whose actuated joints differ from the map's is not returned
-/// (kOtherJoints): the map's joint values would not fit it.
+/// of findMapHandUrdf (mapstore/recorded_hand.hpp). A hand whose actuated joints differ from the
+/// map's is not returned (kOtherJoints): the map's joint values would not fit it.
 MapHandResult findMapHand(const TaskMapData& map, const MapHandOptions& options);
 
 /// Grasp i's stored pose (palm frame -> object frame) and joint values (jointNames() order).

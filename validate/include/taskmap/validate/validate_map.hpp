@@ -82,10 +82,6 @@ std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& cluster
 /// The protocol's parameters as a JSON object (what /validation params_json stores).
 std::string holdParamsJson(const HoldTestOptions& options);
 
-/// The hand URDF a map was built with, as the build recorded it (params_json "hand"), when that
-/// file still exists with the map's URDF SHA-256; "" otherwise.
-std::string recordedHandUrdf(const TaskMapData& map);
-
 /// The map's object as a solid (its stored mesh, already closed and in metres).
 ObjectModel mapObjectModel(const TaskMapData& map);
 
