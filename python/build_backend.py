@@ -4,8 +4,9 @@ No requirement beyond the standard library and the Debian packages the project b
 `pip install .` works offline (build isolation installs nothing). Steps: configure and build the
 two extension modules with CMake (ccache reuses objects compiled before), `cmake --install` into a
 staging prefix, and write a wheel: the package `taskmap/` (the modules find the stage libraries
-through their RPATH, $ORIGIN/../../..) and the stage libraries as wheel data in `lib/` (installed
-into <venv>/lib).
+through their RPATH, $ORIGIN/../../..), the stage libraries as wheel data in `lib/` (installed
+into <venv>/lib) and the bundled data in `share/taskmap/` (installed into <venv>/share/taskmap,
+where the library looks beside <venv>/lib/libtaskmap_core: core/data_dir.hpp).
 
 Settings: TASKMAP_BUILD_DIR (environment) or `--config-settings build-dir=DIR` uses that build
 tree (configured before; brought up to date there); otherwise
@@ -112,6 +113,18 @@ def _wheel_files(stage, pydir):
         if re.match(r"^libtaskmap_\w+\.so\.\d+\.\d+$", n):  # the soname the modules load
             with open(os.path.join(stage, "lib", n), "rb") as f:  # follows the symlink
                 files.append((data + n, f.read()))
+    # The bundled data (hands, objects, maps, robots, regression suite) into <venv>/share/taskmap,
+    # where the library finds it beside <venv>/lib/libtaskmap_core (core/data_dir.hpp).
+    share = os.path.join(stage, "share", _NAME)
+    if not os.path.isdir(os.path.join(share, "hands")):
+        raise RuntimeError(f"taskmap: the installed tree has no {share}/hands (bundled data)")
+    for root, dirs, names in os.walk(share):
+        dirs.sort()
+        for n in sorted(names):
+            path = os.path.join(root, n)
+            rel = os.path.relpath(path, stage).replace(os.sep, "/")
+            with open(path, "rb") as f:
+                files.append((f"{_NAME}-{_version()}.data/data/{rel}", f.read()))
     if not any(name.startswith(f"{_NAME}/_core") for name, _ in files):
         raise RuntimeError("taskmap: the installed tree has no taskmap/_core module")
     return files

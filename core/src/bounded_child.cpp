@@ -155,11 +155,13 @@ ParseBudget parseBudget(std::uint64_t file_bytes) {
   return b;
 }
 
-std::string runBounded(const std::function<std::string()>& work, std::uint64_t file_bytes,
-                       const std::string& what) {
+namespace {
+
+// The parent's side: fork, read the child's status and result, name the limit it hit.
+std::string runWithin(const std::function<std::string()>& work, const ParseBudget& budget,
+                      const std::string& what, const std::string& limits) {
   const char* off = std::getenv("TASKMAP_NO_PARSE_CHILD");
   if (off != nullptr && std::strcmp(off, "1") == 0) return work();
-  const ParseBudget budget = parseBudget(file_bytes);
   const std::uint64_t baseline = memoryBaseline();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
@@ -204,11 +206,6 @@ std::string runBounded(const std::function<std::string()>& work, std::uint64_t f
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
-  const std::string limits = "the limits for a file of " + std::to_string(file_bytes) +
-                             " bytes are " + mib(budget.memory_bytes) +
-                             " of memory (max(256 MiB, "
-                             "20 x its size)) and " +
-                             std::to_string(budget.cpu_seconds) + " s of CPU";
   if (timed_out)
     throw Error(what + ": the parser did not finish in " +
                 std::to_string(2 * budget.cpu_seconds + 10) + " s; refused (" + limits + ")");
@@ -238,6 +235,28 @@ std::string runBounded(const std::function<std::string()>& work, std::uint64_t f
                 " of memory to parse; refused (" + limits + ")");
   if (kind == 'E') throw Error(bytes);
   return bytes;
+}
+
+}  // namespace
+
+std::string runBounded(const std::function<std::string()>& work, std::uint64_t file_bytes,
+                       const std::string& what) {
+  const ParseBudget budget = parseBudget(file_bytes);
+  return runWithin(work, budget, what,
+                   "the limits for a file of " + std::to_string(file_bytes) + " bytes are " +
+                       mib(budget.memory_bytes) +
+                       " of memory (max(256 MiB, "
+                       "20 x its size)) and " +
+                       std::to_string(budget.cpu_seconds) + " s of CPU");
+}
+
+std::string runBounded(const std::function<std::string()>& work, const ParseBudget& budget,
+                       const std::string& what) {
+  if (budget.memory_bytes == 0 || budget.cpu_seconds < 1)
+    throw Error(what + ": the memory and CPU limits must be positive");
+  return runWithin(work, budget, what,
+                   "the limits are " + mib(budget.memory_bytes) + " of memory and " +
+                       std::to_string(budget.cpu_seconds) + " s of CPU");
 }
 
 }  // namespace taskmap

@@ -158,6 +158,15 @@ std::string dataDir() {
   return dir.lexically_normal().string();
 }
 
+std::string resolveMapFile(const std::string& map) {
+  if (fs::exists(map)) return map;
+  const bool name = map.find('/') == std::string::npos && map.find('.') == std::string::npos;
+  const std::string bundled = name ? dataDir() + "/maps/" + map + ".h5" : std::string();
+  if (!bundled.empty() && fs::exists(bundled)) return bundled;
+  throw Error("--map '" + map + "' is neither a map file nor a bundled map name" +
+              (name ? " (no " + bundled + ")" : std::string()));
+}
+
 std::string handSidecarPath(const std::string& urdf) {
   const fs::path p(urdf);
   return (p.parent_path() / (p.stem().string() + ".hand.json")).string();

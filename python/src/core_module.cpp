@@ -16,6 +16,7 @@
 #include "trajectory_bindings.hpp"
 
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/integration/criteria.hpp"
 #include "taskmap/integration/evaluation_session.hpp"
@@ -445,6 +446,11 @@ void bindFunctions(py::module_& m) {
       "Re-seals a map on purpose after editing it with h5py (or a map without a seal): "
       "validates it as a task map, then rewrites it atomically with a fresh SHA-256 seal. "
       "HDF5 parses the unverified file in this process; use `taskmap seal FILE` to isolate it.");
+  m.def("data_dir", &dataDir,
+        "The bundled data directory (hands/, objects/, maps/, robots/, regression/): "
+        "$TASKMAP_DATA_DIR if set, else share/taskmap beside the running executable's prefix, "
+        "else share/taskmap beside libtaskmap_core (<venv>/share/taskmap after pip install). "
+        "Raises taskmap.Error saying how to set TASKMAP_DATA_DIR when none exists.");
   m.def(
       "hand_in_object",
       [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },

@@ -11,6 +11,7 @@
 
 #include <pybind11/stl.h>
 
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/hand_info.hpp"
 #include "taskmap/inspect/map_summary.hpp"
@@ -84,23 +85,16 @@ py::dict handInfoDict(const std::string& hand, const std::string& png, const std
 }  // namespace
 
 std::string pythonHandsDir() {
-  const char* dir = std::getenv("TASKMAP_DATA_DIR");
-  if (dir == nullptr || *dir == '\0') return "";
-  return (std::filesystem::path(dir) / "hands").string();
+  try {
+    return (std::filesystem::path(dataDir()) / "hands").string();
+  } catch (const Error&) {
+    return "";  // no data directory: hands by path only
+  }
 }
 
 std::string pythonHandUrdf(const std::string& hand) {
   if (hand.empty()) throw Error("hand is empty; give a hand URDF or a bundled hand name");
-  if (std::filesystem::exists(hand)) return hand;
-  const std::string dir = pythonHandsDir();
-  if (!dir.empty() && hand.find('/') == std::string::npos) {
-    const std::filesystem::path urdf = std::filesystem::path(dir) / hand / (hand + ".urdf");
-    if (std::filesystem::is_regular_file(urdf)) return urdf.string();
-  }
-  throw Error("hand '" + hand + "' is neither a file nor a bundled hand" +
-              (dir.empty() ? std::string(" (set TASKMAP_DATA_DIR for bundled hand names)")
-                           : " under " + dir) +
-              "; give the path of a hand URDF");
+  return resolveHandUrdf(hand);
 }
 
 void bindInspect(py::module_& m) {
@@ -121,7 +115,8 @@ Raises taskmap.Error naming the file when it is missing or not a task map.)");
         R"(What `taskmap hand-info --json HAND` reports, as a dict.
 
 hand: a hand URDF (its <stem>.hand.json sidecar beside it), or a bundled hand name (looked up in
-$TASKMAP_DATA_DIR/hands). png: also draw the hand in its preshape and fully closed, three views
+<data dir>/hands: $TASKMAP_DATA_DIR, else the share/taskmap installed with the package).
+png: also draw the hand in its preshape and fully closed, three views
 each (PNG, written atomically). html: also write the interactive 3-D page. package_path: folders
 where package:// mesh paths are looked up before ROS_PACKAGE_PATH (the CLI's --package-path).
 Keys: name, robot_name, urdf, sidecar, urdf_sha256, joints [{name, type, parent, child, lower,

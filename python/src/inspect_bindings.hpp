@@ -9,10 +9,11 @@ namespace taskmap {
 void bindInspect(pybind11::module_& m);
 
 /// The URDF of `hand`: the path itself when it exists, else the bundled hand of that name under
-/// $TASKMAP_DATA_DIR/hands (<name>/<name>.urdf); throws Error saying what to give otherwise.
+/// dataDir()/hands (<name>/<name>.urdf; core/data_dir.hpp: $TASKMAP_DATA_DIR, else the
+/// share/taskmap installed with the package); throws Error listing the bundled hands otherwise.
 std::string pythonHandUrdf(const std::string& hand);
 
-/// $TASKMAP_DATA_DIR/hands, or "" when TASKMAP_DATA_DIR is not set.
+/// dataDir()/hands, or "" when there is no data directory.
 std::string pythonHandsDir();
 
 }  // namespace taskmap

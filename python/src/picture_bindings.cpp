@@ -64,8 +64,8 @@ map: the path of a task map file (.h5), or a TaskMap. The picture: three orthogr
 (top, front, side) of the object silhouette in the object frame with palm positions coloured by
 cluster (outliers grey), each cluster representative with its approach axis (palm +z) and the
 outline of the hand posed by it, and a histogram of epsilon per cluster. hand: the hand to
-outline (URDF, or a bundled name under $TASKMAP_DATA_DIR/hands); default: the map's hand, found
-by its URDF SHA-256 at the recorded path or under $TASKMAP_DATA_DIR/hands (a warning, and no
+outline (URDF, or a bundled name under <data dir>/hands, core/data_dir.hpp); default: the map's hand, found
+by its URDF SHA-256 at the recorded path or under <data dir>/hands (a warning, and no
 hand, when none is found). width >= 800, height >= 600 pixels. The file is written atomically.
 Raises taskmap.Error naming the file or option on bad input.)");
 }

@@ -1,7 +1,7 @@
 """The Python package: `import taskmap` and queries load no offline library (checked in
 /proc/self/maps, as the C++ consumer test checks its link line); the offline names load on first
 use; `pip install .` into a fresh virtual environment (offline, reusing this build tree's objects)
-gives a package that works from anywhere."""
+gives a package that works from anywhere, bundled hands and objects included."""
 import json
 import math
 import os
@@ -39,6 +39,21 @@ QUERY = textwrap.dedent("""
     print(json.dumps({"file": taskmap.__file__, "quality": float(q), "n": len(m),
                       "maps": sorted({l.split()[-1] for l in maps.splitlines()
                                       if ".so" in l.split()[-1]})}))
+""")
+
+
+# In the virtual environment: the bundled hand and object by name, a few valid grasps.
+BUILD_IN_VENV = textwrap.dedent("""
+    import json, os, sys
+    import taskmap
+    d = taskmap.data_dir()
+    out = os.path.join(sys.argv[1], "barrett.h5")
+    m = taskmap.build(object=os.path.join(d, "objects", "box.obj"), hand="barrett", valid=3,
+                      trials=400, seed=1, threads=2, output=out)
+    s = taskmap.summary(out)
+    print(json.dumps({"data_dir": d, "hand": s["hand"]["name"], "grasps": s["grasps"]["count"],
+                      "force_closure": s["grasps"]["force_closure"], "loaded": len(m),
+                      "hand_urdf": taskmap.hand_info("barrett")["urdf"]}))
 """)
 
 
@@ -112,6 +127,19 @@ class PackageTest(unittest.TestCase):
             libs = [m for m in r["maps"] if "libtaskmap_" in m]
             self.assertTrue(libs and all(m.startswith(os.path.realpath(venv)) or
                                          m.startswith(venv) for m in libs), libs)
+            # The wheel carries the bundled data: a map built from the venv alone (no source
+            # tree, no TASKMAP_DATA_DIR) with a bundled hand and object.
+            env.pop("TASKMAP_DATA_DIR", None)
+            out = subprocess.run([os.path.join(venv, "bin", "python"), "-c", BUILD_IN_VENV, d],
+                                 capture_output=True, text=True, env=env, cwd=d)
+            self.assertEqual(out.returncode, 0, out.stdout + out.stderr)
+            b = json.loads(out.stdout.splitlines()[-1])
+            share = os.path.join(os.path.realpath(venv), "share", "taskmap")
+            self.assertEqual(os.path.realpath(b["data_dir"]), share)
+            self.assertTrue(b["hand_urdf"].startswith(share), b["hand_urdf"])
+            self.assertTrue(b["hand"].startswith("barrett"), b["hand"])  # the URDF robot name
+            self.assertGreaterEqual(b["force_closure"], 3)
+            self.assertEqual(b["grasps"], b["loaded"])
 
 
 if __name__ == "__main__":

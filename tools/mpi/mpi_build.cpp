@@ -17,10 +17,10 @@
 #include <memory>
 #include <optional>
 
-#include "block_ledger.hpp"
 #include "build_command.hpp"
 #include "mpi_common.hpp"
 #include "task_farm.hpp"
+#include "taskmap/builder/block_ledger.hpp"
 #include "taskmap/builder/build_checkpoint.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/run_lock.hpp"

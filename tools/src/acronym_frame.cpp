@@ -1,15 +1,9 @@
 // Which transform takes ACRONYM's gripper base frame to the palm frame (acronym_frame.hpp).
 #include "acronym_frame.hpp"
 
-#include <cmath>
 #include <cstdio>
-#include <filesystem>
 
 #include "mesh_options.hpp"
-#include "taskmap/core/data_dir.hpp"
-#include "taskmap/core/error.hpp"
-#include "taskmap/mapstore/acronym.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::cli {
 
@@ -22,22 +16,6 @@ void addAcronymFrameOptions(CLI::App* cmd, AcronymFrameArgs& args) {
                   "name): its root-to-palm transform, for a URDF whose root is the base frame; "
                   "export ply/glb: the hand posed at the representatives (default: the map's)");
   addPackagePathOption(cmd);
-}
-
-Eigen::Isometry3d baseToPalm(const AcronymFrameArgs& args) {
-  if (args.palm_offset && !args.hand.empty())
-    throw Error("--palm-offset and --hand both set the palm frame: give one");
-  if (!args.hand.empty()) {
-    const std::string urdf =
-        std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
-    return HandModel::load(urdf).rootToPalm();
-  }
-  Eigen::Isometry3d t = acronymFrankaBaseToPalm();
-  if (args.palm_offset) {
-    if (!std::isfinite(*args.palm_offset)) throw Error("--palm-offset must be a finite length");
-    t.translation() = Eigen::Vector3d(0, 0, *args.palm_offset);
-  }
-  return t;
 }
 
 std::string describeBaseToPalm(const AcronymFrameArgs& args, const Eigen::Isometry3d& t) {

@@ -1,8 +1,8 @@
 #pragma once
 /// @file acronym_frame.hpp
 /// The --palm-offset / --hand options of `import` and `export`: which transform takes ACRONYM's
-/// gripper base frame to the palm frame of task maps
-/// (mapstore/include/taskmap/mapstore/acronym.hpp).
+/// gripper base frame to the palm frame of task maps (acronymBaseToPalm in
+/// builder/include/taskmap/builder/acronym_import.hpp).
 
 #include <optional>
 #include <string>
@@ -20,11 +20,6 @@ struct AcronymFrameArgs {
 
 /// Adds --palm-offset and --hand to `cmd`.
 void addAcronymFrameOptions(CLI::App* cmd, AcronymFrameArgs& args);
-
-/// The palm frame in the gripper base frame: the hand's root-to-palm transform with --hand, a
-/// translation along z by --palm-offset, else ACRONYM's Franka gripper (z by 0.1034 m).
-/// Throws Error when both options are given.
-Eigen::Isometry3d baseToPalm(const AcronymFrameArgs& args);
 
 /// One line saying which transform was used.
 std::string describeBaseToPalm(const AcronymFrameArgs& args, const Eigen::Isometry3d& t);

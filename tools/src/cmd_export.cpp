@@ -8,6 +8,7 @@
 #include "acronym_frame.hpp"
 #include "command.hpp"
 #include "map_hand_cli.hpp"
+#include "taskmap/builder/acronym_import.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/map_scene.hpp"
@@ -49,7 +50,7 @@ void runExport(const ExportArgs& args) {
     AcronymExportOptions options;
     options.density = args.density;
     options.object_file = args.object_file;
-    options.base_to_palm = baseToPalm(args.frame);
+    options.base_to_palm = acronymBaseToPalm(args.frame.palm_offset, args.frame.hand);
     writeAcronym(args.output, map, options);
   } else {
     const std::optional<HandModel> hand = mapHand(map, args.frame.hand, "taskmap export");

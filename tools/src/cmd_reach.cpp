@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -22,6 +21,7 @@
 #include "taskmap/core/pose.hpp"
 #include "taskmap/picture/reach_picture.hpp"
 #include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/map_reach.hpp"
 #include "taskmap/reaching/plan_report.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
 
@@ -43,7 +43,7 @@ void checkReachOutputs(const ReachArgs& args) {
   if (!args.map.map.empty()) {
     inputs.push_back(args.map.map);
     try {
-      inputs.push_back(resolveMapPath(args.map.map));  // a bundled map name
+      inputs.push_back(resolveMapFile(args.map.map));  // a bundled map name
     } catch (const Error&) {
       // not a map: reported with the other options' checks
     }
@@ -89,44 +89,21 @@ Eigen::Isometry3d parsePose(const std::string& text, const std::string& option) 
   }
 }
 
-/// The robot with its hand (if any) and the scene; returns the controlled body (palm or flange).
-int buildRobot(const ReachArgs& args, const ReachScene& scene, RobotModel& robot) {
-  const bool panda = args.robot == "panda";
-  if (!panda && !std::filesystem::exists(args.robot))
-    throw Error("--robot '" + args.robot + "' is neither 'panda' nor an existing URDF file");
-  robot = RobotModel::load(panda ? dataDir() + "/robots/panda/panda.urdf" : args.robot);
-  if (args.hand != "none") {
-    const std::string hand_path =
-        std::filesystem::exists(args.hand) ? args.hand : bundledHandUrdf(args.hand);
-    if (!panda && args.flange.empty())
-      throw Error("--flange LINK is needed to mount a hand on " + args.robot);
-    const std::string flange = args.flange.empty() ? "fer_link8" : args.flange;
-    const HandModel hand = HandModel::load(hand_path);
-    // The mount: --mount, else the hand sidecar's (never another hand's adapter).
-    HandMount mount;
-    if (args.mount.empty()) {
-      mount = mountFromSidecar(hand, flange);
-    } else {
-      mount.flange = flange;
-      mount.palm_in_flange = parsePose(args.mount, "--mount");
-    }
-    robot.mountHand(hand, mount);
-  }
-  addSceneTo(scene, robot);
-  if (robot.palmBody() >= 0) return robot.palmBody();
-  if (args.flange.empty() && !panda)
-    throw Error("--hand none on " + args.robot + ": give --flange LINK, the body to move");
-  return robot.requireBody(args.flange.empty() ? "fer_link8" : args.flange);
+/// The robot with its hand (if any) and the scene (reaching/map_reach.hpp).
+ReachRobot buildRobot(const ReachArgs& args, const ReachScene& scene) {
+  ReachRobotOptions o;
+  o.robot = args.robot;
+  o.hand = args.hand;
+  o.flange = args.flange;
+  if (!args.mount.empty()) o.mount = parsePose(args.mount, "--mount");
+  return loadReachRobot(o, scene);
 }
 
 Eigen::VectorXd startConfiguration(const ReachArgs& args, const RobotModel& robot) {
   if (!args.start.empty()) return parseNumbers(args.start, robot.dofs(), "--start");
-  if (args.robot == "panda") {
-    Eigen::VectorXd q(7);
-    q << 0.0, -M_PI / 4, 0.0, -3 * M_PI / 4, 0.0, M_PI / 2, M_PI / 4;  // Franka's ready pose
-    return q;
-  }
-  return robot.midConfiguration();
+  ReachRobotOptions o;
+  o.robot = args.robot;
+  return reachStartConfiguration(o, robot);
 }
 
 const char* statusName(ReachStatus s) {
@@ -190,17 +167,23 @@ void runReachWithMap(const ReachArgs& args) {
   if (scene.object.empty()) throw Error("--map needs a scene with an \"object\" body");
   for (SceneBody& b : scene.bodies)
     if (b.name == scene.object) b.pose = parseObjectPose(args.map.object_pose);
-  RobotModel robot;
-  const int body = buildRobot(args, scene, robot);
-  if (body != robot.palmBody()) throw Error("--map needs a hand on the robot (its palm frame)");
+  const ReachRobot robot = buildRobot(args, scene);
+  if (robot.body != robot.model.palmBody())
+    throw Error("--map needs a hand on the robot (its palm frame)");
   CollisionOptions co;
   co.hand_may_touch = {scene.object};
-  const CollisionModel collisions(robot, co);
+  const CollisionModel collisions(robot.model, co);
   MapReachArgs map_args = args.map;
   map_args.robot = args.robot;
   map_args.hand = args.hand;
-  runMapReach(map_args, robot, collisions, body, robot.requireBody(scene.object),
-              startConfiguration(args, robot), args.options, args.json, args.png);
+  TrajectoryProblem p;
+  p.robot = &robot.model;
+  p.collisions = &collisions;
+  p.body = robot.body;
+  p.reference = robot.model.requireBody(scene.object);
+  p.q0 = startConfiguration(args, robot.model);
+  p.reach = args.options;
+  runMapReach(map_args, p, args.json, args.png);
 }
 
 void runReach(const ReachArgs& args) {
@@ -214,8 +197,9 @@ void runReach(const ReachArgs& args) {
   ReachOptions options = args.options;
   for (const std::string& v : args.via) options.via_points.push_back(parsePose(v, "--via"));
   const ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
-  RobotModel robot;
-  const int body = buildRobot(args, scene, robot);
+  const ReachRobot loaded = buildRobot(args, scene);
+  const RobotModel& robot = loaded.model;
+  const int body = loaded.body;
   const std::string frame = !args.frame.empty()    ? args.frame
                             : scene.object.empty() ? "world"
                                                    : "object";

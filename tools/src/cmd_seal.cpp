@@ -2,12 +2,13 @@
 // or a schema-1 map written before seals). HDF5 parses the unverified file here, so the work
 // runs in a child process with CPU-time and memory limits: a file that crashes or hangs HDF5
 // is refused instead of taking the tool down.
+#include <cstdint>
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "command.hpp"
-#include "isolated.hpp"
+#include "taskmap/core/bounded_child.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -16,13 +17,20 @@ namespace {
 
 struct SealArgs {
   std::string map;
-  IsolationLimits limits;
+  int cpu_seconds = 120;
+  double memory_gib = 8.0;
   bool quiet = false;
 };
 
 void runSeal(const SealArgs& args) {
-  runIsolated([&args] { sealMap(args.map); }, args.limits,
-              "cannot seal task map '" + args.map + "'");
+  const ParseBudget limits{static_cast<std::uint64_t>(args.memory_gib * (1ull << 30)),
+                           args.cpu_seconds};
+  runBounded(
+      [&args] {
+        sealMap(args.map);
+        return std::string();
+      },
+      limits, "cannot seal task map '" + args.map + "'");
   if (!args.quiet) std::cout << "taskmap seal: sealed " << args.map << "\n";
 }
 
@@ -38,9 +46,9 @@ const CommandRegistrar kRegistrar("seal", [](CLI::App& app) {
   cmd->add_option("map", args->map, "task map (.h5), rewritten in place (atomically)")
       ->required()
       ->check(CLI::ExistingFile);
-  cmd->add_option("--cpu-seconds", args->limits.cpu_seconds, "CPU-time limit of the validation")
+  cmd->add_option("--cpu-seconds", args->cpu_seconds, "CPU-time limit of the validation")
       ->check(CLI::Range(1, 86400));
-  cmd->add_option("--memory-gib", args->limits.memory_gib, "address-space limit of the validation")
+  cmd->add_option("--memory-gib", args->memory_gib, "address-space limit of the validation")
       ->check(CLI::Range(0.25, 1024.0));
   cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
   cmd->callback([args]() { runSeal(*args); });

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
+#include "taskmap/builder/resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/map_file.hpp"

@@ -1,12 +1,12 @@
 #pragma once
 // `taskmap reach --map MAP --object-pose "x y z yaw"`: reaching and grasping with a task map
-// (reaching/grasp_planner.hpp, docs/REACHING.md).
+// (reaching/map_reach.hpp, docs/REACHING.md).
 
 #include <string>
 
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 
-#include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/trajectory_optimizer.hpp"
 
 namespace taskmap::cli {
 
@@ -28,18 +28,14 @@ struct MapReachArgs {
   std::string hand = "humanoid";  ///< --hand, recorded in the trajectory file
 };
 
-/// --map as a file: the path itself when it exists, else the bundled map of that name
-/// (`<dataDir()>/maps/<name>.h5`, e.g. "basket_humanoid"). Throws Error naming both.
-std::string resolveMapPath(const std::string& map);
-
 /// Pose of the object from "x y z yaw" (yaw about world z). Throws Error naming the option.
 Eigen::Isometry3d parseObjectPose(const std::string& text);
 
-/// Plans and prints (text or JSON), draws snapshots to png when given, writes the trajectory
-/// file and GLB when asked (also for an unsafe plan, to inspect it); sets the exit code to 1
-/// when the plan is not safe or nothing is reachable.
-void runMapReach(const MapReachArgs& args, const RobotModel& robot,
-                 const CollisionModel& collisions, int palm, int object, const Eigen::VectorXd& q0,
-                 const ReachOptions& options, bool json, const std::string& png);
+/// Plans problem (palm relative to the object) with the map and prints (text or JSON), draws
+/// snapshots to png when given, writes the trajectory file and GLB when asked (also for an
+/// unsafe plan, to inspect it); sets the exit code to 1 when the plan is not safe or nothing is
+/// reachable.
+void runMapReach(const MapReachArgs& args, const TrajectoryProblem& problem, bool json,
+                 const std::string& png);
 
 }  // namespace taskmap::cli

@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "error_matchers.hpp"
 #include "taskmap/core/bounded_child.hpp"
 #include "taskmap/core/error.hpp"
 
 namespace taskmap {
 namespace {
+
+using taskmap::testing::errorMessage;
 
 std::string outcome(const std::function<std::string()>& work) {
   try {
@@ -73,6 +76,35 @@ TEST(BoundedChild, CrashOfTheWorkIsARefusal) {
     return std::string();
   });
   EXPECT_EQ(e.rfind("file 'x.obj': the parser crashed", 0), 0u) << e;
+}
+
+// Explicit limits (`taskmap import` and `seal`'s --memory-gib and --cpu-seconds): the limits are
+// named as given; zero limits are a caller's mistake.
+TEST(BoundedChild, ExplicitLimitsAreNamedAsGiven) {
+  const ParseBudget limits{300ull << 20, 5};
+  const auto run = [&](const std::function<std::string()>& work) {
+    try {
+      return "returned " + runBounded(work, limits, "cannot import 'g.h5'");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_EQ(run([] { return std::string("wrote 3 grasps"); }), "returned wrote 3 grasps");
+  const std::string e = run([] {
+    std::vector<char> v(3ull << 30, 1);
+    return std::to_string(v[5]);
+  });
+  EXPECT_EQ(e.rfind("cannot import 'g.h5': needs more than 300 MiB of memory to parse; refused "
+                    "(the limits are 300 MiB of memory and 5 s of CPU)",
+                    0),
+            0u)
+      << e;
+  EXPECT_EQ(run([]() -> std::string { throw Error("grasps/transforms is missing"); }),
+            "grasps/transforms is missing");
+  EXPECT_EQ(errorMessage([] {
+              runBounded([] { return std::string(); }, ParseBudget{0, 5}, "x");
+            }),
+            "x: the memory and CPU limits must be positive");
 }
 
 }  // namespace

@@ -58,4 +58,10 @@ Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object)
 /// and the map's object; stores the result in r->hold. Does nothing for other outcomes.
 void holdTestResimulated(const TaskMapData& map, Resimulation* r);
 
+/// The re-simulation as a JSON object (text), "resimulated" of `taskmap reach --map --json`:
+/// {outcome, message, force_closure, epsilon, contacts, fingers, retraction_m, start, final
+/// ([x y z qw qx qy qz], object frame, metres), hand, and hold {holds, status,
+/// max_translation_m, max_rotation_rad, failed_direction (null if none)} when the hold test ran}.
+std::string resimulationJson(const Resimulation& r);
+
 }  // namespace taskmap

@@ -1,19 +1,25 @@
 #pragma once
 /// @file data_dir.hpp
 /// Where taskmap (the tool, the library, the Python package) finds its bundled data: the reference
-/// hands (hands/<name>/), objects (objects/), robots (robots/<name>/<name>.urdf) and the regression
-/// suite (regression/cases.json, regression/golden/).
+/// hands (hands/<name>/), objects (objects/), reference maps (maps/), robots
+/// (robots/<name>/<name>.urdf) and the regression suite (regression/cases.json,
+/// regression/golden/). Every install carries it in <prefix>/share/taskmap: `cmake --install`
+/// (cmake/TaskMapData.cmake) and `pip install .` (the wheel puts it in <venv>/share/taskmap,
+/// beside <venv>/lib/libtaskmap_core).
 
 #include <string>
 #include <vector>
 
 namespace taskmap {
 
-/// The data directory: $TASKMAP_DATA_DIR if set, else `<directory of the
-/// executable>/../share/taskmap` (the install tree's share/taskmap; the build tree stages the same
-/// layout in <build>/share), else `<directory of libtaskmap_core>/../share/taskmap` (a program
-/// other than the tool: Python, a user's executable). Throws Error saying how to set
-/// TASKMAP_DATA_DIR when neither exists.
+/// The data directory, the first of, in this order:
+///  1. $TASKMAP_DATA_DIR if set (an error if it is not a directory);
+///  2. `<directory of the executable>/../share/taskmap` (the taskmap tools: the install tree's
+///     share/taskmap; the build tree stages the same layout in <build>/share/taskmap);
+///  3. `<directory of libtaskmap_core>/../share/taskmap` (a program other than the tools: the
+///     Python package, whose wheel installs <venv>/share/taskmap beside <venv>/lib, or a user's
+///     executable linked to an installed taskmap).
+/// Throws Error saying how to set TASKMAP_DATA_DIR when none exists.
 std::string dataDir();
 
 /// The URDF of a bundled hand: `<dataDir()>/hands/<name>/<name>.urdf`. Throws Error listing the
@@ -24,6 +30,10 @@ std::string bundledHandUrdf(const std::string& name);
 /// A hand argument as a URDF path: the path itself if it exists, else the bundled hand of that
 /// name (bundledHandUrdf, which throws Error listing the bundled hands).
 std::string resolveHandUrdf(const std::string& hand);
+
+/// A map argument as a file: the path itself when it exists, else the bundled map of that name
+/// (`<dataDir()>/maps/<name>.h5`, e.g. "basket_humanoid"). Throws Error naming both.
+std::string resolveMapFile(const std::string& map);
 
 /// The sidecar a hand URDF is read with: <dir>/<stem>.hand.json.
 std::string handSidecarPath(const std::string& urdf);

@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/reaching/attractor.hpp"
+#include "taskmap/reaching/grasp_planner.hpp"
+#include "taskmap/reaching/movement_terms.hpp"
 
 namespace taskmap {
 
@@ -20,5 +22,19 @@ namespace taskmap {
 void writeReachPicture(const RobotModel& robot, const ReachResult& result, int body,
                        const std::vector<int>& frames, const Eigen::Isometry3d& target_world,
                        const std::string& path);
+
+/// Where the cost curves of a plan picture go: FILE.png -> FILE_costs.png (else FILE_costs.png
+/// after the whole name).
+std::string costPicturePath(const std::string& png);
+
+/// The pictures of `taskmap reach --map --png FILE`: the robot at four steps (0, n/3, 2n/3, n)
+/// of plan b with the path of `palm` and the grasp (grasp_world: the map's grasp in the world
+/// frame), written to png; and the cost curves beside it (costPicturePath(png), Fig. 1.16): the
+/// trajectory cost terms and the map terms per iteration, proximity and quality over the final
+/// movement against time (dt: control step, seconds). Throws Error as writeReachPicture.
+void writeGraspPlanPictures(const RobotModel& robot, const ClusterPlan& b,
+                            const MovementTerms& movement, int palm,
+                            const Eigen::Isometry3d& grasp_world, double dt,
+                            const std::string& png);
 
 }  // namespace taskmap

@@ -1,8 +1,8 @@
 #pragma once
 /// @file block_ledger.hpp
-/// Rank 0's book of a distributed build: the fixed blocks of block_trials trials of
-/// [0, max_trials), which are finished, which to hand out next, and the stop rule of buildMap
-/// (the completed prefix holds valid_target force-closure grasps). MPI-free.
+/// Rank 0's book of a distributed build (taskmap-mpi build, tools/mpi/): the fixed blocks of
+/// block_trials trials of [0, max_trials), which are finished, which to hand out next, and the stop
+/// rule of buildMap (the completed prefix holds valid_target force-closure grasps). MPI-free.
 
 #include <cstdint>
 #include <optional>
@@ -10,17 +10,19 @@
 
 #include "taskmap/builder/trial_block.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// Blocks of one build by index; block b is the trials [b * block_trials, min(.., max_trials)).
 class BlockLedger {
  public:
-  /// @param block_trials trials per block (>= 1), independent of the rank count.
+  /// @param block_trials trials per block (>= 1, else Error), independent of the rank count.
   BlockLedger(std::uint64_t max_trials, std::uint64_t block_trials, std::uint64_t valid_target);
 
-  /// Trials [first, last) of block b.
+  /// First trial of block b.
   std::uint64_t blockFirst(std::uint64_t b) const { return b * block_trials_; }
+  /// One past the last trial of block b (the last block may be shorter).
   std::uint64_t blockLast(std::uint64_t b) const;
+  /// Number of blocks of the build: ceil(max_trials / block_trials).
   std::uint64_t blockCount() const { return count_; }
 
   /// True when the block is one of this build's blocks (right start and length).
@@ -48,4 +50,4 @@ class BlockLedger {
   std::uint64_t blocks_done_ = 0, trials_done_ = 0, valid_found_ = 0;
 };
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

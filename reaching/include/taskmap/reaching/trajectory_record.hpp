@@ -1,15 +1,17 @@
 #pragma once
-// `taskmap reach --map ... -o trajectory.h5`: the planned trajectory as a TrajectoryRecord
-// (mapstore/TRAJECTORY.md).
+/// @file trajectory_record.hpp
+/// A planned reach as a trajectory record (mapstore/TRAJECTORY.md): what `taskmap reach --map
+/// -o trajectory.h5` writes and `--glb` renders.
 
 #include <string>
-#include <vector>
 
+#include "taskmap/integration/task_map.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
 #include "taskmap/reaching/movement_terms.hpp"
+#include "taskmap/reaching/robot_model.hpp"
 
-namespace taskmap::cli {
+namespace taskmap {
 
 /// What the record names besides the plan: the planner's inputs.
 struct TrajectorySource {
@@ -21,9 +23,10 @@ struct TrajectorySource {
 
 /// The record of plan b (the chosen ClusterPlan): joints, palm and body poses per step, the
 /// collision primitives, the object mesh of the map at the object body's pose, the cost
-/// history (one column per term) and the map terms over the movement.
+/// history (one column per term) and the map terms over the movement; generator "taskmap
+/// <version>". Throws Error when the map file cannot be read for its SHA-256.
 TrajectoryRecord trajectoryRecord(const RobotModel& robot, int palm, int object, const TaskMap& map,
                                   const ClusterPlan& b, const MovementTerms& movement,
                                   const TrajectorySource& source);
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

@@ -1,5 +1,5 @@
 // The planned reach as a trajectory record (mapstore/TRAJECTORY.md).
-#include "reach_trajectory.hpp"
+#include "taskmap/reaching/trajectory_record.hpp"
 
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/meshes/object_model.hpp"
@@ -8,7 +8,7 @@
 #define TASKMAP_VERSION "unknown"
 #endif
 
-namespace taskmap::cli {
+namespace taskmap {
 namespace {
 
 void addBodies(const RobotModel& robot, const std::string& object_name, bool object_mesh,
@@ -98,4 +98,4 @@ TrajectoryRecord trajectoryRecord(const RobotModel& robot, int palm, int object,
   return r;
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

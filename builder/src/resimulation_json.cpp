@@ -1,9 +1,11 @@
-// The re-simulated final grasp of `taskmap reach --map` as JSON.
-#include "reach_resimulate.hpp"
-
+// The re-simulated final grasp of `taskmap reach --map` as JSON (resimulate.hpp).
 #include <vector>
 
-namespace taskmap::cli {
+#include <nlohmann/json.hpp>
+
+#include "taskmap/builder/resimulate.hpp"
+
+namespace taskmap {
 namespace {
 
 nlohmann::json poseJson(const Pose& p) {
@@ -13,7 +15,7 @@ nlohmann::json poseJson(const Pose& p) {
 
 }  // namespace
 
-nlohmann::json resimulationJson(const Resimulation& r) {
+std::string resimulationJson(const Resimulation& r) {
   nlohmann::json j = {{"outcome", r.outcome},
                       {"message", r.message},
                       {"force_closure", r.force_closure},
@@ -34,7 +36,7 @@ nlohmann::json resimulationJson(const Resimulation& r) {
         {"failed_direction", h.failed_direction.empty() ? nlohmann::json(nullptr)
                                                         : nlohmann::json(h.failed_direction)}};
   }
-  return j;
+  return j.dump();
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap

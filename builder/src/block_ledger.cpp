@@ -1,9 +1,12 @@
-#include "block_ledger.hpp"
+// Rank 0's book of a build in blocks (block_ledger.hpp).
+#include "taskmap/builder/block_ledger.hpp"
 
 #include <algorithm>
 #include <utility>
 
-namespace taskmap::cli {
+#include "taskmap/core/error.hpp"
+
+namespace taskmap {
 
 BlockLedger::BlockLedger(std::uint64_t max_trials, std::uint64_t block_trials,
                          std::uint64_t valid_target)
@@ -11,7 +14,11 @@ BlockLedger::BlockLedger(std::uint64_t max_trials, std::uint64_t block_trials,
       block_trials_(block_trials),
       valid_target_(valid_target),
       // Without wrap-around for any budget; the table itself grows with the work recorded.
-      count_(max_trials / block_trials + (max_trials % block_trials != 0 ? 1 : 0)) {}
+      count_(block_trials == 0
+                 ? 0
+                 : max_trials / block_trials + (max_trials % block_trials != 0 ? 1 : 0)) {
+  if (block_trials == 0) throw Error("block_trials must be >= 1 (--block-trials)");
+}
 
 std::uint64_t BlockLedger::blockLast(std::uint64_t b) const {
   return blockFirst(b) + std::min(block_trials_, max_trials_ - blockFirst(b));
@@ -55,4 +62,4 @@ std::vector<TrialBlock> BlockLedger::takePrefix() {
   return out;
 }
 
-}  // namespace taskmap::cli
+}  // namespace taskmap
