@@ -16,6 +16,7 @@
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/grasp_sim/closing_check.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
@@ -42,7 +43,7 @@ void report(const std::string& path, const taskmap::ClosingCheckOptions& options
     std::fprintf(stderr, "%s: no hold labels (run taskmap validate)\n", path.c_str());
     return;
   }
-  const taskmap::HandModel hand = taskmap::HandModel::load(taskmap::recordedHandUrdf(map));
+  const taskmap::HandModel hand = taskmap::HandModel::load(taskmap::findMapHandUrdf(map));
   const taskmap::ObjectModel object = taskmap::mapObjectModel(map);
   const auto& mp = object.massProperties();
   const auto t_setup = Clock::now();
