@@ -96,9 +96,9 @@ TEST(BuildKnobs, ErrorsNameTheKnobAsTheFrontEndSpellsIt) {
                                    {"valid must be positive (got 0)"}));
   k = BuildKnobs{};
   k.sampler = "grid";
-  EXPECT_TRUE(testing::throwsError(
-      [&] { buildOptionsOf(k, KnobStyle::kPython); },
-      {"sampler must be one of volume, surface, mixed, antipodal, enclose, antipodal_palm (got \"grid\")"}));
+  EXPECT_TRUE(testing::throwsError([&] { buildOptionsOf(k, KnobStyle::kPython); },
+                                   {"sampler must be one of volume, surface, mixed, antipodal, "
+                                    "enclose, antipodal_palm (got \"grid\")"}));
   k = BuildKnobs{};
   k.friction = -0.1;
   EXPECT_TRUE(testing::throwsError([&] { buildOptionsOf(k, KnobStyle::kCommandLine); },

@@ -19,25 +19,25 @@ namespace taskmap {
 
 /// The knob values, named as the command line's options with '_' for '-'.
 struct BuildKnobs {
-  std::string sampler = "mixed";  ///< initial poses (SamplerKind's names)
-  std::uint64_t valid = 1000;     ///< stop after this many force-closure grasps
-  std::uint64_t trials = 200000;  ///< trial budget
-  std::uint64_t seed = 1;         ///< run seed
-  int threads = 0;                ///< worker threads, 0 = all cores
-  double friction = 0.5;          ///< Coulomb friction coefficient mu
-  int cone_edges = 8;             ///< friction-cone edges
-  std::string volume = "never";   ///< which stored grasps get the wrench-space volume
-  int contacts_per_link = 0;      ///< per-link contact reduction before the hull, 0 = none
-  std::string grasp;              ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
-  double standoff = -1.0;         ///< fingertip standoff, metres; negative = the hand's
-  bool allow_size = false;        ///< build an object whose size is implausible for the hand
-  bool keep_invalid = false;      ///< store every completed trial, not only force closure
-  bool no_cluster = false;        ///< do not cluster the grasps
-  bool validate = false;          ///< label the grasps with the physics hold test
-  bool keep_holding = false;      ///< with validate: store only the grasps that hold
-  bool hold_filter = false;       ///< refuse grasps the squeeze-balance filter finds unbalanced
+  std::string sampler = "mixed";      ///< initial poses (SamplerKind's names)
+  std::uint64_t valid = 1000;         ///< stop after this many force-closure grasps
+  std::uint64_t trials = 200000;      ///< trial budget
+  std::uint64_t seed = 1;             ///< run seed
+  int threads = 0;                    ///< worker threads, 0 = all cores
+  double friction = 0.5;              ///< Coulomb friction coefficient mu
+  int cone_edges = 8;                 ///< friction-cone edges
+  std::string volume = "never";       ///< which stored grasps get the wrench-space volume
+  int contacts_per_link = 0;          ///< per-link contact reduction before the hull, 0 = none
+  std::string grasp;                  ///< "", "palm" or "fingertip" ("" = the hand sidecar's)
+  double standoff = -1.0;             ///< fingertip standoff, metres; negative = the hand's
+  bool allow_size = false;            ///< build an object whose size is implausible for the hand
+  bool keep_invalid = false;          ///< store every completed trial, not only force closure
+  bool no_cluster = false;            ///< do not cluster the grasps
+  bool validate = false;              ///< label the grasps with the physics hold test
+  bool keep_holding = false;          ///< with validate: store only the grasps that hold
+  bool hold_filter = false;           ///< refuse grasps the squeeze-balance filter finds unbalanced
   std::string closing_check = "off";  ///< "off", "closing" or "pushes" (ClosingCheckMode)
-  bool timestamp = false;         ///< store the current time as created_utc
+  bool timestamp = false;             ///< store the current time as created_utc
 };
 
 /// How a front end checks a numeric knob before the library does (the command line's
