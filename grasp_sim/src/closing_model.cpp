@@ -14,27 +14,10 @@
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/convex_pieces.hpp"
+#include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap {
 namespace {
-
-/// Volume of a convex shape, m^3 (hulls: half their bounding box), as the hold test's model.
-double shapeVolume(const CollisionShape& s) {
-  switch (s.type) {
-    case ShapeType::kBox:
-      return s.box_size.prod();
-    case ShapeType::kCylinder:
-      return kPi * s.radius * s.radius * s.length;
-    case ShapeType::kSphere:
-      return 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
-    case ShapeType::kConvex: {
-      Eigen::AlignedBox3d box;
-      for (const auto& p : s.points) box.extend(p);
-      return s.points.empty() ? 0.0 : 0.5 * box.sizes().prod();
-    }
-  }
-  return 0.0;
-}
 
 std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margin) {
   std::unique_ptr<btConvexShape> shape;
@@ -67,21 +50,11 @@ ClosingLink ClosingChecker::Model::makeLink(int link, int parent, int joint) {
   c.parent = parent;
   c.joint = joint;
   const HandLink& l = hand.links()[static_cast<std::size_t>(link)];
-  double volume = 0.0;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& s : l.shapes) {
-    const double v = shapeVolume(s);
-    volume += v;
-    centre += v * s.origin.translation();
-  }
-  if (volume > 0.0) centre /= volume;
-  double radius = 0.0;
-  for (const auto& s : l.shapes)
-    radius = std::max(radius, (s.origin.translation() - centre).norm() + s.boundingRadius());
   // The hold test's mass and sphere inertia about the shapes' centre, moved to the link origin
   // (the multibody link's centre of mass) by the parallel-axis term.
-  c.mass = std::max(options.link_density * volume, 1e-3);
-  c.inertia = std::max(0.4 * c.mass * radius * radius, 1e-8) + c.mass * centre.squaredNorm();
+  const LinkInertia m = linkInertia(l, options.link_density);
+  c.mass = m.mass;
+  c.inertia = m.inertia + m.mass * m.centre.squaredNorm();
   if (l.shapes.empty()) return c;
   c.shape = std::make_unique<btCompoundShape>(true, static_cast<int>(l.shapes.size()));
   for (const auto& s : l.shapes) {

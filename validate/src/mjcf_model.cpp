@@ -12,6 +12,7 @@
 
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap::detail {
 namespace {
@@ -60,42 +61,13 @@ std::string frame(const Eigen::Isometry3d& t) {
          num(q.y()) + " " + num(q.z()) + "\"";
 }
 
-/// Volume of a convex shape, m^3 (hulls: half their bounding box, an estimate for the mass).
-double shapeVolume(const CollisionShape& s) {
-  switch (s.type) {
-    case ShapeType::kBox:
-      return s.box_size.prod();
-    case ShapeType::kCylinder:
-      return kPi * s.radius * s.radius * s.length;
-    case ShapeType::kSphere:
-      return 4.0 / 3.0 * kPi * s.radius * s.radius * s.radius;
-    case ShapeType::kConvex: {
-      Eigen::AlignedBox3d box;
-      for (const auto& p : s.points) box.extend(p);
-      return s.points.empty() ? 0.0 : 0.5 * box.sizes().prod();
-    }
-  }
-  return 0.0;
-}
-
 /// The <inertial> of a link: density x shape volume at the volume-weighted centre of its shapes,
 /// the inertia of a solid sphere of the shapes' extent (docs/VALIDATION.md, "The model").
 std::string inertial(const HandLink& link, double density) {
-  double volume = 0.0;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const auto& s : link.shapes) {
-    const double v = shapeVolume(s);
-    volume += v;
-    centre += v * s.origin.translation();
-  }
-  if (volume > 0.0) centre /= volume;
-  double radius = 0.0;
-  for (const auto& s : link.shapes)
-    radius = std::max(radius, (s.origin.translation() - centre).norm() + s.boundingRadius());
-  const double mass = std::max(density * volume, 1e-3);
-  const double i = std::max(0.4 * mass * radius * radius, 1e-8);
-  return "<inertial pos=\"" + vec(centre) + "\" mass=\"" + num(mass) + "\" diaginertia=\"" +
-         num(i) + " " + num(i) + " " + num(i) + "\"/>";
+  const LinkInertia m = linkInertia(link, density);
+  const std::string i = num(m.inertia);
+  return "<inertial pos=\"" + vec(m.centre) + "\" mass=\"" + num(m.mass) + "\" diaginertia=\"" + i +
+         " " + i + " " + i + "\"/>";
 }
 
 /// Cells along an extent of 2 h: round(2 h / patch), 1 to 4.
