@@ -14,10 +14,12 @@
 #include <string>
 #include <vector>
 
+#include "taskmap/builder/resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/pose.hpp"
 #include "taskmap/reaching/attractor.hpp"
 #include "taskmap/reaching/grasp_planner.hpp"
+#include "taskmap/reaching/map_reach.hpp"
 #include "taskmap/reaching/movement_terms.hpp"
 #include "taskmap/reaching/plan_report.hpp"
 #include "taskmap/reaching/reach_scene.hpp"
@@ -226,7 +228,9 @@ void bindPlanning(py::module_& m) {
       "reach",
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight,
-         int steps, double dt, const std::string& descent) {
+         int steps, double dt, const std::string& descent, bool resimulate, bool hold_test) {
+        if (hold_test && !resimulate)
+          throw Error("reach: hold_test tests the re-simulated grasp: add resimulate=True");
         GraspProblem g = graspProblem(r, q0, "reach");
         TrajectoryProblem& p = g.problem;
         p.reach.steps = steps;
@@ -241,28 +245,31 @@ void bindPlanning(py::module_& m) {
         o.optimizer.max_iterations = iterations;
         o.map_weights.proximity = proximity_weight;
         o.map_weights.quality = quality_weight;
-        const auto t0 = std::chrono::steady_clock::now();
-        const GraspPlan plan = planGrasp(p, map, o);
-        const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count();
-        MovementTerms movement;
-        if (plan.best >= 0)
-          movement = movementTerms(map, r.model, p.body, p.reference,
-                                   plan.plans[plan.best].optimization.cost.q, o.map_weights);
-        return mapReachDict(plan, ms, movement);
+        const MapReach planned = planMapReach(p, map, o);
+        py::dict d = mapReachDict(planned.plan, planned.plan_ms, planned.movement);
+        if (resimulate && planned.plan.best >= 0) {
+          Resimulation rs = resimulateGrasp(
+              map.data(), finalPalmInObject(r.model, planned.plan.plans[planned.plan.best], p.body,
+                                            p.reference));
+          if (hold_test) holdTestResimulated(map.data(), &rs);
+          d["resimulated"] = py::module_::import("json").attr("loads")(resimulationJson(rs));
+        }
+        return d;
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
-      py::arg("descent") = "bfgs",
+      py::arg("descent") = "bfgs", py::arg("resimulate") = false, py::arg("hold_test") = false,
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
       "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
       "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
       "iterations_to_manifold, iterations_to_quality, min_clearance_m, joint_limit_margin_rad, "
       "velocity_ratio, collision_free, ms_per_iteration, cost_history (dicts per iteration), "
       "proximity_over_movement, quality_over_movement (weighted, per step), q_final) and q, "
-      "the joint trajectory (steps+1 x dofs, rad) as a numpy array.");
+      "the joint trajectory (steps+1 x dofs, rad) as a numpy array. resimulate=True re-simulates "
+      "the final palm pose with the map's own hand, object and build options (the CLI does by "
+      "default; needs a built map, not one from arrays) and hold_test=True tests that grasp "
+      "with the physics hold test: key 'resimulated' as in the CLI's JSON.");
 
   m.def(
       "plan_grasp",

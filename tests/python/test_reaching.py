@@ -111,6 +111,32 @@ class ReachingTest(unittest.TestCase):
         # The fixed-target reach keeps its signature.
         self.assertEqual(taskmap.reach(robot, SIDE_GRASP, q0=READY, steps=50)["q"].shape, (51, 7))
 
+    def test_reach_with_the_reference_map_resimulates_and_tests_the_hold(self):
+        # The checked-in map (humanoid hand, basket, grasps that hold): the final palm pose is
+        # re-simulated with the map's own hand, object and options and held in physics, as
+        # `taskmap reach --map ... --hold-test` reports it.
+        robot = taskmap.Robot.panda_with_humanoid_hand(os.path.join(SRC, "reaching", "robots"),
+                                                       os.path.join(SRC, "meshes", "hands"))
+        robot.add_scene(os.path.join(SRC, "reaching", "scenes", "basket_reference.json"))
+        m = taskmap.load(os.path.join(SRC, "meshes", "maps", "basket_humanoid.h5"))
+        r = taskmap.reach(robot, m, q0=READY, iterations=3, resimulate=True, hold_test=True)
+        self.assertEqual(r["status"], "planned", r["message"])
+        res = r["resimulated"]
+        self.assertEqual(res["outcome"], "ok", res["message"])
+        for key in ("force_closure", "epsilon", "contacts", "fingers", "start", "final", "hand"):
+            self.assertIn(key, res)
+        np.testing.assert_allclose(res["start"][:3], res["final"][:3], atol=0.01)
+        self.assertIn(res["hold"]["holds"], (True, False))
+        self.assertGreaterEqual(res["hold"]["max_translation_m"], 0.0)
+        self.assertNotIn("hold", taskmap.reach(robot, m, q0=READY, iterations=1,
+                                               resimulate=True)["resimulated"])
+        with self.assertRaisesRegex(taskmap.Error, "add resimulate=True"):
+            taskmap.reach(robot, m, q0=READY, iterations=1, hold_test=True)
+        with self.assertRaises(taskmap.Error):  # a map from arrays has no object to re-simulate
+            poses = np.array([SIDE_GRASP])
+            taskmap.reach(robot, taskmap.TaskMap.from_arrays(poses, [0.1]), q0=READY,
+                          iterations=1, steps=50, resimulate=True)
+
     def test_errors_are_value_errors(self):
         robot = panda()
         with self.assertRaises(taskmap.Error):
