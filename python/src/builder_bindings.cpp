@@ -16,10 +16,13 @@
 #include <utility>
 #include <vector>
 
+#include "taskmap/builder/acronym_import.hpp"
 #include "taskmap/builder/build_knobs.hpp"
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
+#include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
 
 namespace py = pybind11;
 
@@ -177,9 +180,55 @@ py::dict runDataset(const std::string& objects, const std::string& hands, const 
   return datasetDict(r);
 }
 
+/// taskmap.import_acronym: `taskmap import` as a call (its option names as keywords).
+py::object importAcronym(const std::string& acronym, const std::string& object,
+                         const std::string& output, double scale, bool successful_only,
+                         bool no_cluster, const std::string& linkage, double rotation_scale,
+                         std::optional<double> threshold, std::optional<int> clusters,
+                         double min_size_fraction, std::optional<double> palm_offset,
+                         const std::string& hand, bool timestamp, bool force) {
+  AcronymFileImportOptions o;
+  o.acronym = acronym;
+  o.object = object;
+  o.output = output;
+  o.scale = scale;
+  o.timestamp = timestamp;
+  checkOutputPath(o.output, {o.acronym, o.object}, OutputKind::kTaskMap, force);
+  if (o.scale < 0) throw Error("import_acronym: scale must be positive (0: the file's)");
+  o.import.successful_only = successful_only;
+  o.import.cluster = !no_cluster;
+  o.import.clustering.method = linkageFromString(linkage);
+  o.import.clustering.rotation_scale = rotation_scale;
+  o.import.clustering.threshold = threshold;
+  o.import.clustering.num_clusters = clusters;
+  o.import.clustering.min_size_fraction = min_size_fraction;
+  o.import.base_to_palm = acronymBaseToPalm(palm_offset, hand);
+  {
+    py::gil_scoped_release release;
+    importAcronymFile(o);
+  }
+  return py::module_::import("taskmap._core").attr("load")(output);
+}
+
 }  // namespace
 
 void bindBuilder(py::module_& m) {
+  const ClusteringOptions clustering;
+  m.def("import_acronym", &importAcronym, py::kw_only(), py::arg("acronym"), py::arg("object"),
+        py::arg("output"), py::arg("scale") = 0.0, py::arg("successful_only") = false,
+        py::arg("no_cluster") = false, py::arg("linkage") = toString(clustering.method),
+        py::arg("rotation_scale") = kDefaultRotationScale, py::arg("threshold") = py::none(),
+        py::arg("clusters") = py::none(), py::arg("min_size_fraction") = kDefaultMinSizeFraction,
+        py::arg("palm_offset") = py::none(), py::arg("hand") = "", py::arg("timestamp") = false,
+        py::arg("force") = false,
+        "Imports an ACRONYM grasp file as `taskmap import` does (the same map bytes): poses "
+        "from grasps/transforms (the palm frame from `hand`'s URDF root-to-palm transform, or "
+        "`palm_offset` metres along the gripper's z, else ACRONYM's Franka gripper), force "
+        "closure from object_in_gripper, contacts absent; the object mesh `object` at `scale` "
+        "(0: the file's object/scale); clustered as `taskmap cluster` (linkage, rotation_scale "
+        "m/rad, threshold m, clusters, min_size_fraction) unless no_cluster. The file is read "
+        "in a child process with memory and CPU limits; nothing is written on an error "
+        "(taskmap.Error naming the file). Writes `output` and returns it loaded.");
   static const std::string build_doc =
       "Builds a task map as `taskmap build` does (the same options, the same map bytes for the "
       "same options: same seed same map for any thread count), writes it to `output` and "

@@ -106,6 +106,21 @@ class AcronymInteropTest(unittest.TestCase):
         self.assertEqual(data["gripper/type"][()], b"franka_panda")
         data.close()
 
+    def test_python_import_writes_the_cli_bytes(self):
+        import taskmap
+        src = self.path("Box_abc_1.0.h5")
+        write_acronym_like(src, 60)
+        r = run("import", "--acronym", src, "--object", BOX, "-o", self.path("cli.h5"),
+                "--successful-only", "--clusters", "3")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        m = taskmap.import_acronym(acronym=src, object=BOX, output=self.path("py.h5"),
+                                   successful_only=True, clusters=3)
+        with open(self.path("cli.h5"), "rb") as a, open(self.path("py.h5"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        self.assertEqual(m.num_clusters, 3)
+        with self.assertRaisesRegex(taskmap.Error, "would destroy the input"):
+            taskmap.import_acronym(acronym=src, object=BOX, output=src)
+
     def test_successful_only_and_bad_files(self):
         src = self.path("grasps.h5")
         _, success = write_acronym_like(src, 30)
