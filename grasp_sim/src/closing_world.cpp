@@ -1,5 +1,5 @@
 // ClosingChecker::Model::run: one closing check in its own Bullet dynamics world
-// (docs/METHOD.md §2b): the hand a fixed-base multibody with velocity motors that behave as the
+// (docs/METHOD.md §4d): the hand a fixed-base multibody with velocity motors that behave as the
 // hold test's overdamped position servos, the object a free rigid body of convex pieces.
 #include <algorithm>
 #include <cmath>

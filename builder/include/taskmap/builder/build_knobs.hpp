@@ -177,7 +177,7 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "closing: store only force-closure grasps whose closing, simulated in Bullet with "
              "the object free to move (the hold test's drive, 0.1 kg, friction 0.6), leaves the "
              "object within 1 cm and 15 degrees; pushes: the same, then six 1 N pushes of 0.2 s "
-             "(docs/METHOD.md 2b; costs CPU time per grasp)",
+             "(docs/METHOD.md 4d; costs CPU time per grasp)",
              {"off", "closing", "pushes"}},
     k.closing_check);
   v(KnobInfo{"timestamp",

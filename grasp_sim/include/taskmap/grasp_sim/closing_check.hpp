@@ -1,6 +1,6 @@
 #pragma once
 /// @file closing_check.hpp
-/// Closing with the object free to move (docs/METHOD.md §2b): after the kinematic trial found
+/// Closing with the object free to move (docs/METHOD.md §4d): after the kinematic trial found
 /// a grasp's joints, a Bullet dynamics world (float64, private) replays how a position-controlled
 /// hand closes on a free object: the hand a fixed-base multibody at the palm pose (revolute and
 /// prismatic joints, mimic joints driven with their driver's target), the object a free rigid
@@ -59,7 +59,7 @@ struct ClosingCheckOptions {
   /// penetration removed per step (the stored grasps start pressed in by the squeeze).
   double contact_erp = 0.2;
   /// Steps of the quasi-static start (the object's velocity zeroed after each) that remove the
-  /// hand's overlap with the object before the closing (0: none; docs/METHOD.md §2b).
+  /// hand's overlap with the object before the closing (0: none; docs/METHOD.md §4d).
   int max_settle_steps = 50;
   double push_force = 1.0;     ///< N, kPushes: the hold test's push (10 x 0.1 kg)
   double push_duration = 0.2;  ///< s per direction, kPushes
