@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 
 namespace taskmap {
 namespace {
@@ -236,6 +237,21 @@ void TaskMapData::validate() const {
   if (quality.cone_edges < 0) fail("/quality attribute cone_edges", "must not be negative");
   if (clustering) validateClustering(*clustering, grasps.size());
   if (validation) validateValidation(*validation, grasps.size());
+}
+
+std::vector<Contact> graspContacts(const MapGrasps& g, std::size_t i) {
+  assert(i < g.size());
+  std::vector<Contact> out;
+  if (g.contact_offsets.size() <= i + 1) return out;  // no contacts stored (an imported map)
+  for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
+    Contact c;
+    c.point = g.contact_points.row(r).transpose();
+    c.normal = g.contact_normals.row(r).transpose();
+    c.depth = g.contact_depths[static_cast<std::size_t>(r)];
+    c.link = g.contact_links[static_cast<std::size_t>(r)];
+    out.push_back(c);
+  }
+  return out;
 }
 
 }  // namespace taskmap

@@ -15,6 +15,7 @@
 
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/grasp_sim/closing_check.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
@@ -23,19 +24,6 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::vector<taskmap::Contact> contactsOf(const taskmap::MapGrasps& g, std::size_t i) {
-  std::vector<taskmap::Contact> out;
-  for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
-    taskmap::Contact c;
-    c.point = g.contact_points.row(r).transpose();
-    c.normal = g.contact_normals.row(r).transpose();
-    c.depth = g.contact_depths[static_cast<std::size_t>(r)];
-    c.link = g.contact_links[static_cast<std::size_t>(r)];
-    out.push_back(c);
-  }
-  return out;
-}
 
 void report(const std::string& path, const taskmap::ClosingCheckOptions& options) {
   const taskmap::TaskMapData map = taskmap::readMap(path);
@@ -59,7 +47,8 @@ void report(const std::string& path, const taskmap::ClosingCheckOptions& options
     const auto t0 = Clock::now();
     const taskmap::ClosingCheckResult r = checker.check(map.grasps.poseAt(i), q);
     const auto t1 = Clock::now();
-    (void)taskmap::evaluateGrasp(contactsOf(map.grasps, i), mp.center_of_mass, mp.torque_scale, qo);
+    (void)taskmap::evaluateGrasp(taskmap::graspContacts(map.grasps, i), mp.center_of_mass,
+                                 mp.torque_scale, qo);
     const auto t2 = Clock::now();
     check_s += std::chrono::duration<double>(t1 - t0).count();
     quality_s += std::chrono::duration<double>(t2 - t1).count();

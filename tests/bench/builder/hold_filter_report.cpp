@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "taskmap/builder/hold_filter.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
@@ -21,19 +22,6 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::vector<taskmap::Contact> contactsOf(const taskmap::MapGrasps& g, std::size_t i) {
-  std::vector<taskmap::Contact> out;
-  for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
-    taskmap::Contact c;
-    c.point = g.contact_points.row(r).transpose();
-    c.normal = g.contact_normals.row(r).transpose();
-    c.depth = g.contact_depths[static_cast<std::size_t>(r)];
-    c.link = g.contact_links[static_cast<std::size_t>(r)];
-    out.push_back(c);
-  }
-  return out;
-}
 
 void report(const std::string& path, const taskmap::HoldFilterOptions& options) {
   const taskmap::TaskMapData map = taskmap::readMap(path);
@@ -50,7 +38,7 @@ void report(const std::string& path, const taskmap::HoldFilterOptions& options) 
   for (std::size_t i = 0; i < map.grasps.size(); ++i) {
     const std::uint8_t hold = map.validation->hold[i];
     if (hold == taskmap::MapValidation::kNotTested) continue;
-    const std::vector<taskmap::Contact> contacts = contactsOf(map.grasps, i);
+    const std::vector<taskmap::Contact> contacts = taskmap::graspContacts(map.grasps, i);
     const Eigen::VectorXd q = map.grasps.joints.row(static_cast<Eigen::Index>(i)).transpose();
     const auto t0 = Clock::now();
     const taskmap::SqueezeDrive drive =

@@ -26,6 +26,7 @@
 
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 
 namespace taskmap {
 namespace {
@@ -58,19 +59,6 @@ Rate rateOf(const BuildResult& r) {
   return out;
 }
 
-std::vector<Contact> contactsOf(const MapGrasps& g, std::size_t i) {
-  std::vector<Contact> out;
-  for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
-    Contact c;
-    c.point = g.contact_points.row(r).transpose();
-    c.normal = g.contact_normals.row(r).transpose();
-    c.depth = g.contact_depths[static_cast<std::size_t>(r)];
-    c.link = g.contact_links[static_cast<std::size_t>(r)];
-    out.push_back(c);
-  }
-  return out;
-}
-
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -85,7 +73,7 @@ void reductionReport(const ObjectModel& object, const HandModel& hand, BuildOpti
   const auto& mp = object.massProperties();
   const std::size_t n = all.map.grasps.size();
   std::vector<std::vector<Contact>> sets;
-  for (std::size_t i = 0; i < n; ++i) sets.push_back(contactsOf(all.map.grasps, i));
+  for (std::size_t i = 0; i < n; ++i) sets.push_back(graspContacts(all.map.grasps, i));
   QualityOptions full;
   full.volume = VolumeMode::kNever;
   std::vector<QualityResult> ref;

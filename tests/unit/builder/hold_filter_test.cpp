@@ -14,6 +14,7 @@
 #include "error_matchers.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/trial_block.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 
 namespace taskmap {
 namespace {
@@ -95,16 +96,8 @@ TEST(HoldFilter, ABuildStoresOnlyGraspsThatPassAndCountsTheOthers) {
   EXPECT_GT(one.map.sampling.outcomes.at("unbalanced"), 0u);
   const auto& mp = testing::boxObject().massProperties();
   for (std::size_t i = 0; i < one.map.grasps.size(); ++i) {
-    std::vector<Contact> contacts;
     const MapGrasps& g = one.map.grasps;
-    for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
-      Contact c;
-      c.point = g.contact_points.row(r).transpose();
-      c.normal = g.contact_normals.row(r).transpose();
-      c.depth = g.contact_depths[static_cast<std::size_t>(r)];
-      c.link = g.contact_links[static_cast<std::size_t>(r)];
-      contacts.push_back(c);
-    }
+    const std::vector<Contact> contacts = graspContacts(g, i);
     const Eigen::VectorXd q = g.joints.row(static_cast<Eigen::Index>(i)).transpose();
     const SqueezeDrive d = squeezeDrive(barrett, g.poseAt(i), q, contacts, o.hold_filter);
     EXPECT_TRUE(

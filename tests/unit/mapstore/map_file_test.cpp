@@ -17,6 +17,7 @@
 #include "seal_oracle.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/random.hpp"
+#include "taskmap/mapstore/grasp_contacts.hpp"
 
 namespace taskmap {
 namespace {
@@ -177,6 +178,26 @@ void deleteLink(const std::string& path, const char* name) {
 }
 
 // ------------------------------------------------------------------------- tests
+
+TEST(MapFileTest, GraspContactsAreTheRowsOfTheirGrasp) {
+  const TaskMapData m = sampleMap(5);
+  const MapGrasps& g = m.grasps;
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const std::vector<Contact> c = graspContacts(g, i);
+    ASSERT_EQ(static_cast<std::int64_t>(c.size()), g.contact_offsets[i + 1] - g.contact_offsets[i]);
+    for (std::size_t k = 0; k < c.size(); ++k) {
+      const auto r = g.contact_offsets[i] + static_cast<std::int64_t>(k);
+      EXPECT_EQ(c[k].point, g.contact_points.row(r).transpose());
+      EXPECT_EQ(c[k].normal, g.contact_normals.row(r).transpose());
+      EXPECT_EQ(c[k].depth, g.contact_depths[static_cast<std::size_t>(r)]);
+      EXPECT_EQ(c[k].link, g.contact_links[static_cast<std::size_t>(r)]);
+    }
+    total += c.size();
+  }
+  EXPECT_EQ(static_cast<Eigen::Index>(total), g.contact_points.rows());
+  EXPECT_GT(total, 0u);
+}
 
 TEST(MapFileTest, RoundTripIsExact) {
   const TaskMapData m = sampleMap(9);
