@@ -240,9 +240,8 @@ void TaskMapData::validate() const {
 }
 
 std::vector<Contact> graspContacts(const MapGrasps& g, std::size_t i) {
-  assert(i < g.size());
+  assert(i < g.size() && i + 1 < g.contact_offsets.size());  // a valid map: N + 1 offsets
   std::vector<Contact> out;
-  if (g.contact_offsets.size() <= i + 1) return out;  // no contacts stored (an imported map)
   for (auto r = g.contact_offsets[i]; r < g.contact_offsets[i + 1]; ++r) {
     Contact c;
     c.point = g.contact_points.row(r).transpose();

@@ -12,8 +12,8 @@
 namespace taskmap {
 
 /// Contacts of grasp i (rows contact_offsets[i] .. contact_offsets[i+1]-1): point and outward
-/// normal in the object frame, depth in metres, hand link index. Requires i < grasps.size() and
-/// grasps.contacts_available (an imported map has none: the list is empty).
+/// normal in the object frame, depth in metres, hand link index. Requires i < grasps.size() of a
+/// valid map (MapGrasps holds N + 1 offsets); an imported map has no contacts: the list is empty.
 std::vector<Contact> graspContacts(const MapGrasps& grasps, std::size_t i);
 
 }  // namespace taskmap
