@@ -20,13 +20,32 @@
 #include "taskmap/builder/build_knobs.hpp"
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
+#include "taskmap/builder/recluster.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
+#include "taskmap/mapstore/map_file.hpp"
 
 namespace py = pybind11;
 
 namespace taskmap {
+
+MeshLoadOptions meshOptions(double scale, bool no_repair, const std::string& repair,
+                            double wrap_alpha, double wrap_offset) {
+  if (!repair.empty() && repair != "wrap") throw Error("repair must be \"wrap\" or empty");
+  const bool wrap = repair == "wrap";
+  if (wrap && no_repair) throw Error("repair=\"wrap\" and no_repair contradict each other");
+  if (!wrap && (wrap_alpha > 0 || wrap_offset > 0))
+    throw Error("wrap_alpha and wrap_offset need repair=\"wrap\"");
+  MeshLoadOptions m;
+  m.scale = scale;
+  m.repair = !no_repair;
+  m.wrap = wrap;
+  m.wrap_alpha = wrap_alpha;
+  m.wrap_offset = wrap_offset;
+  return m;
+}
+
 namespace {
 
 /// The knobs of `kwargs` (named as visitBuildKnobs names them; None: the default). Raises
@@ -76,22 +95,6 @@ std::string knobsDoc() {
     doc += std::string("  ") + info.name + " = " + d + ": " + info.help + "\n";
   });
   return doc;
-}
-
-MeshLoadOptions meshOptions(double scale, bool no_repair, const std::string& repair,
-                            double wrap_alpha, double wrap_offset) {
-  if (!repair.empty() && repair != "wrap") throw Error("repair must be \"wrap\" or empty");
-  const bool wrap = repair == "wrap";
-  if (wrap && no_repair) throw Error("repair=\"wrap\" and no_repair contradict each other");
-  if (!wrap && (wrap_alpha > 0 || wrap_offset > 0))
-    throw Error("wrap_alpha and wrap_offset need repair=\"wrap\"");
-  MeshLoadOptions m;
-  m.scale = scale;
-  m.repair = !no_repair;
-  m.wrap = wrap;
-  m.wrap_alpha = wrap_alpha;
-  m.wrap_offset = wrap_offset;
-  return m;
 }
 
 py::dict progressDict(const BuildProgress& p) {
@@ -210,10 +213,51 @@ py::object importAcronym(const std::string& acronym, const std::string& object,
   return py::module_::import("taskmap._core").attr("load")(output);
 }
 
+/// taskmap.recluster: `taskmap cluster` as a call (its option names as keywords).
+py::object recluster(const py::object& map, const ReclusterOptions& o, const std::string& output,
+                     bool force) {
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(map));
+  const std::string target = output.empty() ? path : output;
+  if (!output.empty()) checkOutputPath(output, {path}, OutputKind::kTaskMap, force);
+  {
+    py::gil_scoped_release release;
+    TaskMapData data = readMap(path);
+    reclusterMap(&data, o);
+    writeMap(target, data);
+  }
+  return py::module_::import("taskmap._core").attr("load")(target);
+}
+
 }  // namespace
 
 void bindBuilder(py::module_& m) {
   const ClusteringOptions clustering;
+  m.def(
+      "recluster",
+      [](const py::object& map, std::optional<double> threshold, std::optional<int> clusters,
+         std::optional<int> min_size, std::optional<std::string> method,
+         std::optional<double> outlier_budget, const std::string& output, bool force) {
+        ReclusterOptions o;
+        o.threshold = threshold;
+        o.clusters = clusters;
+        o.min_size = min_size;
+        o.method = method;
+        o.outlier_budget = outlier_budget;
+        return recluster(map, o, output, force);
+      },
+      py::arg("map"), py::kw_only(), py::arg("threshold") = py::none(),
+      py::arg("clusters") = py::none(), py::arg("min_size") = py::none(),
+      py::arg("method") = py::none(), py::arg("outlier_budget") = py::none(),
+      py::arg("output") = "", py::arg("force") = false,
+      "What `taskmap cluster MAP` does: re-clusters the map's grasps (hierarchical, in the map's "
+      "pose metric; the stored dendrogram is reused when the method is unchanged) and writes "
+      "the labels, cluster table and dendrogram into the map (atomically), or into `output` "
+      "(never an input; force replaces a file that is not a task map); returns it loaded. "
+      "threshold: cut distance in the pose metric (m); clusters: cut into this many groups (not "
+      "with threshold); min_size: smallest cluster kept (default 3 % of the grasps, at least "
+      "3); method: 'single', 'average' or 'complete' (default average, single beyond 20000 "
+      "grasps); outlier_budget: share of grasps the default cut may leave as outliers, in [0, "
+      "1]. Raises taskmap.Error naming the file or the argument.");
   m.def("import_acronym", &importAcronym, py::kw_only(), py::arg("acronym"), py::arg("object"),
         py::arg("output"), py::arg("scale") = 0.0, py::arg("successful_only") = false,
         py::arg("no_cluster") = false, py::arg("linkage") = toString(clustering.method),

@@ -3,6 +3,8 @@
 // keyword arguments of the commands.
 #include "inspect_bindings.hpp"
 
+#include "builder_bindings.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -15,6 +17,7 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/hand_info.hpp"
 #include "taskmap/inspect/map_summary.hpp"
+#include "taskmap/inspect/mesh_info.hpp"
 #include "taskmap/integration/task_map.hpp"
 #include "taskmap/picture/hand_picture.hpp"
 #include "taskmap/viz/hand_page.hpp"
@@ -82,6 +85,15 @@ py::dict handInfoDict(const std::string& hand, const std::string& png, const std
   return jsonDict(info.json);
 }
 
+py::dict meshInfoDict(const py::object& file, double scale, bool no_repair,
+                      const std::string& repair, double wrap_alpha, double wrap_offset) {
+  const std::string path = py::str(py::module_::import("os").attr("fspath")(file));
+  if (!(scale > 0.0)) throw Error("mesh_info: scale must be positive");
+  const MeshLoadOptions options = meshOptions(scale, no_repair, repair, wrap_alpha, wrap_offset);
+  requireObjectFile(path);
+  return jsonDict(meshInfo(ObjectModel::load(path, options)).json);
+}
+
 }  // namespace
 
 std::string pythonHandsDir() {
@@ -110,6 +122,20 @@ threshold (m), min_size, outliers, clusters [{id, size, representative, pose [x 
 qz] (palm in the object frame, m), approach (palm +z axis, object frame), mean_epsilon,
 best_epsilon, color}]}).
 Raises taskmap.Error naming the file when it is missing or not a task map.)");
+  m.def("mesh_info", &meshInfoDict, py::arg("file"), py::kw_only(), py::arg("scale") = 1.0,
+        py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
+        py::arg("wrap_offset") = 0.0,
+        R"(What `taskmap mesh-info --json FILE` reports about an object mesh loaded as a solid, as
+a dict.
+
+file: a mesh file (any format assimp reads); scale multiplies its coordinates (file units to
+metres). no_repair: refuse a mesh that needs repair; repair="wrap": also close an open surface by
+alpha wrapping (wrap_alpha, wrap_offset in metres, 0: automatic), as `taskmap build` loads it.
+Keys: path, format, sha256, scale, input_vertices, input_faces, vertices, faces, repairs,
+warnings, size (m), graspable_size, closed, volume (m^3), bounds_min, bounds_max, center_of_mass
+(m, object frame), inertia (3 rows; density 1 kg/m^3, about the centre of mass, kg m^2),
+torque_scale (m).
+Raises taskmap.Error naming the file when it is missing or does not load as a solid.)");
   m.def("hand_info", &handInfoDict, py::arg("hand"), py::kw_only(), py::arg("png") = "",
         py::arg("html") = "", py::arg("package_path") = std::vector<std::string>{},
         R"(What `taskmap hand-info --json HAND` reports, as a dict.

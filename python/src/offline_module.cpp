@@ -15,8 +15,8 @@ namespace py = pybind11;
 
 PYBIND11_MODULE(_offline, m) {
   m.doc() =
-      "taskmap's offline stages: build, dataset, Robot, reach, plan_grasp, validate, summary, "
-      "hand_info, picture (loaded on first use).";
+      "taskmap's offline stages: build, dataset, import_acronym, recluster, Robot, reach, "
+      "plan_grasp, validate, summary, hand_info, mesh_info, picture (loaded on first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
   // A handle kept for the process's life: a static py::object would drop its reference at exit,
   // after the interpreter is gone.

@@ -1,6 +1,8 @@
 """Ctrl-C (SIGINT), SIGTERM and SIGKILL during `taskmap build` never leave a half-written map:
-the output path holds either nothing or the previous map, untouched."""
+the output path holds either nothing or the previous map, untouched. Ctrl-C during `taskmap
+dataset` stops the running job unwritten and leaves it pending in the manifest (exit 130)."""
 import hashlib
+import json
 import os
 import shutil
 import signal
@@ -95,6 +97,27 @@ class BuildSignalsTest(unittest.TestCase):
         out = os.path.join(self.tmp, "kill_none.h5")
         subprocess.run(self.command(out, 8), check=True, capture_output=True, timeout=300)
         self.assertTrue(os.path.exists(out))
+
+
+    def test_sigint_stops_a_dataset_and_leaves_its_job_pending(self):
+        d = os.path.join(self.tmp, "dataset")
+        objects = os.path.join(self.tmp, "objects.txt")
+        with open(objects, "w") as f:
+            f.write("box.obj\n")
+        proc = subprocess.Popen([CLI, "dataset", "--objects", objects, "--hands", "panda",
+                                 "--valid", "1000000", "--trials", "10000000", "--seed", "5",
+                                 "--threads", "2", "-o", d], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        time.sleep(2.0)  # into the first job's trials
+        self.assertIsNone(proc.poll(), "the long data set ended early")
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        self.assertEqual(proc.returncode, 130, err)
+        self.assertIn("interrupted", err)
+        with open(os.path.join(d, "manifest.json")) as f:
+            manifest = json.load(f)
+        self.assertEqual([j["status"] for j in manifest["jobs"]], ["pending"])
+        self.assertEqual([n for n in os.listdir(d) if n.endswith(".h5")], [])
 
 
 if __name__ == "__main__":

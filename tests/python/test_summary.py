@@ -1,7 +1,8 @@
-"""taskmap.summary, taskmap.hand_info and taskmap.picture (the inspect and picture stages) against
-the command-line tool on the same inputs: the same numbers as `taskmap inspect --json` and
-`taskmap hand-info --json`, the same PNG bytes as `inspect --png` and `hand-info --png`, and the
-same errors for bad input."""
+"""taskmap.summary, taskmap.hand_info, taskmap.mesh_info, taskmap.recluster and taskmap.picture
+(the inspect, builder and picture stages) against the command-line tool on the same inputs: the
+same numbers as `taskmap inspect --json`, `taskmap hand-info --json` and `taskmap mesh-info
+--json`, the same map bytes as `taskmap cluster`, the same PNG bytes as `inspect --png` and
+`hand-info --png`, and the same errors for bad input."""
 import json
 import os
 import subprocess
@@ -14,6 +15,7 @@ SRC = os.environ["TASKMAP_SOURCE_DIR"]
 BUILD = os.environ["TASKMAP_BUILD_DIR"]
 MAP = os.path.join(SRC, "meshes", "maps", "basket_humanoid.h5")  # checked-in reference map
 HANDS = os.path.join(SRC, "meshes", "hands")
+MAP_OBJECT = os.path.join(SRC, "meshes", "objects", "basket.obj")
 # The bundled hands, for the CLI and for the package's bundled hand names alike.
 os.environ["TASKMAP_DATA_DIR"] = os.path.join(BUILD, "share", "taskmap")
 
@@ -54,6 +56,56 @@ class SummaryTest(unittest.TestCase):
             with self.assertRaises(taskmap.Error) as e:
                 taskmap.summary(f.name)
             self.assertIn(f.name, str(e.exception))
+
+
+class MeshInfoTest(unittest.TestCase):
+    def test_mesh_info_is_what_mesh_info_json_prints(self):
+        real = os.path.join(SRC, "..", "shared", "real", "objects", "ycb_011_banana.obj")
+        objects = [os.path.join(SRC, "meshes", "objects", n) for n in ("mug.obj", "basket.obj")]
+        for path in objects + ([real] if os.path.exists(real) else []):
+            code, out, err = cli("mesh-info", "--json", path)
+            self.assertEqual(code, 0, err)
+            self.assertEqual(taskmap.mesh_info(path), json.loads(out), path)
+        code, out, err = cli("mesh-info", "--json", "--scale", "10", objects[0])
+        info = taskmap.mesh_info(objects[0], scale=10)
+        self.assertEqual(info, json.loads(out))
+        self.assertFalse(info["graspable_size"])
+
+    def test_bad_inputs_name_the_file_or_argument(self):
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.mesh_info("/nonexistent/a.obj")
+        self.assertIn("/nonexistent/a.obj", str(e.exception))
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.mesh_info(MAP_OBJECT, repair="wrap", no_repair=True)
+        self.assertIn("no_repair", str(e.exception))
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.mesh_info(MAP_OBJECT, scale=0)
+        self.assertIn("scale must be positive", str(e.exception))
+
+
+class ReclusterTest(unittest.TestCase):
+    def test_recluster_writes_what_cluster_writes(self):
+        with tempfile.TemporaryDirectory() as d:
+            by_cli, by_py = os.path.join(d, "cli.h5"), os.path.join(d, "py.h5")
+            for p in (by_cli, by_py):
+                with open(p, "wb") as f:
+                    f.write(read(MAP))
+            code, out, err = cli("cluster", "--clusters", "3", "--method", "single", "-q",
+                                 by_cli)
+            self.assertEqual(code, 0, err)
+            m = taskmap.recluster(by_py, clusters=3, method="single")
+            self.assertEqual(read(by_py), read(by_cli))
+            self.assertLessEqual(len(taskmap.summary(m)["clustering"]["clusters"]), 3)
+            # Into another file, the input untouched; contradicting arguments refused.
+            other = os.path.join(d, "other.h5")
+            taskmap.recluster(MAP, threshold=0.05, output=other)
+            self.assertTrue(os.path.exists(other))
+            with self.assertRaises(taskmap.Error) as e:
+                taskmap.recluster(by_py, threshold=0.1, clusters=2)
+            self.assertIn("not both", str(e.exception))
+            with self.assertRaises(taskmap.Error) as e:  # output given: never the input
+                taskmap.recluster(by_py, output=by_py)
+            self.assertIn(by_py, str(e.exception))
 
 
 class HandInfoTest(unittest.TestCase):

@@ -1,17 +1,13 @@
 // The build command line shared by `taskmap build` and `taskmap-mpi build`.
 #include "build_command.hpp"
 
-#include <algorithm>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "taskmap/builder/build_report.hpp"
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
@@ -19,16 +15,6 @@
 #include "taskmap/sampler/sampler.hpp"
 
 namespace taskmap::cli {
-namespace {
-
-std::string percent(double part, double whole) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f%%", whole > 0 ? 100.0 * part / whole : 0.0);
-  return buffer;
-}
-
-}  // namespace
-
 void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
   cmd->add_option("--object", args.object, "object mesh (any format assimp reads)")->required();
@@ -119,28 +105,7 @@ FileBuildOptions fileBuildOptions(const BuildArgs& args) {
 
 void printHoldLabels(const std::string& label, const std::optional<HoldLabels>& labels,
                      bool keep_holding, bool quiet) {
-  if (!labels || quiet) return;
-  const HoldLabels& s = *labels;
-  char line[200];
-  std::snprintf(
-      line, sizeof line,
-      "%s: physics validation: %zu of %zu grasps hold (%.1f %%), %.1f grasps per "
-      "CPU-second\n",
-      label.c_str(), s.holding, s.tested,
-      s.tested ? 100.0 * static_cast<double>(s.holding) / static_cast<double>(s.tested) : 0.0,
-      s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0);
-  std::cerr << line;
-  if (keep_holding)
-    std::cerr << label << ": --keep-holding: kept " << s.kept << " of " << s.before
-              << " grasps (the others do not hold)\n";
-}
-
-std::string clockString(double seconds) {
-  if (!(seconds >= 0.0) || seconds > 359999.0) return "--:--:--";
-  const auto s = static_cast<long>(seconds + 0.5);
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%02ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
-  return buffer;
+  if (!quiet) std::cerr << holdLabelsText(label, labels, keep_holding);
 }
 
 ProgressPrinter::ProgressPrinter(std::string label, bool terminal, bool quiet)
@@ -148,45 +113,14 @@ ProgressPrinter::ProgressPrinter(std::string label, bool terminal, bool quiet)
 
 void ProgressPrinter::operator()(const BuildProgress& p) {
   if (quiet_) return;
-  const double rate = p.elapsed_seconds > 0 ? p.trials_done / p.elapsed_seconds : 0.0;
-  const std::uint64_t valid = std::min(p.valid_found, p.valid_target);
-  const double by_valid = static_cast<double>(valid) / static_cast<double>(p.valid_target);
-  const double by_trials = static_cast<double>(p.trials_done) / static_cast<double>(p.max_trials);
-  const double fraction = std::min(1.0, std::max(by_valid, by_trials));
-  const double eta = fraction > 0 ? p.elapsed_seconds * (1.0 - fraction) / fraction : -1.0;
-  char blocks[64] = "";
-  if (p.blocks_total > 0)
-    std::snprintf(blocks, sizeof blocks, "blocks %llu/%llu  ",
-                  static_cast<unsigned long long>(p.blocks_done),
-                  static_cast<unsigned long long>(p.blocks_total));
-  char line[320];
-  if (terminal_) {
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(fraction * kWidth);
-    std::string bar(static_cast<std::size_t>(filled), '#');
-    bar.resize(kWidth, '-');
-    std::snprintf(line, sizeof line,
-                  "\r[%s] %3.0f%%  %strials %llu  valid %llu/%llu  %.0f "
-                  "trials/s  ETA %s ",
-                  bar.c_str(), 100.0 * fraction, blocks,
-                  static_cast<unsigned long long>(p.trials_done),
-                  static_cast<unsigned long long>(valid),
-                  static_cast<unsigned long long>(p.valid_target), rate, clockString(eta).c_str());
-    std::cerr << line << std::flush;
-    drawn_ = true;
-  } else if (p.elapsed_seconds >= next_log_) {
+  if (!terminal_) {
+    if (p.elapsed_seconds < next_log_) return;
     next_log_ = p.elapsed_seconds + 10.0;
-    std::snprintf(line, sizeof line,
-                  "%s: %s elapsed, %s%llu trials, %llu/%llu valid, "
-                  "%.0f trials/s, "
-                  "ETA %s\n",
-                  label_.c_str(), clockString(p.elapsed_seconds).c_str(), blocks,
-                  static_cast<unsigned long long>(p.trials_done),
-                  static_cast<unsigned long long>(valid),
-                  static_cast<unsigned long long>(p.valid_target), rate, clockString(eta).c_str());
-    std::cerr << line << std::flush;
   }
+  std::cerr << buildProgressLine(p, label_, terminal_) << std::flush;
+  drawn_ = drawn_ || terminal_;
 }
+
 void ProgressPrinter::finish() {
   if (drawn_) std::cerr << "\n";
   drawn_ = false;
@@ -194,50 +128,8 @@ void ProgressPrinter::finish() {
 
 void printBuildSummary(const std::string& label, const BuildArgs& args, const BuildResult& result,
                        double write_seconds, const std::string& how) {
-  const TaskMapData& map = result.map;
-  const BuildTiming& t = result.timing;
-  std::ostringstream os;
-  os << label << ": " << toString(result.status) << ": " << result.message << "\n";
-  os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
-     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << "\n";
-  os << "  outcomes ";
-  for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
-  os << "\n";
-  os << "  stored    " << map.grasps.size() << " grasps";
-  if (map.clustering) {
-    std::size_t outliers = 0;
-    for (int l : map.clustering->labels) outliers += l < 0;
-    os << ", " << map.clustering->clusters.size() << " clusters (" << outliers << " outliers)";
-  }
-  os << "\n";
-  os << "  threads   " << how << "\n";
-  const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
-  const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
-                "trials/s), clustering %.2f s, writing %.2f s\n"
-                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
-                t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
-                static_cast<unsigned long long>(t.trials_simulated),
-                trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,
-                t.clustering_seconds, write_seconds, percent(t.sampling_seconds, stages).c_str(),
-                percent(t.simulation_seconds, stages).c_str(),
-                percent(t.quality_seconds, stages).c_str(), stages);
-  os << line;
-  if (t.closing_checks > 0) {
-    std::snprintf(line, sizeof line,
-                  "  closing   %llu force-closure grasps checked with the object free, %.1f ms "
-                  "CPU each (part of quality)\n",
-                  static_cast<unsigned long long>(t.closing_checks),
-                  1e3 * t.closing_check_seconds / static_cast<double>(t.closing_checks));
-    os << line;
-  }
-  os << "  wrote     " << args.output << "\n";
-  if (!args.quiet) std::cout << os.str();
-  if (result.status == BuildStatus::kTrialBudgetExhausted)
-    std::cerr << label << ": warning: " << result.message
-              << "; raise --trials or check the object and hand\n";
+  if (!args.quiet) std::cout << buildSummaryText(label, result, write_seconds, how, args.output);
+  std::cerr << buildBudgetWarning(label, result);
 }
 
 void addDatasetOptions(CLI::App& cmd, DatasetArgs& args) {
@@ -271,19 +163,6 @@ DatasetOptions datasetOptions(const DatasetArgs& args) {
   o.validation = holdValidation(args.knobs);
   o.force = args.knobs.force;
   return o;
-}
-
-std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
-                                const DatasetEntry& e) {
-  const double eta =
-      done > 0 ? elapsed_seconds / static_cast<double>(done) * static_cast<double>(total - done)
-               : -1.0;
-  std::string line = "[" + std::to_string(done) + "/" + std::to_string(total) + ", ETA " +
-                     clockString(eta) + "] " + e.object + " x " + e.hand + ": " +
-                     toString(e.status);
-  if (e.status == DatasetJobStatus::kFailed) return line + ": " + e.error.value_or("");
-  return line + ", " + std::to_string(e.valid.value_or(0)) + " valid in " +
-         std::to_string(e.trials.value_or(0)) + " trials -> " + e.file;
 }
 
 }  // namespace taskmap::cli

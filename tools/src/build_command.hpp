@@ -13,6 +13,7 @@
 
 #include "mesh_options.hpp"
 #include "taskmap/builder/build_knobs.hpp"
+#include "taskmap/builder/build_report.hpp"
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
 
@@ -59,9 +60,6 @@ void addBuildKnobs(CLI::App& cmd, BuildArgs& args);
 /// The BuildOptions of the knobs (not validated; no extra_params_json).
 BuildOptions knobOptions(const BuildArgs& args);
 
-/// "hh:mm:ss" of a duration in seconds, "--:--:--" when unknown.
-std::string clockString(double seconds);
-
 /// Progress: a bar on a terminal (or with --progress), a log line every 10 s otherwise.
 class ProgressPrinter {
  public:
@@ -78,8 +76,8 @@ class ProgressPrinter {
   double next_log_ = 10.0;
 };
 
-/// Prints the summary of a written map on stdout (unless quiet) and the budget warning on
-/// stderr. @param how one line after "threads", e.g. "2 (not stored: ...)".
+/// Prints buildSummaryText on stdout (unless quiet) and buildBudgetWarning on stderr. @param how
+/// one line after "threads", e.g. "2 (not stored: ...)".
 void printBuildSummary(const std::string& label, const BuildArgs& args, const BuildResult& result,
                        double write_seconds, const std::string& how);
 
@@ -99,10 +97,5 @@ void addDatasetOptions(CLI::App& cmd, DatasetArgs& args);
 
 /// The library's options of a data-set command line.
 DatasetOptions datasetOptions(const DatasetArgs& args);
-
-/// One line for a finished job: "[done/total, ETA hh:mm:ss] object x hand: status, V valid in
-/// T trials -> file" (or the error). @param elapsed_seconds since the first job started.
-std::string datasetProgressLine(std::size_t done, std::size_t total, double elapsed_seconds,
-                                const DatasetEntry& entry);
 
 }  // namespace taskmap::cli

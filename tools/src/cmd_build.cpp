@@ -2,49 +2,15 @@
 // a task map.
 #include <unistd.h>
 
-#include <atomic>
-#include <csignal>
 #include <iostream>
 #include <memory>
 
 #include "build_command.hpp"
 #include "command.hpp"
+#include "taskmap/core/stop_signals.hpp"
 
 namespace taskmap::cli {
 namespace {
-
-std::atomic<bool> g_stop{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "signal handler needs a lock-free flag");
-
-extern "C" void onStopSignal(int sig) {
-  g_stop.store(true);
-  // A second Ctrl-C kills at once (the output path is still safe: written via
-  // rename).
-  std::signal(sig, SIG_DFL);
-}
-
-// SIGINT and SIGTERM raise g_stop while a build runs (the previous handlers come back after).
-class StopSignals {
- public:
-  StopSignals() {
-    g_stop.store(false);
-    struct sigaction action {};
-    action.sa_handler = onStopSignal;
-    sigemptyset(&action.sa_mask);
-    sigaction(SIGINT, &action, &old_int_);
-    sigaction(SIGTERM, &action, &old_term_);
-  }
-  ~StopSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-
- private:
-  struct sigaction old_int_ {
-  }, old_term_{};
-};
 
 void runBuild(const BuildArgs& args) {
   // Plan, the output's lock (a second build refuses with the holder's PID), the hand.
@@ -57,7 +23,7 @@ void runBuild(const BuildArgs& args) {
                           args.quiet);
   BuildControl control;
   control.progress = [&printer](const BuildProgress& p) { printer(p); };
-  control.stop = &g_stop;
+  control.stop = StopSignals::flag();
   FileBuildResult result;
   {
     const StopSignals signals;  // also while writing: the write is never cut short

@@ -5,6 +5,7 @@
 
 #include "build_command.hpp"
 #include "command.hpp"
+#include "taskmap/core/stop_signals.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -21,7 +22,18 @@ void runDataset(const DatasetArgs& args) {
     std::cerr << "taskmap dataset: "
               << datasetProgressLine(p.done, p.total, p.elapsed_seconds, p.entry) << std::endl;
   };
-  const DatasetResult result = run.run(control);
+  control.stop = StopSignals::flag();
+  DatasetResult result;
+  {
+    const StopSignals signals;  // Ctrl-C: the current job stops unwritten, later ones stay pending
+    result = run.run(control);
+  }
+  if (result.interrupted) {
+    std::cerr << "taskmap dataset: interrupted; the maps written so far and manifest.json stay, "
+                 "a re-run builds the pending jobs\n";
+    exitCode() = 130;
+    return;
+  }
   if (!quiet)
     std::cout << "taskmap dataset: " << result.jobs << " maps in " << result.dir << " ("
               << result.skipped << " finished earlier, " << result.failed << " failed); manifest "

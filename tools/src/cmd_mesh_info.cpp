@@ -1,18 +1,15 @@
 // taskmap mesh-info FILE [--scale S] [--json] [--no-repair | --repair wrap]: load an object
 // mesh as a solid and print what was found and repaired, and its mass properties.
-#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "mesh_options.hpp"
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/inspect/mesh_info.hpp"
 #include "taskmap/meshes/object_model.hpp"
-#include "taskmap/meshes/object_size.hpp"
 
 namespace taskmap::cli {
 namespace {
@@ -24,16 +21,6 @@ struct MeshInfoArgs {
   MeshRepairArgs repair;
 };
 
-nlohmann::json vec(const Eigen::Vector3d& v) {
-  return {v.x(), v.y(), v.z()};
-}
-
-std::string fmt(const Eigen::Vector3d& v) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "(%.6g, %.6g, %.6g)", v.x(), v.y(), v.z());
-  return buf;
-}
-
 void run(const MeshInfoArgs& args) {
   MeshLoadOptions options;
   options.scale = args.scale;
@@ -43,70 +30,11 @@ void run(const MeshInfoArgs& args) {
     requireObjectFile(args.file);
     model = ObjectModel::load(args.file, options);
   } catch (const Error& e) {
-    if (args.json) {
-      nlohmann::json j = {{"path", args.file}, {"closed", false}, {"error", e.what()}};
-      std::cout << j.dump(2) << "\n";
-    }
+    if (args.json) std::cout << meshInfoErrorJson(args.file, e.what()) << "\n";
     throw;
   }
-  const MeshLoadReport& report = model.report();
-  const MassProperties& mass = model.massProperties();
-  const Eigen::Vector3d size = mass.bounds_max - mass.bounds_min;
-  const std::string size_warning = graspableSizeWarning(size.maxCoeff(), model.scale());
-  if (args.json) {
-    nlohmann::json j;
-    j["path"] = report.path;
-    j["format"] = report.format;
-    j["sha256"] = model.sourceSha256();
-    j["scale"] = model.scale();
-    j["input_vertices"] = report.input_vertices;
-    j["input_faces"] = report.input_faces;
-    j["vertices"] = model.mesh().vertices.size();
-    j["faces"] = model.mesh().faces.size();
-    j["repairs"] = report.repairs;
-    j["warnings"] = report.warnings;
-    if (!size_warning.empty()) j["warnings"].push_back(size_warning);
-    j["size"] = vec(size);
-    j["graspable_size"] = size_warning.empty();
-    j["closed"] = report.closed;
-    j["volume"] = mass.volume;
-    j["bounds_min"] = vec(mass.bounds_min);
-    j["bounds_max"] = vec(mass.bounds_max);
-    j["center_of_mass"] = vec(mass.center_of_mass);
-    j["inertia"] = {vec(mass.inertia.row(0)), vec(mass.inertia.row(1)), vec(mass.inertia.row(2))};
-    j["torque_scale"] = mass.torque_scale;
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::printf("file:           %s\n", report.path.c_str());
-  std::printf("format:         %s\n", report.format.c_str());
-  std::printf("sha256:         %s\n", model.sourceSha256().c_str());
-  std::printf("scale:          %.6g\n", model.scale());
-  std::printf("input:          %zu vertices, %zu faces\n", report.input_vertices,
-              report.input_faces);
-  std::printf("solid:          %zu vertices, %zu faces, %s\n", model.mesh().vertices.size(),
-              model.mesh().faces.size(), report.closed ? "closed" : "NOT closed");
-  if (report.repairs.empty()) {
-    std::printf("repairs:        none\n");
-  } else {
-    for (std::size_t i = 0; i < report.repairs.size(); ++i) {
-      std::printf("%s%s\n", i == 0 ? "repairs:        " : "                ",
-                  report.repairs[i].c_str());
-    }
-  }
-  for (const auto& w : report.warnings) std::printf("warning:        %s\n", w.c_str());
-  if (!size_warning.empty()) std::printf("warning:        %s\n", size_warning.c_str());
-  std::printf("volume:         %.9g m^3\n", mass.volume);
-  std::printf("bounds:         %s .. %s m\n", fmt(mass.bounds_min).c_str(),
-              fmt(mass.bounds_max).c_str());
-  std::printf("size:           %s m (largest side %.4g m)\n", fmt(size).c_str(), size.maxCoeff());
-  std::printf("centre of mass: %s m\n", fmt(mass.center_of_mass).c_str());
-  std::printf("inertia (1 kg/m^3, about the centre of mass, kg m^2):\n");
-  for (int r = 0; r < 3; ++r) {
-    std::printf("                %.6g %.6g %.6g\n", mass.inertia(r, 0), mass.inertia(r, 1),
-                mass.inertia(r, 2));
-  }
-  std::printf("torque scale:   %.6g m\n", mass.torque_scale);
+  const MeshInfo info = meshInfo(model);
+  std::cout << (args.json ? info.json + "\n" : info.text);
 }
 
 const CommandRegistrar kRegistrar("mesh-info", [](CLI::App& app) {

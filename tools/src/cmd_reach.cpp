@@ -2,15 +2,11 @@
 // move the hand to a fixed target with attractor dynamics and resolved-rate IK, avoiding the
 // scene (reaching/, docs/REACHING.md).
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "mesh_options.hpp"
@@ -19,6 +15,7 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/core/pose.hpp"
+#include "taskmap/core/text.hpp"
 #include "taskmap/picture/reach_picture.hpp"
 #include "taskmap/reaching/attractor.hpp"
 #include "taskmap/reaching/map_reach.hpp"
@@ -59,43 +56,13 @@ void checkReachOutputs(const ReachArgs& args) {
                     "' is named by two of -o, --glb and --png; give each its own file");
 }
 
-Eigen::VectorXd parseNumbers(const std::string& text, int n, const std::string& option) {
-  std::istringstream in(text);
-  std::vector<double> v;
-  std::string word;
-  while (in >> word) {
-    try {
-      size_t used = 0;
-      v.push_back(std::stod(word, &used));
-      if (used != word.size()) throw std::invalid_argument(word);
-    } catch (const std::exception&) {
-      throw Error(option + ": '" + word + "' is not a number");
-    }
-  }
-  if (n >= 0 && static_cast<int>(v.size()) != n)
-    throw Error(option + " needs " + std::to_string(n) + " numbers, got " +
-                std::to_string(v.size()));
-  for (double x : v)
-    if (!std::isfinite(x)) throw Error(option + ": values must be finite");
-  return Eigen::Map<Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-
-Eigen::Isometry3d parsePose(const std::string& text, const std::string& option) {
-  try {
-    return Pose::fromVector7(parseNumbers(text, 7, option)).toIsometry();
-  } catch (const Error& e) {
-    const std::string m = e.what();
-    throw Error(m.rfind(option, 0) == 0 ? m : option + " \"x y z qw qx qy qz\": " + m);
-  }
-}
-
 /// The robot with its hand (if any) and the scene (reaching/map_reach.hpp).
 ReachRobot buildRobot(const ReachArgs& args, const ReachScene& scene) {
   ReachRobotOptions o;
   o.robot = args.robot;
   o.hand = args.hand;
   o.flange = args.flange;
-  if (!args.mount.empty()) o.mount = parsePose(args.mount, "--mount");
+  if (!args.mount.empty()) o.mount = parsePoseText(args.mount, "--mount");
   return loadReachRobot(o, scene);
 }
 
@@ -106,59 +73,6 @@ Eigen::VectorXd startConfiguration(const ReachArgs& args, const RobotModel& robo
   return reachStartConfiguration(o, robot);
 }
 
-const char* statusName(ReachStatus s) {
-  return s == ReachStatus::kReached    ? "reached"
-         : s == ReachStatus::kCollided ? "collided"
-                                       : "not_reached";
-}
-
-nlohmann::json toJson(const ReachArgs& args, const ReachResult& r, const CollisionModel& pairs,
-                      const std::string& frame, double seconds) {
-  const auto vec = [](const Eigen::VectorXd& v) {
-    return std::vector<double>(v.data(), v.data() + v.size());
-  };
-  nlohmann::json j;
-  j["robot"] = args.robot;
-  j["hand"] = args.hand;
-  j["target"] = {{"frame", frame}, {"pose", vec(parseNumbers(args.target, 7, "--target"))}};
-  j["status"] = statusName(r.status);
-  j["message"] = r.message;
-  j["steps"] = r.q.size() - 1;
-  j["dt_s"] = args.options.attractor.dt;
-  j["position_error_m"] = r.position_error;
-  j["orientation_error_rad"] = r.orientation_error;
-  j["collision_pairs"] = pairs.pairs().size();
-  if (std::isfinite(r.min_clearance)) {
-    j["min_clearance_m"] = r.min_clearance;
-    j["min_clearance_pair"] = r.min_clearance_pair;
-    j["min_clearance_step"] = r.min_clearance_step;
-    if (r.min_clearance < 0.0)
-      j["warning"] = clearanceWarning(r.min_clearance, r.min_clearance_pair);
-  } else {
-    j["min_clearance_m"] = nullptr;
-  }
-  j["joint_limit_margin"] = r.joint_limit_margin;
-  j["q_start"] = vec(r.q.front());
-  j["q_final"] = vec(r.q.back());
-  j["palm_final"] = vec(Pose::fromIsometry(r.palm.back()).toVector7());
-  j["compute_time_s"] = seconds;
-  return j;
-}
-
-void printText(const ReachResult& r, const CollisionModel& pairs, const std::string& frame) {
-  std::printf("status            %s (%s)\n", statusName(r.status), r.message.c_str());
-  std::printf("steps             %zu\n", r.q.size() - 1);
-  std::printf("final error       %.3g m, %.3g rad (target in the %s frame)\n", r.position_error,
-              r.orientation_error, frame.c_str());
-  if (std::isfinite(r.min_clearance))
-    std::printf("min clearance     %.4f m (%s, step %d; %zu pairs)%s\n", r.min_clearance,
-                r.min_clearance_pair.c_str(), r.min_clearance_step, pairs.pairs().size(),
-                r.min_clearance < 0.0
-                    ? ("  <- " + clearanceWarning(r.min_clearance, r.min_clearance_pair)).c_str()
-                    : "");
-  std::printf("joint-limit margin %.4f (rad or m)\n", r.joint_limit_margin);
-}
-
 /// The map mode: the object placed at --object-pose, the grasp chosen on the map.
 void runReachWithMap(const ReachArgs& args) {
   if (!args.target.empty()) throw Error("--target and --map exclude each other");
@@ -166,7 +80,7 @@ void runReachWithMap(const ReachArgs& args) {
   ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
   if (scene.object.empty()) throw Error("--map needs a scene with an \"object\" body");
   for (SceneBody& b : scene.bodies)
-    if (b.name == scene.object) b.pose = parseObjectPose(args.map.object_pose);
+    if (b.name == scene.object) b.pose = parseXyzYaw(args.map.object_pose, "--object-pose");
   const ReachRobot robot = buildRobot(args, scene);
   if (robot.body != robot.model.palmBody())
     throw Error("--map needs a hand on the robot (its palm frame)");
@@ -193,9 +107,9 @@ void runReach(const ReachArgs& args) {
   if (!args.map.output.empty() || !args.map.glb.empty())
     throw Error("-o/--output and --glb write the trajectory of a plan with --map MAP");
   if (args.target.empty()) throw Error("--target \"x y z qw qx qy qz\" (or --map) is required");
-  const Eigen::Isometry3d target = parsePose(args.target, "--target");
+  const Eigen::Isometry3d target = parsePoseText(args.target, "--target");
   ReachOptions options = args.options;
-  for (const std::string& v : args.via) options.via_points.push_back(parsePose(v, "--via"));
+  for (const std::string& v : args.via) options.via_points.push_back(parsePoseText(v, "--via"));
   const ReachScene scene = args.scene.empty() ? defaultReachScene() : loadReachScene(args.scene);
   const ReachRobot loaded = buildRobot(args, scene);
   const RobotModel& robot = loaded.model;
@@ -215,10 +129,14 @@ void runReach(const ReachArgs& args) {
   const ReachResult r = reach(robot, &collisions, body, reference, target, q0, options);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (args.json)
-    std::cout << toJson(args, r, collisions, frame, seconds).dump(2) << "\n";
-  else
-    printText(r, collisions, frame);
+  ReachReportContext report{args.robot,
+                            args.hand,
+                            frame,
+                            parseNumbers(args.target, 7, "--target"),
+                            options.attractor.dt,
+                            collisions.pairs().size(),
+                            seconds};
+  std::cout << (args.json ? reachReport(r, report) + "\n" : reachText(r, report));
   if (!args.png.empty()) {
     Kinematics kin(robot);
     const Eigen::Isometry3d ref =

@@ -2,9 +2,6 @@
 // docs/VALIDATION.md) and write the labels into the map (atomically, re-sealed).
 #include <unistd.h>
 
-#include <atomic>
-#include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -16,19 +13,13 @@
 #include "taskmap/builder/resimulate.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
+#include "taskmap/core/stop_signals.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap::cli {
 namespace {
-
-std::atomic<bool> g_stop{false};
-
-extern "C" void onValidateStop(int sig) {
-  g_stop.store(true);
-  std::signal(sig, SIG_DFL);  // a second Ctrl-C kills at once; the map is written by rename
-}
 
 struct ValidateArgs {
   std::string map, output, hand;
@@ -44,36 +35,6 @@ nlohmann::ordered_json reportJson(const ValidationSummary& s, const ValidateArgs
   return j;
 }
 
-void printSummary(const ValidationSummary& s, const ValidateArgs& a) {
-  auto pct = [](std::size_t k, std::size_t n) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.1f %%",
-                  n ? 100.0 * static_cast<double>(k) / static_cast<double>(n) : 0.0);
-    return std::string(b);
-  };
-  std::cout << "taskmap validate: " << s.holding << " of " << s.tested << " grasps hold ("
-            << pct(s.holding, s.tested) << "); force-closure grasps: " << s.fc_holding << " of "
-            << s.fc_tested << " (" << pct(s.fc_holding, s.fc_tested) << ")\n";
-  std::cout << "  outcomes:";
-  for (const auto& [name, n] : s.statuses) std::cout << " " << name << " " << n;
-  std::cout << "\n  slipped under push:";
-  for (std::size_t d = 0; d < 6; ++d)
-    std::cout << " " << pushDirectionNames()[d] << " " << s.failed_by_direction[d];
-  char line[160];
-  std::snprintf(line, sizeof line, "\n  object: %d convex piece(s), volume error %+.1f %%\n",
-                s.model.object_pieces, 100.0 * s.model.object_volume_error);
-  std::cout << line;
-  if (std::abs(s.model.object_volume_error) > 0.1)
-    std::cout << "  warning: the object's convex pieces differ from it by "
-              << static_cast<int>(std::lround(100.0 * s.model.object_volume_error))
-              << " % in volume (" << s.model.object_note
-              << "); labels of grasps that touch where they differ are not reliable\n";
-  std::snprintf(line, sizeof line, "  %.1f grasps per CPU-second (%.1f CPU s, %.1f s wall)",
-                s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0,
-                s.cpu_seconds, s.wall_seconds);
-  std::cout << line << "; labels written to " << (a.output.empty() ? a.map : a.output) << "\n";
-}
-
 void runValidate(const ValidateArgs& args) {
   if (!args.output.empty())
     checkOutputPath(args.output, {args.map, args.hand}, OutputKind::kTaskMap, args.force);
@@ -87,36 +48,22 @@ void runValidate(const ValidateArgs& args) {
     }
   }
   const HandModel hand = HandModel::load(urdf);
-  g_stop.store(false);
-  struct sigaction action {};
-  action.sa_handler = onValidateStop;
-  sigemptyset(&action.sa_mask);
-  struct sigaction old_int {
-  }, old_term{};
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
   const bool terminal = ::isatty(STDERR_FILENO) != 0 && !args.quiet;
-  auto progress = [terminal](const ValidateProgress& p) {
+  ValidateControl control;
+  control.progress = [terminal](const ValidateProgress& p) {
     if (!terminal) return;
     std::fprintf(stderr, "\rtaskmap validate: %zu / %zu grasps, %zu hold", p.done, p.total,
                  p.holding);
   };
+  control.stop = StopSignals::flag();
   ValidationSummary s;
-  try {
-    ValidateControl control;
-    control.progress = progress;
-    control.stop = &g_stop;
+  {
+    const StopSignals signals;  // also while writing: the write is never cut short
     s = validateMap(&map, hand, args.options, control);
     if (terminal) std::fprintf(stderr, "\n");
     if (s.status == ValidationSummary::Status::kCompleted)
       writeMap(args.output.empty() ? args.map : args.output, map);
-  } catch (...) {
-    sigaction(SIGINT, &old_int, nullptr);
-    sigaction(SIGTERM, &old_term, nullptr);
-    throw;
   }
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
   if (s.status == ValidationSummary::Status::kInterrupted) {
     std::cerr << "taskmap validate: " << s.message << "\n";
     exitCode() = 130;
@@ -125,7 +72,7 @@ void runValidate(const ValidateArgs& args) {
   if (args.json) {
     std::cout << reportJson(s, args).dump(2) << "\n";
   } else if (!args.quiet) {
-    printSummary(s, args);
+    std::cout << summaryText(s, args.output.empty() ? args.map : args.output);
   }
 }
 

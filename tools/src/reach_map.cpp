@@ -3,18 +3,14 @@
 // was asked.
 #include "reach_map.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "command.hpp"
 #include "taskmap/builder/resimulate.hpp"
-#include "taskmap/core/constants.hpp"
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/glb_export.hpp"
@@ -25,35 +21,7 @@
 
 namespace taskmap::cli {
 
-Eigen::Isometry3d parseObjectPose(const std::string& text) {
-  std::istringstream in(text);
-  double v[4];
-  for (double& x : v)
-    if (!(in >> x) || !std::isfinite(x))
-      throw Error("--object-pose needs 4 finite numbers \"x y z yaw\" (metres, radians)");
-  std::string extra;
-  if (in >> extra) throw Error("--object-pose needs exactly 4 numbers \"x y z yaw\"");
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-  t.linear() = Eigen::AngleAxisd(v[3], Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return t;
-}
-
 namespace {
-
-void printText(const GraspPlan& plan, double plan_ms) {
-  std::printf("status            %s (%s)\n", toString(plan.status), plan.message.c_str());
-  for (const ClusterPlan& c : plan.plans)
-    std::printf(
-        "from cluster %-4d -> cluster %d grasp %lld: %d iterations (manifold %d, quality "
-        "%d), clearance %.4f m, joint margin %.4f rad, %.1f ms/iteration%s\n",
-        c.cluster, c.grasp_cluster, static_cast<long long>(c.grasp_index),
-        c.optimization.iterations, c.iterations_to_manifold, c.iterations_to_quality,
-        c.min_clearance, c.joint_limit_margin,
-        c.milliseconds / std::max(1, c.optimization.iterations),
-        c.min_clearance < 0.0 ? ("  <- " + clearanceWarning(c.min_clearance)).c_str() : "");
-  std::printf("plan time         %.1f ms\n", plan_ms);
-}
 
 /// -o trajectory.h5 and --glb out.glb of the chosen plan.
 void writeOutputs(const MapReachArgs& args, const TrajectoryProblem& p, const TaskMap& map,
@@ -68,17 +36,6 @@ void writeOutputs(const MapReachArgs& args, const TrajectoryProblem& p, const Ta
   if (json) return;
   if (!args.output.empty()) std::printf("trajectory        %s\n", args.output.c_str());
   if (!args.glb.empty()) std::printf("glb               %s\n", args.glb.c_str());
-}
-
-void printResimulation(const Resimulation& r) {
-  std::printf("re-simulated      %s, %s, epsilon %.4f, %d contacts (%zu fingers)\n",
-              r.outcome.c_str(), r.force_closure ? "force closure" : "no force closure", r.epsilon,
-              r.contacts, r.fingers.size());
-  if (!r.hold) return;
-  const ResimulatedHold& h = *r.hold;
-  std::printf("hold test         %s (object moved %.1f mm, turned %.1f deg%s%s)\n",
-              h.status.c_str(), 1000.0 * h.max_translation, h.max_rotation * 180.0 / kPi,
-              h.failed_direction.empty() ? "" : ", push ", h.failed_direction.c_str());
 }
 
 GraspPlanOptions planOptions(const MapReachArgs& args) {
@@ -122,8 +79,8 @@ void runMapReach(const MapReachArgs& args, const TrajectoryProblem& p, bool json
     if (resim) j["resimulated"] = nlohmann::json::parse(resimulationJson(*resim));
     std::cout << j.dump(2) << "\n";
   } else {
-    printText(plan, r.plan_ms);
-    if (resim) printResimulation(*resim);
+    std::cout << graspPlanText(plan, r.plan_ms);
+    if (resim) std::cout << resimulationText(*resim);
   }
   if (!png.empty() && plan.best >= 0) {
     const ClusterPlan& b = plan.plans[plan.best];

@@ -28,9 +28,6 @@ struct MapReachArgs {
   std::string hand = "humanoid";  ///< --hand, recorded in the trajectory file
 };
 
-/// Pose of the object from "x y z yaw" (yaw about world z). Throws Error naming the option.
-Eigen::Isometry3d parseObjectPose(const std::string& text);
-
 /// Plans problem (palm relative to the object) with the map and prints (text or JSON), draws
 /// snapshots to png when given, writes the trajectory file and GLB when asked (also for an
 /// unsafe plan, to inspect it); sets the exit code to 1 when the plan is not safe or nothing is

@@ -64,4 +64,10 @@ void holdTestResimulated(const TaskMapData& map, Resimulation* r);
 /// max_translation_m, max_rotation_rad, failed_direction (null if none)} when the hold test ran}.
 std::string resimulationJson(const Resimulation& r);
 
+/// The re-simulation as `taskmap reach --map` prints it: "re-simulated      <outcome>, force
+/// closure | no force closure, epsilon E, N contacts (F fingers)" and, after a hold test,
+/// "hold test         <status> (object moved M mm, turned D deg[, push <direction>])"; lines
+/// end in '\n'.
+std::string resimulationText(const Resimulation& r);
+
 }  // namespace taskmap

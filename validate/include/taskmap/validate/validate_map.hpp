@@ -72,6 +72,12 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
 /// grasps_per_cpu_second, steps.
 std::string summaryJson(const ValidationSummary& summary);
 
+/// The summary as `taskmap validate` prints it: the hold rate (all grasps and force-closure
+/// grasps), outcomes, slips per push direction, the object's convex pieces and volume error
+/// (with a warning beyond 10 %), grasps per CPU-second and where the labels were written
+/// (`written_to`); lines end in '\n'.
+std::string summaryText(const ValidationSummary& summary, const std::string& written_to);
+
 /// Keeps only the grasps of `map` that hold (labels of validateMap; grasps not tested are
 /// dropped too), with their contacts and labels, and re-clusters them with `clustering` (its
 /// rotation_scale replaced by the map's rho) when the map was clustered and at least two remain;

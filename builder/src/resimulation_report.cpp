@@ -1,9 +1,11 @@
-// The re-simulated final grasp of `taskmap reach --map` as JSON (resimulate.hpp).
+// The re-simulated final grasp of `taskmap reach --map` as JSON and text (resimulate.hpp).
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "taskmap/builder/resimulate.hpp"
+#include "taskmap/core/constants.hpp"
+#include "taskmap/core/text.hpp"
 
 namespace taskmap {
 namespace {
@@ -37,6 +39,19 @@ std::string resimulationJson(const Resimulation& r) {
                                                         : nlohmann::json(h.failed_direction)}};
   }
   return j.dump();
+}
+
+std::string resimulationText(const Resimulation& r) {
+  std::string text =
+      formatted("re-simulated      %s, %s, epsilon %.4f, %d contacts (%zu fingers)\n",
+                r.outcome.c_str(), r.force_closure ? "force closure" : "no force closure",
+                r.epsilon, r.contacts, r.fingers.size());
+  if (!r.hold) return text;
+  const ResimulatedHold& h = *r.hold;
+  return text + formatted("hold test         %s (object moved %.1f mm, turned %.1f deg%s%s)\n",
+                          h.status.c_str(), 1000.0 * h.max_translation,
+                          h.max_rotation * 180.0 / kPi, h.failed_direction.empty() ? "" : ", push ",
+                          h.failed_direction.c_str());
 }
 
 }  // namespace taskmap
