@@ -228,9 +228,14 @@ void bindPlanning(py::module_& m) {
       "reach",
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight,
-         int steps, double dt, const std::string& descent, bool resimulate, bool hold_test) {
-        if (hold_test && !resimulate)
-          throw Error("reach: hold_test tests the re-simulated grasp: add resimulate=True");
+         int steps, double dt, const std::string& descent, std::optional<bool> resimulate_arg,
+         bool hold_test) {
+        if (hold_test && resimulate_arg == false)
+          throw Error("reach: hold_test tests the re-simulated grasp: drop resimulate=False");
+        // As the CLI: a built map (its hand and object recorded) is re-simulated by default.
+        const TaskMapData& data = map.data();
+        const bool resimulate = resimulate_arg.value_or(!data.hand.urdf_sha256.empty() &&
+                                                        data.object.vertices.rows() > 0);
         GraspProblem g = graspProblem(r, q0, "reach");
         TrajectoryProblem& p = g.problem;
         p.reach.steps = steps;
@@ -259,17 +264,18 @@ void bindPlanning(py::module_& m) {
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
-      py::arg("descent") = "bfgs", py::arg("resimulate") = false, py::arg("hold_test") = false,
+      py::arg("descent") = "bfgs", py::arg("resimulate") = py::none(), py::arg("hold_test") = false,
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
       "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
       "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
       "iterations_to_manifold, iterations_to_quality, min_clearance_m, joint_limit_margin_rad, "
       "velocity_ratio, collision_free, ms_per_iteration, cost_history (dicts per iteration), "
       "proximity_over_movement, quality_over_movement (weighted, per step), q_final) and q, "
-      "the joint trajectory (steps+1 x dofs, rad) as a numpy array. resimulate=True re-simulates "
-      "the final palm pose with the map's own hand, object and build options (the CLI does by "
-      "default; needs a built map, not one from arrays) and hold_test=True tests that grasp "
-      "with the physics hold test: key 'resimulated' as in the CLI's JSON.");
+      "the joint trajectory (steps+1 x dofs, rad) as a numpy array, and 'resimulated' as in the "
+      "CLI's JSON: the final palm pose re-simulated with the map's own hand, object and build "
+      "options. resimulate: None (default, as the CLI) re-simulates a built map and skips a map "
+      "from arrays (no object to simulate); True requires it, False skips it. hold_test=True "
+      "also tests that grasp with the physics hold test (key 'resimulated'.'hold').");
 
   m.def(
       "plan_grasp",

@@ -90,6 +90,10 @@ class ReachingTest(unittest.TestCase):
         m = taskmap.TaskMap.from_arrays(poses, np.linspace(0.05, 0.2, 12), labels)
         r = taskmap.reach(robot, m, q0=READY, iterations=4, steps=250)
         self.assertIn(r["status"], ("planned", "unsafe"), r["message"])
+        # A map from arrays has no hand or object: not re-simulated unless asked, then refused.
+        self.assertNotIn("resimulated", r)
+        with self.assertRaisesRegex(taskmap.Error, "cannot re-simulate"):
+            taskmap.reach(robot, m, q0=READY, iterations=4, steps=250, resimulate=True)
         for key in ("iterations", "iterations_to_manifold", "iterations_to_quality", "cluster",
                     "grasp_index", "min_clearance_m", "joint_limit_margin_rad", "collision_free",
                     "ms_per_iteration", "ms_per_plan", "ranking", "plans", "q_final"):
@@ -128,14 +132,12 @@ class ReachingTest(unittest.TestCase):
         np.testing.assert_allclose(res["start"][:3], res["final"][:3], atol=0.01)
         self.assertIn(res["hold"]["holds"], (True, False))
         self.assertGreaterEqual(res["hold"]["max_translation_m"], 0.0)
-        self.assertNotIn("hold", taskmap.reach(robot, m, q0=READY, iterations=1,
-                                               resimulate=True)["resimulated"])
-        with self.assertRaisesRegex(taskmap.Error, "add resimulate=True"):
-            taskmap.reach(robot, m, q0=READY, iterations=1, hold_test=True)
-        with self.assertRaises(taskmap.Error):  # a map from arrays has no object to re-simulate
-            poses = np.array([SIDE_GRASP])
-            taskmap.reach(robot, taskmap.TaskMap.from_arrays(poses, [0.1]), q0=READY,
-                          iterations=1, steps=50, resimulate=True)
+        # As the CLI: a built map is re-simulated by default, without the hold test.
+        self.assertNotIn("hold", taskmap.reach(robot, m, q0=READY, iterations=1)["resimulated"])
+        self.assertNotIn("resimulated", taskmap.reach(robot, m, q0=READY, iterations=1,
+                                                      resimulate=False))
+        with self.assertRaisesRegex(taskmap.Error, "drop resimulate=False"):
+            taskmap.reach(robot, m, q0=READY, iterations=1, resimulate=False, hold_test=True)
 
     def test_errors_are_value_errors(self):
         robot = panda()

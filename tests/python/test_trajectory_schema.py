@@ -177,9 +177,10 @@ class TrajectorySchemaTest(unittest.TestCase):
         ready = np.array([0.0, -np.pi / 4, 0.0, -3 * np.pi / 4, 0.0, np.pi / 2, np.pi / 4])
         r = taskmap.reach(robot, taskmap.TaskMap.load(self.map), q0=ready, iterations=2)
         c = self.report
-        # The CLI adds its grasp_sim re-simulation (the runtime library has no grasp_sim) and the
-        # map's sample weights (in Python a property of the map: TaskMap.sample_weight).
-        self.assertEqual(set(r) - {"q"}, set(c) - {"resimulated", "sample_weight"})
+        # Both re-simulate the final grasp by default; the CLI adds the map's sample weights (in
+        # Python a property of the map: TaskMap.sample_weight).
+        self.assertEqual(set(r) - {"q"}, set(c) - {"sample_weight"})
+        self.assertEqual(r["resimulated"]["outcome"], c["resimulated"]["outcome"])
         m = taskmap.TaskMap.load(self.map)
         self.assertEqual(m.sample_weight, c["sample_weight"])
         for k in ("status", "cluster", "start_cluster", "grasp_index", "iterations",
