@@ -21,6 +21,7 @@
 #include "taskmap/builder/dataset.hpp"
 #include "taskmap/builder/map_file_build.hpp"
 #include "taskmap/builder/recluster.hpp"
+#include "taskmap/builder/regression_suite.hpp"
 #include "taskmap/clustering/clustering.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
@@ -228,10 +229,68 @@ py::object recluster(const py::object& map, const ReclusterOptions& o, const std
   return py::module_::import("taskmap._core").attr("load")(target);
 }
 
+/// taskmap.regress: `taskmap regress` as a call; one dict per case.
+py::dict regress(const RegressionSuiteOptions& options) {
+  RegressionSuiteResult r;
+  {
+    py::gil_scoped_release release;
+    r = runRegressionSuite(options);
+  }
+  py::list cases;
+  for (const RegressionCaseRun& c : r.cases) {
+    py::dict d;
+    d["name"] = c.spec.name;
+    d["object"] = c.object;
+    d["hand"] = c.hand;
+    d["golden"] = c.golden_path;
+    d["outcome"] = c.outcome == RegressionCaseRun::Outcome::kCompared  ? "compared"
+                   : c.outcome == RegressionCaseRun::Outcome::kUpdated ? "updated"
+                                                                       : "no_golden";
+    d["failures"] = c.failures;
+    py::list rows;
+    for (const ComparisonRow& row : c.comparison.rows)
+      rows.append(py::dict(py::arg("statistic") = row.statistic, py::arg("golden") = row.golden,
+                           py::arg("now") = row.now, py::arg("pass") = row.pass));
+    d["rows"] = rows;
+    d["text"] = regressionCaseText(c);
+    cases.append(d);
+  }
+  py::dict out;
+  out["cases"] = cases;
+  out["failures"] = r.failures;
+  out["golden_dir"] = r.golden_dir;
+  return out;
+}
+
 }  // namespace
 
 void bindBuilder(py::module_& m) {
   const ClusteringOptions clustering;
+  m.def(
+      "regress",
+      [](const std::string& cases, const std::string& golden, const std::vector<std::string>& only,
+         bool update, int threads, std::optional<double> friction) {
+        RegressionSuiteOptions o;
+        o.cases = cases;
+        o.golden_dir = golden;
+        o.only = only;
+        o.update = update;
+        o.threads = threads;
+        o.friction = friction;
+        return regress(o);
+      },
+      py::kw_only(), py::arg("cases") = "", py::arg("golden") = "",
+      py::arg("only") = std::vector<std::string>{}, py::arg("update") = false,
+      py::arg("threads") = 0, py::arg("friction") = py::none(),
+      "What `taskmap regress` runs: builds each reference case (fixed seed and trial budget) "
+      "and compares its statistics with the golden file, or rewrites the golden files with "
+      "update=True. cases: the case list (JSON; default <data dir>/regression/cases.json), "
+      "golden: the folder of golden files (default <cases folder>/golden), only: case names, "
+      "threads: worker threads (0: all cores; results do not depend on it), friction: override "
+      "(to see the suite catch a change). Returns {cases: [{name, object, hand, golden, outcome "
+      "('compared', 'updated', 'no_golden'), failures, rows [{statistic, golden, now, pass}], "
+      "text (as the CLI prints)}], failures, golden_dir}. Raises taskmap.Error naming the file "
+      "for a bad case list or when no case matches.");
   m.def(
       "recluster",
       [](const py::object& map, std::optional<double> threshold, std::optional<int> clusters,

@@ -13,12 +13,14 @@
 
 #include <pybind11/stl.h>
 
+#include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/hand_info.hpp"
 #include "taskmap/inspect/map_summary.hpp"
 #include "taskmap/inspect/mesh_info.hpp"
 #include "taskmap/integration/task_map.hpp"
+#include "taskmap/meshes/hand_draft.hpp"
 #include "taskmap/picture/hand_picture.hpp"
 #include "taskmap/viz/hand_page.hpp"
 
@@ -94,6 +96,30 @@ py::dict meshInfoDict(const py::object& file, double scale, bool no_repair,
   return jsonDict(meshInfo(ObjectModel::load(path, options)).json);
 }
 
+py::dict handInitDict(const py::object& urdf_path, const py::object& output_path, bool force,
+                      const std::vector<std::string>& package_path) {
+  const PackagePath scope(package_path);
+  const std::string urdf = py::str(py::module_::import("os").attr("fspath")(urdf_path));
+  const std::string output =
+      output_path.is_none() ? "" : py::str(py::module_::import("os").attr("fspath")(output_path));
+  if (!std::filesystem::exists(urdf)) throw Error("hand_init: no URDF file '" + urdf + "'");
+  if (!output.empty() && std::filesystem::exists(output) && !force)
+    throw Error("hand_init: '" + output + "' exists; pass force=True to replace it");
+  const SidecarDraft d = draftHandSidecar(urdf);
+  if (!d.undecided.empty()) {
+    std::string what;
+    for (const std::string& u : d.undecided) what += "; " + u;
+    throw Error("hand_init: could not draft a sidecar for '" + urdf +
+                "': write the undecided fields by hand (meshes/hands/README.md)" + what);
+  }
+  if (!output.empty()) writeFileAtomically(output, d.json, "cannot write sidecar '" + output + "'");
+  py::dict r;
+  r["sidecar"] = jsonDict(d.json);
+  r["json"] = d.json;
+  r["notes"] = d.notes;
+  return r;
+}
+
 }  // namespace
 
 std::string pythonHandsDir() {
@@ -122,6 +148,18 @@ threshold (m), min_size, outliers, clusters [{id, size, representative, pose [x 
 qz] (palm in the object frame, m), approach (palm +z axis, object frame), mean_epsilon,
 best_epsilon, color}]}).
 Raises taskmap.Error naming the file when it is missing or not a task map.)");
+  m.def(
+      "hand_init", &handInitDict, py::arg("urdf"), py::kw_only(), py::arg("output") = py::none(),
+      py::arg("force") = false, py::arg("package_path") = std::vector<std::string>{},
+      R"(What `taskmap hand-init URDF [-o OUTPUT]` drafts: a hand sidecar from the URDF alone (palm
+link, palm frame and approach axis from where the fingers close, closing joints and directions,
+fingers as chains, preshape).
+
+Returns a dict: sidecar (the draft as a dict), json (its text, what the CLI prints or writes),
+notes (one line per guess: the field, its value and why). output: also write the json there
+(atomically; an existing file only with force=True). package_path: folders where package://
+mesh paths are looked up before ROS_PACKAGE_PATH. Raises taskmap.Error naming the file, and
+the undecided fields when the draft cannot decide them.)");
   m.def("mesh_info", &meshInfoDict, py::arg("file"), py::kw_only(), py::arg("scale") = 1.0,
         py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
         py::arg("wrap_offset") = 0.0,

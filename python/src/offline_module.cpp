@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include "builder_bindings.hpp"
+#include "export_bindings.hpp"
 #include "inspect_bindings.hpp"
 #include "picture_bindings.hpp"
 #include "reaching_bindings.hpp"
@@ -16,7 +17,8 @@ namespace py = pybind11;
 PYBIND11_MODULE(_offline, m) {
   m.doc() =
       "taskmap's offline stages: build, dataset, import_acronym, recluster, Robot, reach, "
-      "plan_grasp, validate, summary, hand_info, mesh_info, picture (loaded on first use).";
+      "plan_grasp, validate, summary, hand_info, mesh_info, picture, export, export_glb, view "
+      "(loaded on first use).";
   // taskmap::Error raised here is the package's one taskmap.Error (defined by taskmap._core).
   // A handle kept for the process's life: a static py::object would drop its reference at exit,
   // after the interpreter is gone.
@@ -34,4 +36,5 @@ PYBIND11_MODULE(_offline, m) {
   taskmap::bindValidate(m);
   taskmap::bindInspect(m);
   taskmap::bindPicture(m);
+  taskmap::bindExport(m);
 }

@@ -131,6 +131,22 @@ class BuildPythonTest(unittest.TestCase):
             taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"), valid="10")
         self.assertFalse(os.path.exists(self.path("e.h5")))
 
+    def test_every_cli_command_is_a_python_call(self):
+        # Library first: what a command computes, Python calls; a new command needs its call.
+        text = subprocess.run([CLI, "--help"], capture_output=True, text=True, check=True).stdout
+        commands = re.findall(r"^  ([a-z][a-z-]*)\s", text.split("Subcommands:")[1], re.M)
+        python = {"build": "build", "dataset": "dataset", "import": "import_acronym",
+                  "cluster": "recluster", "regress": "regress", "validate": "validate",
+                  "inspect": "summary", "hand-info": "hand_info", "hand-init": "hand_init",
+                  "mesh-info": "mesh_info", "export": "export", "export-glb": "export_glb",
+                  "view": "view", "reach": "reach", "seal": "seal"}
+        self.assertGreaterEqual(len(commands), 15)
+        for command in commands:
+            with self.subTest(command=command):
+                self.assertIn(command, python)
+                self.assertTrue(callable(getattr(taskmap, python[command])))
+        self.assertTrue(callable(taskmap.picture))  # inspect --png
+
     def test_every_cli_option_is_a_keyword(self):
         # The knobs come from one list (taskmap/builder/build_knobs.hpp): every option of
         # `taskmap build --help` is a keyword of taskmap.build and of taskmap.dataset, except the

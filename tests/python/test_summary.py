@@ -5,6 +5,7 @@ same numbers as `taskmap inspect --json`, `taskmap hand-info --json` and `taskma
 `hand-info --png`, and the same errors for bad input."""
 import json
 import os
+import re
 import subprocess
 import tempfile
 import unittest
@@ -133,6 +134,44 @@ class HandInfoTest(unittest.TestCase):
             with self.assertRaises(taskmap.Error) as e:
                 taskmap.hand_info(bad)
             self.assertIn(bad, str(e.exception))
+
+
+class HandInitTest(unittest.TestCase):
+    def test_hand_init_drafts_what_hand_init_prints(self):
+        real = os.path.join(SRC, "..", "shared", "real", "hands")
+        urdfs = [os.path.join(HANDS, "barrett", "barrett.urdf")]
+        if os.path.isdir(real):
+            urdfs.append(os.path.join(real, "franka_hand", "franka_hand.urdf"))
+        with tempfile.TemporaryDirectory() as d:
+            for k, urdf in enumerate(urdfs):
+                by_cli, by_py = os.path.join(d, "cli%d.json" % k), os.path.join(d, "py%d.json" % k)
+                code, out, err = cli("hand-init", "-o", by_cli, urdf)
+                self.assertEqual(code, 0, err)
+                draft = taskmap.hand_init(urdf, output=by_py)
+                self.assertEqual(read(by_py), read(by_cli), urdf)
+                self.assertEqual(draft["sidecar"], json.loads(draft["json"]))
+                guesses = [line[len("guess: "):] for line in out.splitlines()
+                           if line.startswith("guess: ")]
+                self.assertEqual(draft["notes"], guesses)
+            with self.assertRaisesRegex(taskmap.Error, "exists; pass force=True"):
+                taskmap.hand_init(urdfs[0], output=os.path.join(d, "py0.json"))
+            with self.assertRaisesRegex(taskmap.Error, "no URDF file '/nonexistent.urdf'"):
+                taskmap.hand_init("/nonexistent.urdf")
+
+
+class RegressTest(unittest.TestCase):
+    def test_regress_reports_what_the_cli_prints(self):
+        code, out, err = cli("regress", "--only", "basket_panda", "--threads", "2")
+        self.assertEqual(code, 0, out + err)
+        r = taskmap.regress(only=["basket_panda"], threads=1)
+        self.assertEqual(r["failures"], 0)
+        [case] = r["cases"]
+        self.assertEqual((case["name"], case["outcome"]), ("basket_panda", "compared"))
+        self.assertTrue(all(row["pass"] for row in case["rows"]))
+        mask = lambda text: re.sub(r"\([0-9.]+ s\)", "(T s)", text)  # build time
+        self.assertIn(mask(case["text"]), mask(out))
+        with self.assertRaisesRegex(taskmap.Error, "no regression case matched"):
+            taskmap.regress(only=["no_such_case"])
 
 
 class PictureTest(unittest.TestCase):

@@ -65,6 +65,21 @@ class TrajectorySchemaTest(unittest.TestCase):
     def tearDownClass(cls):
         shutil.rmtree(cls.dir, ignore_errors=True)
 
+    def test_python_export_glb_and_view_write_the_cli_bytes(self):
+        import taskmap
+        glb = os.path.join(self.dir, "py.glb")
+        self.assertEqual(taskmap.export_glb(self.path, output=glb), glb)
+        with open(glb, "rb") as a, open(self.glb, "rb") as b:
+            self.assertEqual(a.read(), b.read())  # reach --glb writes what export-glb writes
+        html_cli, html_py = os.path.join(self.dir, "cli.html"), os.path.join(self.dir, "py.html")
+        subprocess.run([CLI, "view", self.path, "-o", html_cli, "-q"], check=True)
+        self.assertEqual(taskmap.view(self.path, output=html_py), html_py)
+        with open(html_cli, "rb") as a, open(html_py, "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        with self.assertRaises(taskmap.Error) as e:  # never over its input
+            taskmap.export_glb(self.path, output=self.path)
+        self.assertIn(self.path, str(e.exception))
+
     def test_root_and_seal(self):
         with open(self.path, "rb") as f:
             self.assertTrue(f.read(512).startswith(b"TASKMAP-SEAL 1\n"))

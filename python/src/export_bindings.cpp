@@ -1,0 +1,153 @@
+// taskmap.export, taskmap.export_glb and taskmap.view: `taskmap export`, `taskmap export-glb`
+// and `taskmap view` as calls, with the commands' option names as keywords.
+#include "export_bindings.hpp"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include <pybind11/stl.h>
+
+#include "inspect_bindings.hpp"
+#include "taskmap/builder/acronym_import.hpp"
+#include "taskmap/core/error.hpp"
+#include "taskmap/core/output_guard.hpp"
+#include "taskmap/inspect/glb_export.hpp"
+#include "taskmap/inspect/map_hand.hpp"
+#include "taskmap/inspect/map_scene.hpp"
+#include "taskmap/mapstore/acronym.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/trajectory_file.hpp"
+#include "taskmap/meshes/mesh_export.hpp"
+#include "taskmap/viz/map_page.hpp"
+#include "taskmap/viz/reach_page.hpp"
+
+namespace py = pybind11;
+
+namespace taskmap {
+namespace {
+
+std::string pathOf(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path));
+}
+
+/// The map's hand as the commands find it (`hand`: URDF or bundled name; "": the map's own, by
+/// its SHA-256); a Python warning and no hand when there is none.
+std::optional<HandModel> mapHandOrWarn(const TaskMapData& map, const std::string& hand,
+                                       const std::string& without) {
+  MapHandOptions options;
+  if (!hand.empty()) options.hand = pythonHandUrdf(hand);
+  options.hands_dir = pythonHandsDir();
+  MapHandResult found = findMapHand(map, options);
+  if (!found.hand) py::module_::import("warnings").attr("warn")(found.message + "; " + without);
+  return std::move(found.hand);
+}
+
+std::string exportMap(const py::object& map_path, const std::string& format,
+                      const py::object& output_path, double glyph_size, double density,
+                      const std::string& object_file, std::optional<double> palm_offset,
+                      const std::string& hand, bool force) {
+  const std::string map_file = pathOf(map_path), output = pathOf(output_path);
+  if (format != "ply" && format != "glb" && format != "acronym")
+    throw Error("export: unknown format '" + format + "'; use ply, glb or acronym");
+  MapSceneOptions scene_options;
+  scene_options.glyph_size = glyph_size;
+  scene_options.validate();
+  checkOutputPath(output, {map_file},
+                  format == "ply"   ? OutputKind::kPly
+                  : format == "glb" ? OutputKind::kGlb
+                                    : OutputKind::kHdf5,
+                  force, "output");
+  const TaskMapData map = readMap(map_file);
+  if (format == "acronym") {
+    AcronymExportOptions options;
+    options.density = density;
+    options.object_file = object_file;
+    options.base_to_palm = acronymBaseToPalm(palm_offset, hand);
+    py::gil_scoped_release release;
+    writeAcronym(output, map, options);
+    return output;
+  }
+  const std::optional<HandModel> model = mapHandOrWarn(map, hand, "drawing no hand");
+  const ExportScene scene = mapScene(map, scene_options, model ? &*model : nullptr);
+  py::gil_scoped_release release;
+  exportScene(output, scene, sceneFormatFromString(format));
+  return output;
+}
+
+std::string exportGlb(const py::object& trajectory, const py::object& output_path, bool force) {
+  const std::string input = pathOf(trajectory), output = pathOf(output_path);
+  checkOutputPath(output, {input}, OutputKind::kGlb, force, "output");
+  writeGlb(readTrajectory(input), output);
+  return output;
+}
+
+std::string view(const py::object& file_path, const py::object& output_path,
+                 const std::string& hand, int ghosts, const std::string& title) {
+  const std::string file = pathOf(file_path);
+  if (!std::filesystem::exists(file))
+    throw Error("file '" + file + "' does not exist; give a task map or a trajectory (.h5)");
+  PageOptions page;
+  page.ghost_limit = ghosts;
+  page.title = title;
+  page.validate();
+  const std::string output =
+      output_path.is_none()
+          ? std::filesystem::path(file).filename().replace_extension(".html").string()
+          : pathOf(output_path);
+  std::optional<TaskMapData> map;
+  try {
+    map = readMap(file);
+  } catch (const Error& e) {
+    if (std::string(e.what()).find("not a task map") == std::string::npos) throw;
+  }
+  if (!map) {
+    writeReachPage(readTrajectory(file), output, page);
+    return output;
+  }
+  const std::optional<HandModel> model = mapHandOrWarn(*map, hand, "drawing palms only");
+  MapPageInput input;
+  input.map = &*map;
+  input.hand = model ? &*model : nullptr;
+  input.source = std::filesystem::path(file).filename().string();
+  writeMapPage(input, output, page);
+  return output;
+}
+
+}  // namespace
+
+void bindExport(py::module_& m) {
+  m.def("export", &exportMap, py::arg("map"), py::kw_only(), py::arg("format"), py::arg("output"),
+        py::arg("glyph_size") = 0.0, py::arg("density") = 1000.0, py::arg("object_file") = "",
+        py::arg("palm_offset") = py::none(), py::arg("hand") = "", py::arg("force") = false,
+        R"(What `taskmap export MAP --format F -o OUTPUT` writes; returns output.
+
+format 'ply' or 'glb': the object mesh, palm positions coloured by cluster, a hand glyph per
+cluster representative (finger length glyph_size in metres, 0: automatic) and the hand's
+collision shapes posed by each representative (the map's hand, found by its SHA-256, or `hand`:
+a URDF or bundled name; a warning and no hand when none is found). 'acronym': ACRONYM's
+per-object HDF5 layout (object density in kg/m^3, object_file the mesh name recorded; the
+gripper base frame from palm_offset (metres along the base z axis) or hand's root-to-palm, as
+`taskmap import` takes it). output is never an input; force replaces an existing file that is
+not of the format written. Raises taskmap.Error naming the file or argument.)");
+  m.def("export_glb", &exportGlb, py::arg("trajectory"), py::kw_only(), py::arg("output"),
+        py::arg("force") = false,
+        R"(What `taskmap export-glb TRAJECTORY -o OUTPUT` writes; returns output.
+
+trajectory: a trajectory file (`taskmap reach --map ... -o`, taskmap.reach's record). The GLB
+(glTF 2.0 binary, opens in Blender) has one node per body with its collision primitives, the
+object mesh, and animation 'reach' over the steps (z-up world turned to glTF's y-up). Written
+atomically; force replaces an existing file that is not a GLB file.)");
+  m.def("view", &view, py::arg("file"), py::kw_only(), py::arg("output") = py::none(),
+        py::arg("hand") = "", py::arg("ghosts") = PageOptions{}.ghost_limit, py::arg("title") = "",
+        R"(What `taskmap view FILE` writes: one self-contained HTML page (three.js embedded,
+opens offline); returns its path (default: <file stem>.html in the working directory).
+
+file: a task map (the hand's collision shapes posed by each grasp on the object, coloured by
+cluster; filters, contacts; at most `ghosts` hands drawn at once) or a trajectory file (the
+movement with a time slider and the cost terms). hand: URDF or bundled name to draw a map's
+grasps with (default: the map's, found by its SHA-256; a warning and palms only when none).
+Raises taskmap.Error naming the file or argument.)");
+}
+
+}  // namespace taskmap
