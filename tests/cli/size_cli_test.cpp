@@ -6,7 +6,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "cpu_time.hpp"
 #include "scratch_dir.hpp"
 
 namespace {
@@ -52,9 +52,9 @@ std::string scaledBanana(double factor, const std::string& tag) {
 
 /// Runs a command and its wall time in seconds.
 CliRun timed(const std::string& args, double* seconds) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = taskmap::testing::cpuSeconds(RUSAGE_CHILDREN);
   CliRun run = runTaskmap(args);
-  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  *seconds = taskmap::testing::cpuSeconds(RUSAGE_CHILDREN) - t0;
   return run;
 }
 
