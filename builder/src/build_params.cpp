@@ -206,8 +206,11 @@ void visitClosingCheck(Io& io, P& p) {
   io("closing_solver_iterations", c.solver_iterations);
   io("closing_contact_erp", c.contact_erp);
   io("closing_max_settle_steps", c.max_settle_steps);
+  io("closing_settle_erp", c.settle_erp);
   io("closing_push_force", c.push_force);
   io("closing_push_duration", c.push_duration);
+  io("closing_rest_speed", c.rest_speed);
+  io("closing_rest_steps", c.rest_steps);
   io("closing_max_translation", c.max_translation);
   io("closing_max_rotation", c.max_rotation);
   io("closing_max_penetration", c.max_penetration);

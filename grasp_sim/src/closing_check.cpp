@@ -62,6 +62,9 @@ void ClosingCheckOptions::validate() const {
   if (!(contact_erp > 0.0 && contact_erp <= 1.0))
     throw Error("closing check option contact_erp must be in (0, 1], got " +
                 std::to_string(contact_erp));
+  if (!(settle_erp > 0.0 && settle_erp <= 1.0))
+    throw Error("closing check option settle_erp must be in (0, 1], got " +
+                std::to_string(settle_erp));
   if (!(pregrasp_fraction >= 0.0 && pregrasp_fraction <= 1.0))
     throw Error("closing check option pregrasp_fraction must be in [0, 1], got " +
                 std::to_string(pregrasp_fraction));
@@ -74,6 +77,11 @@ void ClosingCheckOptions::validate() const {
         "got " +
         std::to_string(interpolation_stages) + ", " + std::to_string(substeps) + " and " +
         std::to_string(solver_iterations));
+  if (!(rest_speed >= 0.0 && std::isfinite(rest_speed)))
+    throw Error("closing check option rest_speed must be >= 0 (m/s; 0: no early end), got " +
+                std::to_string(rest_speed));
+  if (rest_steps < 1)
+    throw Error("closing check option rest_steps must be >= 1, got " + std::to_string(rest_steps));
   if (max_settle_steps < 0)
     throw Error("closing check option max_settle_steps must be >= 0, got " +
                 std::to_string(max_settle_steps));
@@ -83,6 +91,22 @@ void ClosingCheckOptions::validate() const {
   if (timestep / substeps * interpolation_stages > 0.5 * closing_time)
     throw Error("closing check: timestep / substeps must be at most closing_time / (2 x " +
                 std::string("interpolation_stages); lower timestep or raise closing_time"));
+}
+
+ClosingCheckOptions ClosingCheckOptions::earlyVerdict() {
+  ClosingCheckOptions o;
+  o.mode = ClosingCheckMode::kPushes;
+  o.timestep = 0.008;
+  o.substeps = 1;
+  o.solver_iterations = 4;
+  o.closing_time = 0.1;
+  o.interpolation_stages = 5;
+  o.max_settle_steps = 10;
+  o.settle_erp = 0.8;
+  o.push_duration = 0.05;
+  o.rest_speed = 0.005;
+  o.rest_steps = 2;
+  return o;
 }
 
 ClosingChecker::ClosingChecker(const ObjectModel& object, const HandModel& hand,

@@ -55,7 +55,15 @@ struct ClosingDrive {
 
 /// One trial's Bullet objects; everything is removed from the world before it is destroyed.
 struct ClosingWorld {
-  btDefaultCollisionConfiguration config;
+  /// Small pools: Bullet's default pools (4096 manifolds and algorithms) are initialised element
+  /// by element, megabytes per world; a check needs tens (the heap serves any excess).
+  static btDefaultCollisionConstructionInfo poolSizes() {
+    btDefaultCollisionConstructionInfo info;
+    info.m_defaultMaxPersistentManifoldPoolSize = 64;
+    info.m_defaultMaxCollisionAlgorithmPoolSize = 256;
+    return info;
+  }
+  btDefaultCollisionConfiguration config{poolSizes()};
   btCollisionDispatcher dispatcher{&config};
   btDbvtBroadphase broadphase;
   btMultiBodyConstraintSolver solver;
@@ -200,10 +208,13 @@ double deepestOverlap(ClosingWorld* w) {
   return deepest;
 }
 
+/// The servo's velocity kp e / c, at most e / h: a step longer than the servo's time constant
+/// c / kp (5 ms for the jaws) would otherwise carry the joint past its target (at h = 1 ms the
+/// bound never binds).
 void setDrives(const Eigen::VectorXd& target, double h, ClosingWorld* w) {
   for (const ClosingDrive& d : w->drives) {
     const double e = target[d.joint] - w->hand->getJointPos(d.link);
-    d.motor->setVelocityTarget(d.kp * e / d.damping, 1.0);
+    d.motor->setVelocityTarget(h * d.kp <= d.damping ? d.kp * e / d.damping : e / h, 1.0);
     d.motor->setMaxAppliedImpulse(std::min(d.kp * std::abs(e), d.force_limit) * h);
   }
 }
@@ -228,16 +239,18 @@ double placementError(const ClosingChecker::Model& m, const Eigen::Isometry3d& p
 /// critically damped contacts do). So the overlap is removed first with the hand held at the
 /// pregrasp and the object's velocity zeroed after every step: the object ends at rest, out of
 /// the overlap (at most max_settle_steps steps).
-void settle(const Eigen::VectorXd& target, double h, int max_steps, ClosingWorld* w,
+void settle(const Eigen::VectorXd& target, double h, const ClosingCheckOptions& o, ClosingWorld* w,
             ClosingCheckResult* r) {
-  for (int s = 0; s < max_steps; ++s) {
-    if (deepestOverlap(w) < kSettled) return;
+  w->world.getSolverInfo().m_erp2 = o.settle_erp;
+  for (int s = 0; s < o.max_settle_steps; ++s) {
+    if (deepestOverlap(w) < kSettled) break;
     setDrives(target, h, w);
     w->world.stepSimulation(h, 0, h);
     w->object->setLinearVelocity(btVector3(0, 0, 0));
     w->object->setAngularVelocity(btVector3(0, 0, 0));
     ++r->steps;
   }
+  w->world.getSolverInfo().m_erp2 = o.contact_erp;
 }
 
 /// The object's motion from its start (the identity) into *r, and the verdict.
@@ -253,18 +266,35 @@ void measure(const btRigidBody& object, const Eigen::Isometry3d& principal,
 
 }  // namespace
 
+namespace {
+
+/// Whether the object moves slower than the rest speed (centre of mass, and turning times 5 cm).
+bool atRest(const btRigidBody& object, double rest_speed) {
+  return object.getLinearVelocity().length() < rest_speed &&
+         object.getAngularVelocity().length() * 0.05 < rest_speed;
+}
+
+}  // namespace
+
 void ClosingChecker::Model::push(const Eigen::VectorXd& squeeze, double h, ClosingWorld* w,
                                  ClosingCheckResult* r) const {
   const Eigen::VectorXd target = jointTargets(hand, squeeze);
   const int steps = std::max(1, static_cast<int>(std::lround(options.push_duration / h)));
+  const bool early = options.rest_speed > 0.0;  // verdict after every step, rest ends a push
   for (int dir = 0; dir < 6; ++dir) {
     btVector3 f(0, 0, 0);
     f[dir / 2] = dir % 2 == 0 ? -options.push_force : options.push_force;
+    int resting = 0;
     for (int s = 0; s < steps; ++s) {
       setDrives(target, h, w);
       w->object->applyCentralForce(f);  // cleared by every step
       w->world.stepSimulation(h, 0, h);
       ++r->steps;
+      if (!early) continue;
+      measure(*w->object, object_principal, options, r);
+      if (!r->holds) break;
+      resting = atRest(*w->object, options.rest_speed) ? resting + 1 : 0;
+      if (resting >= options.rest_steps) break;
     }
     measure(*w->object, object_principal, options, r);
     if (!r->holds) {
@@ -293,7 +323,7 @@ ClosingCheckResult ClosingChecker::Model::run(const Pose& palm_pose,
   r.initial_penetration = deepestOverlap(&w);
   if (r.initial_penetration > o.max_penetration) return r;
   const double h = o.timestep / o.substeps;
-  settle(jointTargets(hand, pregrasp), h, o.max_settle_steps, &w, &r);
+  settle(jointTargets(hand, pregrasp), h, o, &w, &r);
   const int steps =
       std::max(1, static_cast<int>(std::lround(0.5 * o.closing_time / o.interpolation_stages / h)));
   const Eigen::VectorXd* path[3] = {&pregrasp, &joints, &squeeze};

@@ -57,6 +57,12 @@ TEST(ClosingCheck, ModeNamesAndOptionErrors) {
   o.object_max_pieces = 65;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"object_max_pieces", "[1, 64]"}));
   o = ClosingCheckOptions();
+  o.rest_speed = -0.001;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"rest_speed", ">= 0", "m/s"}));
+  o = ClosingCheckOptions();
+  o.rest_steps = 0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"rest_steps", ">= 1"}));
+  o = ClosingCheckOptions();
   o.timestep = 0.2;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"timestep", "closing_time"}));
   // The constructor validates, and check() names a joint count that does not fit.
@@ -145,6 +151,71 @@ TEST(ClosingCheck, BarrettGraspThatHoldsInPhysicsPasses) {
     EXPECT_LT(r.placement_error, 1e-9);
   }
   EXPECT_GE(firm, 1) << "no grasp held firmly in the hold test";
+}
+
+// The early verdict of the pushes (rest_speed > 0). Barrett grasps of a cylinder that hold
+// every push of the full check: with the early end each push stops once the object rests, so
+// the check takes fewer steps (at least rest_steps per push) for the same verdict and nearly
+// the same final place. Jaws pressing with 0.4 N on a box cannot resist the 1 N pushes
+// (friction 0.6 x 2 x 0.4 N = 0.48 N): the same push fails in both, and the early verdict stops
+// at the first step past a threshold, so it takes fewer steps and the object moved no further
+// than in the full push.
+TEST(ClosingCheck, EarlyVerdictEndsPushesAtRestOrAtTheThreshold) {
+  ClosingCheckOptions full = closingOn();
+  full.mode = ClosingCheckMode::kPushes;
+  full.timestep = 0.004;
+  full.substeps = 1;
+  full.push_duration = 0.2;
+  full.rest_speed = 0.0;
+  ClosingCheckOptions early = full;
+  early.rest_speed = 0.005;
+  const int push_steps = 6 * 50;  // 0.2 s of 4 ms steps
+  {
+    const TriangleMesh mesh = testing::makeCylinder(0.035, 0.16, 48, 0);
+    const ObjectModel cylinder = ObjectModel::fromMesh(mesh, "cylinder");
+    const HandModel hand = testing::referenceHand("barrett");
+    const ClosingChecker checker_full(cylinder, hand, full), checker_early(cylinder, hand, early);
+    int held = 0;
+    for (const GraspResult& g : barrettCylinderGrasps(mesh, 3)) {
+      const ClosingCheckResult a = checker_full.check(g.pose, g.joints);
+      if (!a.holds) continue;
+      ++held;
+      const ClosingCheckResult b = checker_early.check(g.pose, g.joints);
+      EXPECT_TRUE(b.holds) << b.translation << " m, " << b.rotation << " rad";
+      EXPECT_LT(b.steps, a.steps);
+      EXPECT_GE(b.steps, a.steps - push_steps + 6 * early.rest_steps);
+      EXPECT_LT((a.displacement - b.displacement).norm(), 0.002);
+    }
+    EXPECT_GE(held, 1) << "no barrett grasp held the full pushes";
+    // The early-verdict settings bound the steps: at most 10 settle steps, 2 x 5 closing stages
+    // of one 8 ms step, six pushes of at most round(0.05 s / 8 ms) = 6 steps.
+    const ClosingCheckOptions fast = ClosingCheckOptions::earlyVerdict();
+    EXPECT_NO_THROW(fast.validate());
+    EXPECT_EQ(fast.mode, ClosingCheckMode::kPushes);
+    const ClosingChecker checker_fast(cylinder, hand, fast);
+    for (const GraspResult& g : barrettCylinderGrasps(mesh, 3)) {
+      const ClosingCheckResult r = checker_fast.check(g.pose, g.joints);
+      EXPECT_GT(r.steps, 10);
+      EXPECT_LE(r.steps, 10 + 10 + 6 * 6);
+    }
+  }
+  const TriangleMesh mesh = testing::makeBox(0.04, 0.03, 0.10);
+  const ObjectModel box = ObjectModel::fromMesh(mesh, "box");
+  const HandModel hand = pandaMimic();
+  const GraspResult g =
+      GraspSimulator(mesh, hand).simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, -0.01)));
+  ASSERT_EQ(g.status, GraspStatus::kOk) << g.message;
+  full.jaw_force = 0.4;
+  early.jaw_force = 0.4;
+  const ClosingCheckResult c = ClosingChecker(box, hand, full).check(g.pose, g.joints);
+  const ClosingCheckResult d = ClosingChecker(box, hand, early).check(g.pose, g.joints);
+  ASSERT_FALSE(c.holds);
+  ASSERT_FALSE(d.holds);
+  ASSERT_GE(c.failed_push, 0) << "the weak grasp must fail under a push, not while closing";
+  EXPECT_EQ(d.failed_push, c.failed_push);
+  EXPECT_TRUE(d.translation >= early.max_translation || d.rotation >= early.max_rotation);
+  EXPECT_LE(d.translation, c.translation + 1e-3);
+  EXPECT_LT(d.steps, c.steps);
 }
 
 // Each check builds its own world: the same grasp gives the same numbers, bit for bit, repeated

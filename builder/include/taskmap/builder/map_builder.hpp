@@ -56,7 +56,7 @@ struct BuildOptions {
   HoldFilterOptions hold_filter;
   /// The closing check run on force-closure grasps (off by default): grasps whose closing, with
   /// the object free to move, pushes it away are not stored (outcome `pushed`);
-  /// grasp_sim/closing_check.hpp, docs/METHOD.md §2b.
+  /// grasp_sim/closing_check.hpp, docs/METHOD.md §4d.
   ClosingCheckOptions closing_check;
   ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
   std::uint64_t seed = 1;             ///< run seed
