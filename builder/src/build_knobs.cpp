@@ -102,7 +102,10 @@ BuildOptions buildOptionsOf(const BuildKnobs& k, KnobStyle style) {
   if (k.keep_invalid) o.stored = StoredGrasps::kAllCompleted;
   o.cluster = !k.no_cluster;
   o.hold_filter.enabled = k.hold_filter;
-  o.closing_check.mode = closingCheckModeFromString(k.closing_check);
+  if (k.closing_check == "pushes_early")
+    o.closing_check = ClosingCheckOptions::earlyVerdict();
+  else
+    o.closing_check.mode = closingCheckModeFromString(k.closing_check);
   o.check_size = !k.allow_size;
   if (k.grasp == "palm") o.simulation.grasp_mode = GraspMode::kPalm;
   if (k.grasp == "fingertip") o.simulation.grasp_mode = GraspMode::kFingertip;

@@ -83,6 +83,22 @@ TEST(BuildKnobs, EachKnobReachesItsOption) {
   EXPECT_EQ(holdValidationOf(k, KnobStyle::kPython), HoldValidation::kKeepHolding);
 }
 
+TEST(BuildKnobs, ClosingCheckModesAndTheEarlySettings) {
+  BuildKnobs k;
+  EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).closing_check.mode, ClosingCheckMode::kOff);
+  k.closing_check = "pushes";
+  const ClosingCheckOptions full = buildOptionsOf(k, KnobStyle::kPython).closing_check;
+  EXPECT_EQ(full.mode, ClosingCheckMode::kPushes);
+  EXPECT_EQ(full.rest_speed, ClosingCheckOptions{}.rest_speed);  // the full pushes
+  k.closing_check = "pushes_early";
+  const ClosingCheckOptions early = buildOptionsOf(k, KnobStyle::kPython).closing_check;
+  const ClosingCheckOptions expected = ClosingCheckOptions::earlyVerdict();
+  EXPECT_EQ(early.mode, ClosingCheckMode::kPushes);
+  EXPECT_GT(early.rest_speed, 0.0);
+  EXPECT_EQ(early.rest_speed, expected.rest_speed);
+  EXPECT_EQ(early.settle_erp, expected.settle_erp);
+}
+
 TEST(BuildKnobs, ErrorsNameTheKnobAsTheFrontEndSpellsIt) {
   BuildKnobs k;
   k.cone_edges = 2;
