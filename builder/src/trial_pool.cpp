@@ -36,7 +36,8 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
     o.finger_points = openFingerPoints(hand);
   if (o.kind == SamplerKind::kPalmEnclose) {
     if (!o.enclose) o.enclose = encloseGeometry(hand);
-    if (o.finger_points.empty()) o.finger_points = fingerCheckPoints(hand, kFingerCheckSpacing);
+    if (o.finger_points.empty())
+      o.finger_points = coarseToFine(fingerCheckPoints(hand, kFingerCheckSpacing));
   }
   if (o.kind == SamplerKind::kAntipodalPalm) {
     if (o.finger_points.empty()) o.finger_points = fingerCheckPoints(hand, kFingerCheckSpacing);

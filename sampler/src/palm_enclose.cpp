@@ -202,6 +202,24 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
 
 }  // namespace
 
+std::vector<Eigen::Vector3d> coarseToFine(const std::vector<Eigen::Vector3d>& points) {
+  // Key of index i: its count of trailing zero bits (index 0 first of all).
+  const auto key = [](std::size_t i) {
+    if (i == 0) return 64;
+    int z = 0;
+    while ((i & 1u) == 0) i >>= 1, ++z;
+    return z;
+  };
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&key](std::size_t x, std::size_t y) { return key(x) > key(y); });
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (std::size_t i : order) out.push_back(points[i]);
+  return out;
+}
+
 std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeometry& geometry,
                                     const Eigen::Vector3d& approach_axis,
                                     const std::vector<Eigen::Vector3d>& finger_points, int attempts,

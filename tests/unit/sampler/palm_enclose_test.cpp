@@ -155,6 +155,16 @@ TEST(PalmEnclose, PureFunctionOfSeedAndTrialOnAnyThread) {
   EXPECT_EQ(s.kindOfTrial(5), SamplerKind::kPalmEnclose);
 }
 
+TEST(PalmEnclose, CoarseToFineIsAPermutationSpreadOverTheList) {
+  std::vector<Eigen::Vector3d> in;
+  for (int i = 0; i < 11; ++i) in.emplace_back(i, 0.0, 0.0);
+  std::vector<double> got;
+  for (const Eigen::Vector3d& p : coarseToFine(in)) got.push_back(p.x());
+  // 0, multiples of 8, of 4 (not 8), of 2 (not 4), then the odd indices.
+  EXPECT_EQ(got, (std::vector<double>{0, 8, 4, 2, 6, 10, 1, 3, 5, 7, 9}));
+  EXPECT_TRUE(coarseToFine({}).empty());
+}
+
 TEST(PalmEnclose, ErrorsNameWhatIsMissing) {
   EXPECT_EQ(samplerKindFromString("palm_enclose"), SamplerKind::kPalmEnclose);
   EXPECT_STREQ(toString(SamplerKind::kPalmEnclose), "palm_enclose");

@@ -58,6 +58,14 @@ std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeom
                                     const std::vector<Eigen::Vector3d>& finger_points, int attempts,
                                     double margin, Rng& rng);
 
+/// The same points in coarse-to-fine order for inside tests: index 0, then the indices that are
+/// multiples of the largest power of two, then of the next smaller one, ..., the odd indices
+/// last (each group in input order). An all-points test gives the same answer in any order; a
+/// pose whose fingers overlap the object is rejected after a few tests wherever the overlap is,
+/// not only when it is at the front of the list (fingerCheckPoints puts the fingertips first:
+/// the Allegro's flat fingers came after its thumb's points).
+std::vector<Eigen::Vector3d> coarseToFine(const std::vector<Eigen::Vector3d>& points);
+
 /// Closing-axis directions tried per surface point by drawPalmEnclose.
 inline constexpr int kEncloseRolls = 8;
 
