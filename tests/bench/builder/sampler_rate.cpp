@@ -2,7 +2,8 @@
 // the new one, in one process, per hand x object of the reference set (bundled hands, the
 // Robotiq 2F-85 style test hand; bundled objects and the YCB banana of tests/data/real) and the
 // real set (--real DIR, default $TASKMAP_REAL_DIR or ../shared/real: the Franka and Allegro
-// hands; YCB banana, YCB mug, ACRONYM mug). Default build options otherwise (clustering off: it is
+// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs).
+// Default build options otherwise (clustering off: it is
 // not part of the trial CPU time). Parallel-jaw hands (jawGeometry) compare `mixed` with
 // `antipodal`, other hands `mixed` with --multi (default `enclose`).
 // Prints per pair: stored grasps per CPU-second old and new (the build's own CPU time: sampling
