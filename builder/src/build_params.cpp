@@ -224,7 +224,10 @@ void visitClosingCheck(Io& io, P& p) {
 template <class Io, class S>
 void visitSamplerExtras(Io& io, S& s) {
   const bool antipodal = s.kind == SamplerKind::kAntipodal || s.kind == SamplerKind::kAntipodalPalm;
-  if (!Io::kWriting || antipodal || s.kind == SamplerKind::kEnclose) io("attempts", s.attempts);
+  const bool palm_enclose = s.kind == SamplerKind::kPalmEnclose;
+  if (!Io::kWriting || antipodal || s.kind == SamplerKind::kEnclose || palm_enclose)
+    io("attempts", s.attempts);
+  if (!Io::kWriting || palm_enclose) io("enclose_margin", s.enclose_margin);
   if (!Io::kWriting || antipodal) {
     io("antipodal_friction", s.friction);
     io("width_margin", s.width_margin);
@@ -237,6 +240,10 @@ void visitSamplerExtras(Io& io, S& s) {
         io.j["jaw_palm_front"] = s.jaws->palm_front;
         io.j["place_palm"] = s.place_palm;
       }
+    }
+    if (palm_enclose && s.enclose) {
+      io.j["enclose_span"] = s.enclose->span_max - s.enclose->span_min;
+      io.j["enclose_probe_depth"] = s.enclose->probe_depth;
     }
   }
 }
@@ -331,7 +338,8 @@ BuildParams buildParamsOf(const BuildOptions& options, const HandModel& hand) {
   BuildParams p;
   p.options = options;
   if (options.sampler.kind == SamplerKind::kAntipodal ||
-      options.sampler.kind == SamplerKind::kAntipodalPalm)
+      options.sampler.kind == SamplerKind::kAntipodalPalm ||
+      options.sampler.kind == SamplerKind::kPalmEnclose)
     p.options.sampler = detail::samplerOptionsFor(options, hand);
   p.options.sampler.approach_axis = hand.approachAxis();
   GraspSimOptions& s = p.options.simulation;
@@ -346,7 +354,8 @@ namespace detail {
 std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
   BuildParams p;
   p.options = o;
-  if (o.sampler.kind == SamplerKind::kAntipodal || o.sampler.kind == SamplerKind::kAntipodalPalm)
+  if (o.sampler.kind == SamplerKind::kAntipodal || o.sampler.kind == SamplerKind::kAntipodalPalm ||
+      o.sampler.kind == SamplerKind::kPalmEnclose)
     p.options.sampler = samplerOptionsFor(o, hand);
   p.options.sampler.approach_axis = hand.approachAxis();
   GraspSimOptions& s = p.options.simulation;

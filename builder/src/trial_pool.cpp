@@ -34,6 +34,11 @@ SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& h
   if (!o.jaws) o.jaws = jawGeometry(hand);
   if (o.kind == SamplerKind::kEnclose && o.finger_points.empty())
     o.finger_points = openFingerPoints(hand);
+  if (o.kind == SamplerKind::kPalmEnclose) {
+    if (!o.enclose) o.enclose = encloseGeometry(hand);
+    if (o.finger_points.empty())
+      o.finger_points = coarseToFine(fingerCheckPoints(hand, kFingerCheckSpacing));
+  }
   if (o.kind == SamplerKind::kAntipodalPalm) {
     if (o.finger_points.empty()) o.finger_points = fingerCheckPoints(hand, kFingerCheckSpacing);
     const GraspMode mode = options.simulation.grasp_mode.value_or(hand.graspMode());

@@ -25,6 +25,8 @@ const char* toString(SamplerKind kind) {
       return "enclose";
     case SamplerKind::kAntipodalPalm:
       return "antipodal_palm";
+    case SamplerKind::kPalmEnclose:
+      return "palm_enclose";
   }
   return "mixed";
 }
@@ -36,8 +38,9 @@ SamplerKind samplerKindFromString(const std::string& name) {
   if (name == "antipodal") return SamplerKind::kAntipodal;
   if (name == "enclose") return SamplerKind::kEnclose;
   if (name == "antipodal_palm") return SamplerKind::kAntipodalPalm;
+  if (name == "palm_enclose") return SamplerKind::kPalmEnclose;
   throw Error("unknown sampler '" + name +
-              "': use volume, surface, mixed, antipodal, enclose or antipodal_palm");
+              "': use volume, surface, mixed, antipodal, enclose, antipodal_palm or palm_enclose");
 }
 
 void JawGeometry::validate() const {
@@ -64,7 +67,10 @@ void SamplerOptions::validate() const {
   if (attempts < 1) throw Error("sampler attempts must be at least 1");
   if (!std::isfinite(width_margin) || width_margin < 0.0)
     throw Error("sampler width_margin must be a finite length >= 0 in metres");
+  if (!std::isfinite(enclose_margin) || enclose_margin < 0.0)
+    throw Error("sampler enclose_margin must be a finite length >= 0 in metres");
   if (jaws) jaws->validate();
+  if (enclose) enclose->validate();
   for (const Eigen::Vector3d& p : finger_points)
     if (!p.allFinite()) throw Error("sampler finger_points must be finite (metres)");
 }
@@ -275,6 +281,15 @@ std::vector<Eigen::Vector3d> fingerCheckPoints(const HandModel& hand, double spa
   return out;
 }
 
+std::vector<std::vector<Eigen::Vector3d>> fingerShapePoints(const HandModel& hand,
+                                                            const Eigen::VectorXd& q) {
+  return fingerPoints(hand, q);
+}
+
+std::vector<Eigen::Vector3d> palmShapePoints(const HandModel& hand, const Eigen::VectorXd& q) {
+  return palmPoints(hand, q);
+}
+
 std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rng, double friction,
                                               double min_width, double max_width) {
   const SurfaceSample s = object.sampleSurface(rng);
@@ -317,6 +332,12 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
         "the antipodal_palm sampler needs a parallel-jaw hand (two fingers whose pads face each "
         "other) with finger collision shapes (SamplerOptions::jaws and finger_points); use "
         "--sampler mixed, surface or volume for this hand");
+  if (options_.kind == SamplerKind::kPalmEnclose &&
+      (!options_.enclose || options_.finger_points.empty()))
+    throw Error(
+        "the palm_enclose sampler needs a hand with at least two fingers that close across its "
+        "approach axis, with finger collision shapes (SamplerOptions::enclose and "
+        "finger_points); use --sampler mixed or enclose for this hand");
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
@@ -514,6 +535,12 @@ Pose Sampler::sample(std::uint64_t seed, std::uint64_t trial) const {
   if (kind == SamplerKind::kAntipodalPalm) {
     const auto drawn = drawPalmJaw(rng);
     if (drawn) return drawn->second;
+  }
+  if (kind == SamplerKind::kPalmEnclose) {
+    const std::optional<Pose> pose =
+        drawPalmEnclose(object_, *options_.enclose, options_.approach_axis, options_.finger_points,
+                        options_.attempts, options_.enclose_margin, rng);
+    if (pose) return *pose;
   }
   if (kind == SamplerKind::kEnclose) {
     // Each attempt draws a point and a roll; the palm origin sits on the surface.

@@ -2,7 +2,8 @@
 // the new one, in one process, per hand x object of the reference set (bundled hands, the
 // Robotiq 2F-85 style test hand; bundled objects and the YCB banana of tests/data/real) and the
 // real set (--real DIR, default $TASKMAP_REAL_DIR or ../shared/real: the Franka and Allegro
-// hands; YCB banana, YCB mug, ACRONYM mug). Default build options otherwise (clustering off: it is
+// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs).
+// Default build options otherwise (clustering off: it is
 // not part of the trial CPU time). Parallel-jaw hands (jawGeometry) compare `mixed` with
 // `antipodal`, other hands `mixed` with --multi (default `enclose`).
 // Prints per pair: stored grasps per CPU-second old and new (the build's own CPU time: sampling
@@ -40,6 +41,7 @@ struct Item {
 struct Run {
   double rate = 0.0;                       ///< stored grasps per CPU-second
   double simulation = 0.0, quality = 0.0;  ///< CPU seconds (sampling counted with simulation)
+  double sampling = 0.0;                   ///< CPU seconds in Sampler::sample alone
   std::uint64_t trials = 0, stored = 0;
   std::map<std::string, std::uint64_t> outcomes;
   std::size_t tested = 0, holding = 0;  ///< physics hold test of the first --hold grasps
@@ -60,6 +62,7 @@ Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, st
   run.trials = r.map.sampling.trials;
   run.rate = cpu > 0 ? static_cast<double>(run.stored) / cpu : 0.0;
   run.simulation = t.sampling_seconds + t.simulation_seconds;
+  run.sampling = t.sampling_seconds;
   run.quality = t.quality_seconds;
   run.outcomes = r.map.sampling.outcomes;
   if (hold > 0 && run.stored > 0) {
@@ -156,6 +159,10 @@ int benchMain(int argc, char** argv) {
     sets.push_back(
         {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
          real_objects});
+    // The bundled multi-finger hands on the real mugs (the YCB banana is in the reference set).
+    for (const std::string h : {"barrett", "humanoid"})
+      sets.push_back({{h, src + "/meshes/hands/" + h + "/" + h + ".urdf", "", 1.0},
+                      {real_objects[1], real_objects[2]}});
   } else {
     std::printf("real set not found at %s: reference set only\n", real.c_str());
   }
@@ -217,10 +224,11 @@ int benchMain(int argc, char** argv) {
       };
       std::printf(
           "%-20s %-15s %-14s %10.1f %10.1f %6.2fx %9.1f %9.1f %13s  ms/grasp sim %.2f->%.2f "
-          "quality %.2f->%.2f %s\n",
+          "(of it sampling %.2f->%.2f) quality %.2f->%.2f %s\n",
           hi.name.c_str(), oi.name.c_str(), toString(new_kind), o, n, o > 0 ? n / o : 0.0,
           per(old_first), per(new_first), hold_text, ms(old_first, old_first.simulation),
-          ms(new_first, new_first.simulation), ms(old_first, old_first.quality),
+          ms(new_first, new_first.simulation), ms(old_first, old_first.sampling),
+          ms(new_first, new_first.sampling), ms(old_first, old_first.quality),
           ms(new_first, new_first.quality), shares(old_first, new_first).c_str());
       std::fflush(stdout);
     }

@@ -114,7 +114,7 @@ TEST(BuildKnobs, ErrorsNameTheKnobAsTheFrontEndSpellsIt) {
   k.sampler = "grid";
   EXPECT_TRUE(testing::throwsError([&] { buildOptionsOf(k, KnobStyle::kPython); },
                                    {"sampler must be one of volume, surface, mixed, antipodal, "
-                                    "enclose, antipodal_palm (got \"grid\")"}));
+                                    "enclose, antipodal_palm, palm_enclose (got \"grid\")"}));
   k = BuildKnobs{};
   k.friction = -0.1;
   EXPECT_TRUE(testing::throwsError([&] { buildOptionsOf(k, KnobStyle::kCommandLine); },

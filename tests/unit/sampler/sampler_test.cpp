@@ -28,12 +28,13 @@ SamplerOptions optionsOf(SamplerKind kind) {
 }
 
 TEST(SamplerTest, KindNamesRoundTrip) {
-  for (auto k : {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed,
-                 SamplerKind::kAntipodal, SamplerKind::kEnclose, SamplerKind::kAntipodalPalm})
+  for (auto k :
+       {SamplerKind::kVolume, SamplerKind::kSurface, SamplerKind::kMixed, SamplerKind::kAntipodal,
+        SamplerKind::kEnclose, SamplerKind::kAntipodalPalm, SamplerKind::kPalmEnclose})
     EXPECT_EQ(samplerKindFromString(toString(k)), k);
-  EXPECT_TRUE(
-      testing::throwsError([&] { samplerKindFromString("random"); },
-                           {"volume, surface, mixed, antipodal, enclose or antipodal_palm"}));
+  EXPECT_TRUE(testing::throwsError(
+      [&] { samplerKindFromString("random"); },
+      {"volume, surface, mixed, antipodal, enclose, antipodal_palm or palm_enclose"}));
 }
 
 TEST(SamplerTest, InvalidOptionsAreRefused) {

@@ -108,8 +108,11 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "(parallel jaws: the pads on two surface points whose normals lie in each other's "
              "friction cones), enclose (palm on a surface point, no open finger inside the "
              "object), antipodal_palm (parallel jaws: an antipodal pair, the palm placed where "
-             "it meets the surface behind it, no open finger inside the object)",
-             {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm"}},
+             "it meets the surface behind it, no open finger inside the object), palm_enclose "
+             "(multi-finger hands: the palm's front on a surface point, the fingers closing "
+             "across the object's narrowest chord that fits them, no open finger inside)",
+             {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm",
+              "palm_enclose"}},
     k.sampler);
   v(KnobInfo{"valid", "stop after this many force-closure grasps", {}, C::kPositive}, k.valid);
   v(KnobInfo{"trials", "trial budget", {}, C::kPositive}, k.trials);

@@ -14,6 +14,7 @@
 #include "taskmap/core/pose.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
+#include "taskmap/sampler/palm_enclose.hpp"
 
 namespace taskmap {
 
@@ -51,9 +52,16 @@ enum class SamplerKind {
   /// place_palm (fingertip grasps): kAntipodal's pads on the pair, with the finger check. Needs
   /// jaws and finger_points; a trial whose attempts all fail falls back to kSurface.
   kAntipodalPalm,
+  /// Multi-finger palm grasps (docs/METHOD.md §2 "Palm on the surface, fingers across the narrow
+  /// extent", palm_enclose.hpp): the palm's front flat on an area-weighted surface point, the
+  /// fingers' closing axis across the object's narrowest chord there that fits the open
+  /// fingers, the chord centred on where the fingers close; accepted when the palm's face is
+  /// clear and no point of the open fingers (finger_points) is inside. Needs
+  /// SamplerOptions::enclose and finger_points; all attempts failing falls back to kSurface.
+  kPalmEnclose,
 };
 
-/// "volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm".
+/// "volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm", "palm_enclose".
 const char* toString(SamplerKind kind);
 /// Parses a sampler name; throws Error listing the valid names on an unknown one.
 SamplerKind samplerKindFromString(const std::string& name);
@@ -95,6 +103,13 @@ std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand);
 /// Throws Error unless spacing > 0.
 std::vector<Eigen::Vector3d> fingerCheckPoints(const HandModel& hand, double spacing);
 
+/// Points spanning the collision shapes of each finger's links at joint values q (jointNames()
+/// order), palm frame, metres, one list per finger (fingerNames() order).
+std::vector<std::vector<Eigen::Vector3d>> fingerShapePoints(const HandModel& hand,
+                                                            const Eigen::VectorXd& q);
+/// Points spanning the collision shapes of the palm-rigid links at q, palm frame, metres.
+std::vector<Eigen::Vector3d> palmShapePoints(const HandModel& hand, const Eigen::VectorXd& q);
+
 /// Options of the sampler.
 struct SamplerOptions {
   SamplerKind kind = SamplerKind::kMixed;
@@ -123,6 +138,11 @@ struct SamplerOptions {
   /// kAntipodalPalm: palm grasps, the palm's front placed on the surface (true), or fingertip
   /// grasps, the pads on an antipodal pair (false). The builder sets it from the grasp mode.
   bool place_palm = true;
+  /// kPalmEnclose: the hand's palm and fingers (encloseGeometry of the hand); required by it.
+  std::optional<EncloseGeometry> enclose;
+  /// kPalmEnclose: the object's chord must fit the open fingers' span less this much on each
+  /// side, metres, >= 0.
+  double enclose_margin = 0.005;
   /// Throws Error naming the option when a value is out of range (non-unit axis, bad range).
   void validate() const;
 };
@@ -144,8 +164,8 @@ std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rn
 class Sampler {
  public:
   /// @param object the solid to sample (copies share state). Throws Error on invalid options,
-  /// for kAntipodal without jaws, kEnclose without finger points and kAntipodalPalm without
-  /// either.
+  /// for kAntipodal without jaws, kEnclose without finger points, kAntipodalPalm without
+  /// either and kPalmEnclose without enclose or finger points.
   Sampler(ObjectModel object, const SamplerOptions& options);
 
   /// Initial pose of trial `trial` of a run seeded with `seed`: a pure function of both.
@@ -156,7 +176,8 @@ class Sampler {
   /// kAntipodalPalm without place_palm: the palm pose that puts the pads on `pair` with the
   /// approach at angle `spin` about it, or empty when a finger point is inside the object.
   std::optional<Pose> palmJawPose(const AntipodalPair& pair, double spin) const;
-  /// The concrete kind (kVolume, kSurface, kAntipodal, kEnclose or kAntipodalPalm) trial
+  /// The concrete kind (kVolume, kSurface, kAntipodal, kEnclose, kAntipodalPalm or
+  /// kPalmEnclose) trial
   /// `trial` uses.
   SamplerKind kindOfTrial(std::uint64_t trial) const;
   /// The options given at construction.

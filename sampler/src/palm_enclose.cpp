@@ -1,0 +1,237 @@
+#include "taskmap/sampler/palm_enclose.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include "taskmap/core/error.hpp"
+#include "taskmap/sampler/sampler.hpp"
+
+namespace taskmap {
+
+namespace {
+
+/// The probe depth is at least this far ahead of the palm's front, metres.
+constexpr double kMinProbeDepth = 0.005;
+/// The palm-face rays run this far in front of the surface point, metres (as antipodal_palm).
+constexpr double kFaceClearance = 0.01;
+/// Rays from a surface point start this far along so as not to hit their own triangle, metres.
+constexpr double kRayStart = 1e-7;
+
+Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& pts) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : pts) c += p / static_cast<double>(pts.size());
+  return c;
+}
+
+/// The closing axis: the principal direction, across a, of the fingers' centroid displacements
+/// from the preshape to the closing targets (sum of d d^T, largest eigenvector). Zero when the
+/// fingers do not move across a.
+Eigen::Vector3d closingAxis(const std::vector<std::vector<Eigen::Vector3d>>& open,
+                            const std::vector<std::vector<Eigen::Vector3d>>& closed,
+                            const Eigen::Vector3d& a) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (std::size_t f = 0; f < open.size(); ++f) {
+    if (open[f].empty()) continue;
+    Eigen::Vector3d d = centroid(closed[f]) - centroid(open[f]);
+    d -= d.dot(a) * a;
+    m += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(m);
+  if (!(eig.eigenvalues()[2] > 1e-10)) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d c = eig.eigenvectors().col(2);
+  c -= c.dot(a) * a;
+  return c.normalized();
+}
+
+}  // namespace
+
+void EncloseGeometry::validate() const {
+  if (!closing_axis.allFinite() || std::abs(closing_axis.norm() - 1.0) > 1e-6)
+    throw Error("enclose closing_axis must be a finite unit vector");
+  if (!std::isfinite(palm_front)) throw Error("enclose palm_front must be finite (metres)");
+  if (!std::isfinite(probe_depth) || !(probe_depth > 0.0))
+    throw Error("enclose probe_depth must be a positive length in metres");
+  if (!std::isfinite(span_min) || !std::isfinite(span_max) || !(span_min < span_max))
+    throw Error("enclose span_min must be below span_max (finite, metres)");
+  if (!grasp_centre.allFinite()) throw Error("enclose grasp_centre must be finite (metres)");
+  if (!palm_min.allFinite() || !palm_max.allFinite() || (palm_min.array() > palm_max.array()).any())
+    throw Error("enclose palm_min and palm_max must be finite with palm_min <= palm_max (metres)");
+}
+
+std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
+  if (hand.fingerNames().size() < 2 || hand.closing().empty()) return std::nullopt;
+  const Eigen::Vector3d a = hand.approachAxis().normalized();
+  const Eigen::VectorXd open_q = hand.preshape();
+  Eigen::VectorXd closed_q = open_q;
+  for (const ClosingJoint& j : hand.closing()) closed_q[j.joint] = j.target;
+  const auto open = fingerShapePoints(hand, open_q);
+  const auto closed = fingerShapePoints(hand, closed_q);
+  const Eigen::Vector3d c = closingAxis(open, closed, a);
+  if (!(c.norm() > 0.5)) return std::nullopt;
+  EncloseGeometry g;
+  g.closing_axis = c;
+  const Eigen::Vector3d v = c.cross(a);
+  const std::vector<Eigen::Vector3d> palm = palmShapePoints(hand, open_q);
+  if (!palm.empty()) {
+    g.palm_front = -1e300;
+    g.palm_min = g.palm_max = Eigen::Vector2d(c.dot(palm[0]), v.dot(palm[0]));
+  }
+  for (const Eigen::Vector3d& p : palm) {
+    g.palm_front = std::max(g.palm_front, a.dot(p));
+    g.palm_min = g.palm_min.cwiseMin(Eigen::Vector2d(c.dot(p), v.dot(p)));
+    g.palm_max = g.palm_max.cwiseMax(Eigen::Vector2d(c.dot(p), v.dot(p)));
+  }
+  std::vector<Eigen::Vector3d> all_open, all_closed;
+  for (const auto& f : open) all_open.insert(all_open.end(), f.begin(), f.end());
+  for (const auto& f : closed) all_closed.insert(all_closed.end(), f.begin(), f.end());
+  if (all_open.empty()) return std::nullopt;
+  g.span_min = 1e300;
+  g.span_max = -1e300;
+  for (const Eigen::Vector3d& p : all_open) {
+    g.span_min = std::min(g.span_min, c.dot(p));
+    g.span_max = std::max(g.span_max, c.dot(p));
+  }
+  const Eigen::Vector3d shut = centroid(all_closed);
+  g.probe_depth = std::max(kMinProbeDepth, a.dot(shut) - g.palm_front);
+  g.grasp_centre = Eigen::Vector2d(c.dot(shut), 0.5 * (g.palm_min.y() + g.palm_max.y()));
+  return g;
+}
+
+namespace {
+
+/// The object's chord through x along d: distances to where the rays x + s d and x - s d
+/// leave the solid (empty when either does not, within max_len).
+std::optional<std::pair<double, double>> chord(const ObjectModel& object, const Eigen::Vector3d& x,
+                                               const Eigen::Vector3d& d, double max_len) {
+  const std::optional<RayHit> plus = object.castRay(x, d, 0.0, max_len);
+  if (!plus) return std::nullopt;
+  const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, max_len);
+  if (!minus) return std::nullopt;
+  return std::make_pair(plus->distance, minus->distance);
+}
+
+/// Rays in the plane kFaceClearance in front of q (outside the surface) from `face` along +-c
+/// and +-v to the palm's extent: none may meet the surface (the palm would cut through the
+/// part). face_cv: the face point's palm-frame (c, v) coordinates, metres.
+bool faceClear(const ObjectModel& object, const EncloseGeometry& g, const Eigen::Vector3d& face,
+               const Eigen::Vector2d& face_cv, const Eigen::Vector3d& cw,
+               const Eigen::Vector3d& vw) {
+  const Eigen::Vector3d axes[2] = {cw, vw};
+  for (int k = 0; k < 2; ++k) {
+    const double reach[2] = {g.palm_max[k] - face_cv[k], face_cv[k] - g.palm_min[k]};
+    for (int side = 0; side < 2; ++side) {
+      if (!(reach[side] > 0.0)) continue;
+      const Eigen::Vector3d d = side == 0 ? axes[k] : Eigen::Vector3d(-axes[k]);
+      if (object.castRay(face, d, 0.0, reach[side])) return false;
+    }
+  }
+  return true;
+}
+
+bool fingersOutside(const ObjectModel& object, const Pose& palm,
+                    const std::vector<Eigen::Vector3d>& points) {
+  const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
+  for (const Eigen::Vector3d& p : points)
+    if (object.contains(palm.position + r * p)) return false;
+  return true;
+}
+
+struct Candidate {
+  double width = 0.0, plus = 0.0, minus = 0.0;
+  Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+};
+
+/// One surface point: the kEncloseRolls directions across w = -n, narrowest chord first, each
+/// placed and checked; the first accepted pose.
+std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g,
+                             const Eigen::Vector3d& a,
+                             const std::vector<Eigen::Vector3d>& finger_points,
+                             const SurfaceSample& q, double roll, double margin) {
+  const Eigen::Vector3d w = -q.normal;
+  const std::optional<RayHit> through = object.castRay(q.point, w, kRayStart);
+  if (!through) return std::nullopt;
+  const Eigen::Vector3d x = q.point + std::min(g.probe_depth, 0.5 * through->distance) * w;
+  const double span = g.span_max - g.span_min - 2.0 * margin;
+  const Eigen::Vector3d e1 = w.unitOrthogonal(), e2 = w.cross(e1);
+  std::array<Candidate, kEncloseRolls> cands;
+  for (int k = 0; k < kEncloseRolls; ++k) {
+    const double t = roll + M_PI * k / kEncloseRolls;
+    cands[k].dir = std::cos(t) * e1 + std::sin(t) * e2;
+    const auto ch = chord(object, x, cands[k].dir, span);
+    cands[k].width = ch ? ch->first + ch->second : 1e300;
+    if (ch) cands[k].plus = ch->first, cands[k].minus = ch->second;
+  }
+  std::array<int, kEncloseRolls> order;
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&cands](int i, int j) { return cands[i].width < cands[j].width; });
+  const Eigen::Vector3d cp = g.closing_axis;
+  Eigen::Matrix3d palm;
+  palm << cp, a, cp.cross(a);
+  for (int k : order) {
+    const Candidate& cd = cands[k];
+    if (!(cd.width <= span)) break;
+    // The chord [x - minus d, x + plus d] in palm c-coordinates, centred on the grasp centre,
+    // shifted to lie within the span (with margin).
+    double centre = g.grasp_centre.x();
+    centre = std::clamp(centre, g.span_min + margin + 0.5 * cd.width,
+                        g.span_max - margin - 0.5 * cd.width);
+    const Eigen::Vector3d mid = x + 0.5 * (cd.plus - cd.minus) * cd.dir;
+    Eigen::Matrix3d world;
+    world << cd.dir, w, cd.dir.cross(w);
+    const Eigen::Matrix3d r = world * palm.transpose();
+    const Eigen::Vector3d vw = cd.dir.cross(w);
+    Pose pose;
+    pose.orientation = Eigen::Quaterniond(r).normalized();
+    pose.position = (w.dot(q.point) - g.palm_front) * w + (cd.dir.dot(mid) - centre) * cd.dir +
+                    (vw.dot(q.point) - g.grasp_centre.y()) * vw;
+    // q's palm-frame coordinates: along c the chord's centre less its offset from x, along v
+    // the grasp centre's.
+    const Eigen::Vector2d face_cv(centre - 0.5 * (cd.plus - cd.minus), g.grasp_centre.y());
+    if (!faceClear(object, g, q.point - kFaceClearance * w, face_cv, cd.dir, vw)) continue;
+    if (!fingersOutside(object, pose, finger_points)) continue;
+    return pose;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3d> coarseToFine(const std::vector<Eigen::Vector3d>& points) {
+  // Key of index i: its count of trailing zero bits (index 0 first of all).
+  const auto key = [](std::size_t i) {
+    if (i == 0) return 64;
+    int z = 0;
+    while ((i & 1u) == 0) i >>= 1, ++z;
+    return z;
+  };
+  std::vector<std::size_t> order(points.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&key](std::size_t x, std::size_t y) { return key(x) > key(y); });
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points.size());
+  for (std::size_t i : order) out.push_back(points[i]);
+  return out;
+}
+
+std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeometry& geometry,
+                                    const Eigen::Vector3d& approach_axis,
+                                    const std::vector<Eigen::Vector3d>& finger_points, int attempts,
+                                    double margin, Rng& rng) {
+  for (int k = 0; k < attempts; ++k) {
+    const SurfaceSample q = object.sampleSurface(rng);
+    const double roll = rng.uniform(0.0, 2.0 * M_PI);
+    std::optional<Pose> pose =
+        tryPoint(object, geometry, approach_axis, finger_points, q, roll, margin);
+    if (pose) return pose;
+  }
+  return std::nullopt;
+}
+
+}  // namespace taskmap
