@@ -107,14 +107,50 @@ void shapePoints(const CollisionShape& s, std::vector<Eigen::Vector3d>* out) {
   for (const Eigen::Vector3d& p : local) out->push_back(s.origin * p);
 }
 
-/// Every point of every shape of each finger, palm frame, at joint values q.
+/// Moving joints (not fixed) between link `l` and the root.
+int movingDepth(const HandModel& hand, int l) {
+  int depth = 0;
+  while (l >= 0) {
+    const int j = hand.links()[static_cast<std::size_t>(l)].parent_joint;
+    if (j < 0) break;
+    const HandJoint& joint = hand.joints()[static_cast<std::size_t>(j)];
+    if (joint.type != JointType::kFixed) ++depth;
+    l = joint.parent_link;
+  }
+  return depth;
+}
+
+/// Per link: true when it has shapes, belongs to a finger, and no link with shapes of the same
+/// finger lies behind more moving joints (the finger's distal body: a Robotiq's inner finger
+/// and pad, not its knuckles; the whole finger of a one-link jaw).
+std::vector<char> distalLinks(const HandModel& hand) {
+  const std::size_t n = hand.links().size();
+  std::vector<int> depth(n, -1), deepest(hand.fingerNames().size(), -1);
+  for (std::size_t l = 0; l < n; ++l) {
+    const HandLink& link = hand.links()[l];
+    if (link.finger < 0 || link.shapes.empty()) continue;
+    depth[l] = movingDepth(hand, static_cast<int>(l));
+    int& d = deepest[static_cast<std::size_t>(link.finger)];
+    d = std::max(d, depth[l]);
+  }
+  std::vector<char> out(n, 0);
+  for (std::size_t l = 0; l < n; ++l)
+    if (depth[l] >= 0)
+      out[l] = depth[l] == deepest[static_cast<std::size_t>(hand.links()[l].finger)];
+  return out;
+}
+
+/// Every point of every shape of each finger (only its distal body when `distal_only`), palm
+/// frame, at joint values q.
 std::vector<std::vector<Eigen::Vector3d>> fingerPoints(const HandModel& hand,
-                                                       const Eigen::VectorXd& q) {
+                                                       const Eigen::VectorXd& q,
+                                                       bool distal_only = false) {
   std::vector<std::vector<Eigen::Vector3d>> fingers(hand.fingerNames().size());
   const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  const std::vector<char> distal = distal_only ? distalLinks(hand) : std::vector<char>();
   for (std::size_t l = 0; l < hand.links().size(); ++l) {
     const HandLink& link = hand.links()[l];
-    if (link.finger < 0) continue;
+    if (link.finger < 0 || (distal_only && !distal[l])) continue;
     std::vector<Eigen::Vector3d> pts;
     for (const CollisionShape& s : link.shapes) shapePoints(s, &pts);
     for (const Eigen::Vector3d& p : pts)
@@ -155,6 +191,19 @@ constexpr int kSpins = 4;
 constexpr double kRayStart = 1e-7;
 /// antipodal_palm: the palm-face rays run this far in front of the surface point, metres.
 constexpr double kPalmClearance = 0.01;
+/// antipodal_palm: attempts of the construction-time probe, and its generator's seed (trial k of
+/// the probe draws from Rng(kProbeSeed, k)).
+constexpr int kProbeAttempts = 64;
+constexpr std::uint64_t kProbeSeed = 0x70726f6265ULL;  // "probe"
+/// antipodal_palm: below this share of trials finding a pose within `attempts`, each trial
+/// makes one attempt only (Sampler::attemptsInForce).
+constexpr double kProbeMinFound = 0.5;
+
+/// antipodal_palm: how far the pads' midpoint lies ahead of the palm's front along the approach
+/// axis `a`, metres (positive for a usable jaw).
+double palmDepth(const JawGeometry& jaws, const Eigen::Vector3d& a) {
+  return a.dot(jaws.pad_midpoint) - jaws.palm_front;
+}
 
 /// The palm-rigid links' shape points at q, palm frame.
 std::vector<Eigen::Vector3d> palmPoints(const HandModel& hand, const Eigen::VectorXd& q) {
@@ -228,7 +277,9 @@ void densePoints(const CollisionShape& s, double spacing, std::vector<Eigen::Vec
 std::optional<JawGeometry> jawGeometry(const HandModel& hand) {
   if (hand.fingerNames().size() != 2 || hand.closing().empty()) return std::nullopt;
   const Eigen::VectorXd open = hand.preshape();
-  const auto fingers = fingerPoints(hand, open);
+  // The pads are on each finger's distal body: a knuckle nearer the palm (a Robotiq's inner
+  // knuckles, 13 mm apart) is not what closes on the object.
+  const auto fingers = fingerPoints(hand, open, true);
   if (fingers[0].empty() || fingers[1].empty()) return std::nullopt;
   const Eigen::Vector3d a = hand.approachAxis().normalized();
   Eigen::Vector3d c = centroid(fingers[1]) - centroid(fingers[0]);
@@ -238,7 +289,7 @@ std::optional<JawGeometry> jawGeometry(const HandModel& hand) {
   const auto [face0, face1] = innerFaces(fingers, c);
   Eigen::VectorXd closed = open;
   for (const ClosingJoint& j : hand.closing()) closed[j.joint] = j.target;
-  const auto [closed0, closed1] = innerFaces(fingerPoints(hand, closed), c);
+  const auto [closed0, closed1] = innerFaces(fingerPoints(hand, closed, true), c);
   JawGeometry g;
   g.closing_axis = c;
   g.open_width = face1 - face0;
@@ -338,6 +389,7 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
         "the palm_enclose sampler needs a hand with at least two fingers that close across its "
         "approach axis, with finger collision shapes (SamplerOptions::enclose and "
         "finger_points); use --sampler mixed or enclose for this hand");
+  attempts_ = options_.kind == SamplerKind::kAntipodalPalm ? probeAttempts() : options_.attempts;
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
@@ -430,24 +482,23 @@ bool Sampler::palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const
 
 // Palm grasps: the palm's front on the surface point q, the approach w = -n(q); for a closing
 // direction c across w, the pads at depth d ahead of the palm's front (a·m - palm_front). The
-// jaws must span the object there: from the probe point x = q + min(d, t/2) w (t: where the
-// ray from q along w leaves the solid) the rays along +c and -c leave it at p2 and p1, with
-// min_w <= |p2 - p1| <= max_w and both normals in the friction cones about the axis (the
+// jaws must span the object there: from the probe point x = q + min(d, t/2) w (t = `through`:
+// where the ray from q along w leaves the solid) the rays along +c and -c leave it at p2 and p1,
+// with min_w <= |p2 - p1| <= max_w and both normals in the friction cones about the axis (the
 // antipodal condition at the pads' depth). The pads' midpoint then sits at depth d on the line
 // through (p1 + p2) / 2 along w. Accepted when the palm's face is clear and no finger point is
 // inside.
 std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmFirstAttempt(const SurfaceSample& q,
-                                                                        double roll, double min_w,
+                                                                        double through, double roll,
+                                                                        double min_w,
                                                                         double max_w) const {
   const JawGeometry& jaws = *options_.jaws;
   const Eigen::Vector3d a = options_.approach_axis;
   const Eigen::Vector3d w = -q.normal;
   const Eigen::Vector3d e1 = w.unitOrthogonal(), e2 = w.cross(e1);
   Eigen::Vector3d c = std::cos(roll) * e1 + std::sin(roll) * e2;
-  const double depth = a.dot(jaws.pad_midpoint) - jaws.palm_front;
-  const std::optional<RayHit> through = object_.castRay(q.point, w, kRayStart);
-  if (!through || !(depth > 0.0)) return std::nullopt;
-  const Eigen::Vector3d x = q.point + std::min(depth, 0.5 * through->distance) * w;
+  const double depth = palmDepth(jaws, a);
+  const Eigen::Vector3d x = q.point + std::min(depth, 0.5 * through) * w;
   // The drawn closing direction finds a wall; the closing axis then turns onto that wall's
   // normal (across w), so that the pads face it.
   const std::optional<RayHit> probe = object_.castRay(x, c, 0.0, max_w);
@@ -455,9 +506,12 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmFirstAttempt(const Su
   c = probe->normal - probe->normal.dot(w) * w;
   if (!(c.norm() > 0.5)) return std::nullopt;
   c.normalize();
+  // A part wider than the opening is rejected by the first ray that runs past the rest of it:
+  // the second ray only searches the width the first left.
   const std::optional<RayHit> plus = object_.castRay(x, c, 0.0, max_w);
-  const std::optional<RayHit> minus = object_.castRay(x, -c, 0.0, max_w);
-  if (!plus || !minus) return std::nullopt;
+  if (!plus) return std::nullopt;
+  const std::optional<RayHit> minus = object_.castRay(x, -c, 0.0, max_w - plus->distance);
+  if (!minus) return std::nullopt;
   const double width = plus->distance + minus->distance;
   const double cos_cone = 1.0 / std::sqrt(1.0 + options_.friction * options_.friction);
   if (width < min_w || width > max_w || plus->normal.dot(c) < cos_cone ||
@@ -479,34 +533,65 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmFirstAttempt(const Su
   return std::make_pair(pair, pose);
 }
 
-// Each attempt draws its numbers whether accepted or not: palm grasps a surface point and a
+// One attempt draws its numbers whether accepted or not: palm grasps a surface point and a
 // roll, trying kSpins rolls evenly spaced from it; fingertip grasps an antipodal attempt and a
 // spin, trying kSpins spins likewise.
+std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmJawAttempt(Rng& rng, double min_w,
+                                                                      double max_w) const {
+  if (options_.place_palm) {
+    const SurfaceSample q = object_.sampleSurface(rng);
+    const double roll = rng.uniform(0.0, 2.0 * M_PI);
+    // Where the ray from q along the approach leaves the solid: once per point, for every spin.
+    if (!(palmDepth(*options_.jaws, options_.approach_axis) > 0.0)) return std::nullopt;
+    const std::optional<RayHit> through = object_.castRay(q.point, -q.normal, kRayStart);
+    if (!through) return std::nullopt;
+    for (int j = 0; j < kSpins; ++j) {
+      auto drawn = palmFirstAttempt(q, through->distance, roll + M_PI * j / kSpins, min_w, max_w);
+      if (drawn) return drawn;
+    }
+    return std::nullopt;
+  }
+  const std::optional<AntipodalPair> p =
+      antipodalAttempt(object_, rng, options_.friction, min_w, max_w);
+  const double spin = rng.uniform(0.0, 2.0 * M_PI);
+  if (!p) return std::nullopt;
+  for (int j = 0; j < kSpins; ++j) {
+    const std::optional<Pose> pose = palmJawPose(*p, spin + 2.0 * M_PI * j / kSpins);
+    if (pose) return std::make_pair(*p, *pose);
+  }
+  return std::nullopt;
+}
+
 std::optional<std::pair<AntipodalPair, Pose>> Sampler::drawPalmJaw(Rng& rng) const {
   const JawGeometry& jaws = *options_.jaws;
   const double min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
   const double max_w = jaws.open_width - options_.width_margin;
   if (max_w <= min_w) return std::nullopt;
-  for (int k = 0; k < options_.attempts; ++k) {
-    if (options_.place_palm) {
-      const SurfaceSample q = object_.sampleSurface(rng);
-      const double roll = rng.uniform(0.0, 2.0 * M_PI);
-      for (int j = 0; j < kSpins; ++j) {
-        auto drawn = palmFirstAttempt(q, roll + M_PI * j / kSpins, min_w, max_w);
-        if (drawn) return drawn;
-      }
-      continue;
-    }
-    const std::optional<AntipodalPair> p =
-        antipodalAttempt(object_, rng, options_.friction, min_w, max_w);
-    const double spin = rng.uniform(0.0, 2.0 * M_PI);
-    if (!p) continue;
-    for (int j = 0; j < kSpins; ++j) {
-      const std::optional<Pose> pose = palmJawPose(*p, spin + 2.0 * M_PI * j / kSpins);
-      if (pose) return std::make_pair(*p, *pose);
-    }
+  for (int k = 0; k < attempts_; ++k) {
+    auto drawn = palmJawAttempt(rng, min_w, max_w);
+    if (drawn) return drawn;
   }
   return std::nullopt;
+}
+
+// The probe: kProbeAttempts attempts from generators of their own (not the trials'), the same
+// for every seed and thread. With p the accepted share, a trial finds a pose within n attempts
+// with probability 1 - (1 - p)^n; when that stays under kProbeMinFound at n = options.attempts
+// (an object that the jaws rarely span, a mug wider than the opening), attempting costs more
+// than it finds and each trial takes one attempt, then the surface sampler's pose.
+int Sampler::probeAttempts() const {
+  const JawGeometry& jaws = *options_.jaws;
+  const double min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
+  const double max_w = jaws.open_width - options_.width_margin;
+  if (max_w <= min_w) return 1;
+  int accepted = 0;
+  for (int k = 0; k < kProbeAttempts; ++k) {
+    Rng rng(kProbeSeed, static_cast<std::uint64_t>(k));
+    if (palmJawAttempt(rng, min_w, max_w)) ++accepted;
+  }
+  const double p = static_cast<double>(accepted) / kProbeAttempts;
+  const double found = 1.0 - std::pow(1.0 - p, options_.attempts);
+  return found < kProbeMinFound ? 1 : options_.attempts;
 }
 
 std::optional<AntipodalPair> Sampler::antipodalPair(std::uint64_t seed, std::uint64_t trial) const {

@@ -1,6 +1,7 @@
 // A parallel-jaw build with the antipodal sampler: on a real scanned mesh (YCB banana, real
 // Franka hand) it stores its grasps in fewer trials than the mixed sampler (trial counts, not
-// time), the map is the same for any thread count, and the map records its sampler.
+// time), the map is the same for any thread count, and the map records its sampler; the same for
+// antipodal_palm on a jaw whose knuckles stand in front of its palm (test hand x soup can).
 #include <string>
 
 #include <gtest/gtest.h>
@@ -82,6 +83,32 @@ TEST(AntipodalBuildTest, PalmPlacementStoresInFewerTrialsThanMixedAndRecordsItse
   EXPECT_NEAR(p.at("jaw_palm_front").get<double>(), jawGeometry(franka())->palm_front, 1e-12);
   testing::expectSameMapContent(
       palm.map, buildMap(banana(), franka(), jawBuild(SamplerKind::kAntipodalPalm, 1)).map);
+}
+
+TEST(AntipodalBuildTest, KnuckledJawStoresPalmGraspsInFewerTrialsOnAnyThreadCount) {
+  // A jaw whose knuckles stand in front of its palm (tests/data/hands/knuckle_jaw, as on a
+  // Robotiq 2F-85) on the soup-can-sized cylinder: with the pads taken from the fingers'
+  // distal links, antipodal_palm places the palm's front on the can between the knuckles.
+  // Trial counts for the same 12 stored grasps (measured: 12 and 164), not times.
+  const HandModel hand =
+      HandModel::load(std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf");
+  const ObjectModel can = ObjectModel::load(std::string(TEST_DATA_DIR) + "/meshes/soup_can.obj");
+  const BuildResult mixed = buildMap(can, hand, jawBuild(SamplerKind::kMixed, 2));
+  const BuildResult palm = buildMap(can, hand, jawBuild(SamplerKind::kAntipodalPalm, 2));
+  ASSERT_EQ(mixed.status, BuildStatus::kComplete) << mixed.message;
+  ASSERT_EQ(palm.status, BuildStatus::kComplete) << palm.message;
+  EXPECT_EQ(palm.map.grasps.size(), 12u);
+  EXPECT_LT(4 * palm.map.sampling.trials, mixed.map.sampling.trials)
+      << "antipodal_palm " << palm.map.sampling.trials << " trials, mixed "
+      << mixed.map.sampling.trials;
+  const auto& out = palm.map.sampling.outcomes;
+  const auto it = out.find("no_palm_contact");
+  EXPECT_TRUE(it == out.end() || 10 * it->second < palm.map.sampling.trials);
+  const nlohmann::json p = nlohmann::json::parse(palm.map.sampling.params_json);
+  EXPECT_NEAR(p.at("jaw_open_width").get<double>(), jawGeometry(hand)->open_width, 1e-12);
+  EXPECT_GT(p.at("jaw_open_width").get<double>(), 0.07);
+  testing::expectSameMapContent(palm.map,
+                                buildMap(can, hand, jawBuild(SamplerKind::kAntipodalPalm, 1)).map);
 }
 
 TEST(AntipodalBuildTest, MultiFingerHandIsRefusedWithAClearMessage) {

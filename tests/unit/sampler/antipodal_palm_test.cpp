@@ -4,10 +4,13 @@
 // through the pair, object behind it, free space in front), the pair at the pads'
 // depth lies on the surface with its normals in the friction cones about the jaws' closing axis
 // (the axis through the pads), the open fingers' points outside the object, determinism on any
-// thread, and the fingertip variant (place_palm false) keeping the pads on the pair.
+// thread, and the fingertip variant (place_palm false) keeping the pads on the pair; on a jaw
+// whose knuckles stand in front of its palm (tests/data/hands/knuckle_jaw) too; the
+// construction-time probe that falls back fast where the jaws rarely span the object.
 #include <cmath>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -27,6 +30,21 @@ const HandModel& franka() {
 const ObjectModel& banana() {
   static const ObjectModel o =
       ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  return o;
+}
+const HandModel& knuckleJaw() {
+  static const HandModel h =
+      HandModel::load(std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf");
+  return h;
+}
+const ObjectModel& soupCan() {
+  static const ObjectModel o =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/meshes/soup_can.obj");
+  return o;
+}
+const ObjectModel& ycbMug() {
+  static const ObjectModel o =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_025_mug.obj");
   return o;
 }
 const ObjectModel& cylinder() {
@@ -69,10 +87,14 @@ double palmFrontAt(const HandModel& h, const Pose& pose, const Eigen::Vector3d& 
 }
 
 TEST(AntipodalPalmTest, PalmFrontOnTheSurfaceAndPairInTheCones) {
-  const HandModel& h = franka();
   const double cos_cone = std::cos(std::atan(0.5));
-  for (const ObjectModel* obj : {&banana(), &cylinder()}) {
-    SCOPED_TRACE(obj->name());
+  // The Franka hand on the banana and the cylinder; the knuckle hand (knuckles in front of its
+  // palm, pads on distal links) on the soup-can-sized cylinder.
+  const std::pair<const HandModel*, const ObjectModel*> cases[] = {
+      {&franka(), &banana()}, {&franka(), &cylinder()}, {&knuckleJaw(), &soupCan()}};
+  for (const auto& [hp, obj] : cases) {
+    const HandModel& h = *hp;
+    SCOPED_TRACE(obj->name() + " x " + h.name());
     const Sampler s(*obj, palmOptions(h));
     const JawGeometry& g = *s.options().jaws;
     const Eigen::Vector3d a = h.approachAxis().normalized();
@@ -133,6 +155,33 @@ TEST(AntipodalPalmTest, PosesArePureFunctionsOfSeedAndTrialOnAnyThread) {
     EXPECT_EQ(here[i].orientation.coeffs(), there[i].orientation.coeffs());
   }
   EXPECT_NE(s.sample(9, 1).position, s.sample(9, 2).position);
+}
+
+TEST(AntipodalPalmTest, ProbeFallsBackFastWhereTheJawsRarelySpanTheObject) {
+  // The YCB mug (8.6 cm) is wider than the Franka opening (8 cm): the construction-time probe
+  // finds too few poses for half the trials to find one within 16 attempts, so each trial makes
+  // one attempt; on the banana and the soup can it keeps the 16. The probe is the same for any
+  // seed and on any thread (its generators are its own).
+  const Sampler mug(ycbMug(), palmOptions(franka()));
+  EXPECT_EQ(mug.attemptsInForce(), 1);
+  EXPECT_EQ(Sampler(banana(), palmOptions(franka())).attemptsInForce(), 16);
+  EXPECT_EQ(Sampler(soupCan(), palmOptions(knuckleJaw())).attemptsInForce(), 16);
+  int other = 0;
+  std::thread th([&] { other = Sampler(ycbMug(), palmOptions(franka())).attemptsInForce(); });
+  th.join();
+  EXPECT_EQ(other, 1);
+  // With one attempt, a trial's pose is its single attempt's or the surface sampler's from the
+  // same generator: most mug trials fall back, and each is still a pure function of the trial.
+  int fell_back = 0;
+  for (std::uint64_t t = 0; t < 50; ++t) {
+    if (!mug.antipodalPair(4, t)) ++fell_back;
+    EXPECT_EQ(mug.sample(4, t).position, mug.sample(4, t).position);
+  }
+  EXPECT_GT(fell_back, 40);
+  // Other kinds keep their attempts.
+  SamplerOptions o = palmOptions(franka());
+  o.kind = SamplerKind::kAntipodal;
+  EXPECT_EQ(Sampler(ycbMug(), o).attemptsInForce(), 16);
 }
 
 TEST(AntipodalPalmTest, FingertipVariantKeepsThePadsOnThePair) {

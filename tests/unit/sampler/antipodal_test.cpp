@@ -68,6 +68,17 @@ TEST(AntipodalTest, JawGeometryOfTheParallelGrippers) {
   ASSERT_TRUE(r.has_value());
   EXPECT_NEAR(r->open_width, 0.085, 0.01);
   EXPECT_GT(r->pad_midpoint.z(), 0.0);
+  // Knuckles in front of the palm (tests/data/hands/knuckle_jaw): the pads are on each finger's
+  // distal body. From the URDF: pad centre 0.032 + 0.04 sin 20° - 0.004 m off centre, inner
+  // face 0.004 m further in; pad centre 0.05 + 0.04 cos 20° + 0.02 m above the base, the palm
+  // frame 0.06 m up. The knuckles' inner edges (0.056 m apart) are not the opening.
+  const std::optional<JawGeometry> k = jawGeometry(hand(testHand("knuckle_jaw")));
+  ASSERT_TRUE(k.has_value());
+  const double face = 0.032 + 0.04 * std::sin(20.0 * M_PI / 180.0) - 0.008;
+  EXPECT_NEAR(k->open_width, 2.0 * face, 1e-6);
+  EXPECT_NEAR(std::abs(k->closing_axis.x()), 1.0, 1e-9);
+  EXPECT_NEAR(k->pad_midpoint.z(), 0.05 + 0.04 * std::cos(20.0 * M_PI / 180.0) + 0.02 - 0.06, 1e-6);
+  EXPECT_NEAR(k->palm_front, 0.0, 1e-12);
   // Three or five fingers are not jaws.
   EXPECT_FALSE(jawGeometry(hand(bundled("barrett"))).has_value());
   EXPECT_FALSE(jawGeometry(hand(bundled("humanoid"))).has_value());

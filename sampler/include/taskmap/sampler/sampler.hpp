@@ -86,11 +86,13 @@ struct JawGeometry {
   void validate() const;
 };
 
-/// The pads of a hand with exactly two fingers, from its collision shapes: closing axis from
-/// the first finger's shapes toward the second's (across the approach axis), each pad the
-/// finger's points within 2 mm of its inner face (preshape), widths from the inner faces in
-/// the preshape and with every closing joint at its target. Empty for other hands (more or
-/// fewer fingers, fingers without shapes, pads that do not face each other).
+/// The pads of a hand with exactly two fingers, from the collision shapes of each finger's
+/// distal body (its links with shapes behind the most moving joints: a Robotiq's inner finger
+/// and pad, not the knuckles in front of its palm; the whole finger of a one-link jaw): closing
+/// axis from the first finger's distal points toward the second's (across the approach axis),
+/// each pad the distal points within 2 mm of its inner face (preshape), widths from the inner
+/// faces in the preshape and with every closing joint at its target. Empty for other hands
+/// (more or fewer fingers, fingers without shapes, pads that do not face each other).
 std::optional<JawGeometry> jawGeometry(const HandModel& hand);
 
 /// Points spanning the collision shapes of every finger link in the open preshape, palm frame,
@@ -182,20 +184,29 @@ class Sampler {
   SamplerKind kindOfTrial(std::uint64_t trial) const;
   /// The options given at construction.
   const SamplerOptions& options() const { return options_; }
+  /// Attempts a trial makes before the surface sampler's pose. options().attempts, except for
+  /// kAntipodalPalm on an object where a probe at construction (64 attempts from generators of
+  /// their own, the same for any seed and thread) predicts that fewer than half the trials would
+  /// find a pose within options().attempts: then 1 (fall back fast; docs/METHOD.md §2).
+  int attemptsInForce() const { return attempts_; }
 
  private:
   Pose surfacePose(Rng& rng) const;
   std::optional<AntipodalPair> drawPair(Rng& rng) const;
   std::optional<std::pair<AntipodalPair, Pose>> drawPalmJaw(Rng& rng) const;
+  std::optional<std::pair<AntipodalPair, Pose>> palmJawAttempt(Rng& rng, double min_w,
+                                                               double max_w) const;
+  int probeAttempts() const;
   std::optional<std::pair<AntipodalPair, Pose>> palmFirstAttempt(const SurfaceSample& q,
-                                                                 double roll, double min_w,
-                                                                 double max_w) const;
+                                                                 double through, double roll,
+                                                                 double min_w, double max_w) const;
   bool fingersOutside(const Pose& palm) const;
   bool palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const;
   Pose jawPose(const AntipodalPair& pair, double spin) const;
 
   ObjectModel object_;
   SamplerOptions options_;
+  int attempts_ = 1;  ///< attemptsInForce()
 };
 
 /// Orientation whose rotation maps the palm-frame axis onto `direction` (both unit), followed
