@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "map_compare.hpp"
+#include "sampler_build_fixture.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
 
@@ -15,26 +16,14 @@ namespace taskmap {
 namespace {
 
 const ObjectModel& banana() {
-  static const ObjectModel o =
-      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
-  return o;
+  return testing::realObject("objects/ycb_011_banana.obj");
 }
 const HandModel& franka() {
-  static const HandModel h =
-      HandModel::load(std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf");
-  return h;
+  return testing::realHand("hands/franka_hand/franka_hand.urdf");
 }
 
 BuildOptions jawBuild(SamplerKind kind, int threads) {
-  BuildOptions o;
-  o.seed = 3;
-  o.valid_target = 12;
-  o.max_trials = 20000;
-  o.threads = threads;
-  o.block_size = 16;
-  o.sampler.kind = kind;
-  o.cluster = false;
-  return o;
+  return testing::samplerBuild(kind, threads, 12, 16);
 }
 
 TEST(AntipodalBuildTest, StoresJawGraspsInFewerTrialsThanTheMixedSampler) {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "map_compare.hpp"
+#include "sampler_build_fixture.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
 
@@ -15,26 +16,14 @@ namespace taskmap {
 namespace {
 
 const ObjectModel& banana() {
-  static const ObjectModel o =
-      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
-  return o;
+  return testing::realObject("objects/ycb_011_banana.obj");
 }
 const HandModel& allegro() {
-  static const HandModel h = HandModel::load(
-      std::string(TEST_DATA_DIR) + "/real/hands/allegro_right/allegro_hand_description_right.urdf");
-  return h;
+  return testing::realHand("hands/allegro_right/allegro_hand_description_right.urdf");
 }
 
 BuildOptions encloseBuild(SamplerKind kind, int threads) {
-  BuildOptions o;
-  o.seed = 3;
-  o.valid_target = 10;
-  o.max_trials = 20000;
-  o.threads = threads;
-  o.block_size = 8;
-  o.sampler.kind = kind;
-  o.cluster = false;
-  return o;
+  return testing::samplerBuild(kind, threads, 10, 8);
 }
 
 TEST(PalmEncloseBuildTest, StoresInFewerTrialsThanMixedWithThePalmTouching) {
