@@ -9,16 +9,13 @@
 #include <pybind11/stl.h>
 
 #include "inspect_bindings.hpp"
-#include "taskmap/builder/acronym_import.hpp"
+#include "taskmap/builder/map_export.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/inspect/glb_export.hpp"
 #include "taskmap/inspect/map_hand.hpp"
-#include "taskmap/inspect/map_scene.hpp"
-#include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
-#include "taskmap/meshes/mesh_export.hpp"
 #include "taskmap/viz/map_page.hpp"
 #include "taskmap/viz/reach_page.hpp"
 
@@ -47,32 +44,25 @@ std::string exportMap(const py::object& map_path, const std::string& format,
                       const py::object& output_path, double glyph_size, double density,
                       const std::string& object_file, std::optional<double> palm_offset,
                       const std::string& hand, bool force) {
-  const std::string map_file = pathOf(map_path), output = pathOf(output_path);
-  if (format != "ply" && format != "glb" && format != "acronym")
-    throw Error("export: unknown format '" + format + "'; use ply, glb or acronym");
-  MapSceneOptions scene_options;
-  scene_options.glyph_size = glyph_size;
-  scene_options.validate();
-  checkOutputPath(output, {map_file},
-                  format == "ply"   ? OutputKind::kPly
-                  : format == "glb" ? OutputKind::kGlb
-                                    : OutputKind::kHdf5,
-                  force, "output");
-  const TaskMapData map = readMap(map_file);
-  if (format == "acronym") {
-    AcronymExportOptions options;
-    options.density = density;
-    options.object_file = object_file;
-    options.base_to_palm = acronymBaseToPalm(palm_offset, hand);
+  MapExportOptions o;
+  o.map = pathOf(map_path);
+  o.format = format;
+  o.output = pathOf(output_path);
+  o.glyph_size = glyph_size;
+  o.density = density;
+  o.object_file = object_file;
+  o.palm_offset = palm_offset;
+  o.hand = hand;
+  o.force = force;
+  o.output_option = "output";
+  MapExportResult r;
+  {
     py::gil_scoped_release release;
-    writeAcronym(output, map, options);
-    return output;
+    r = exportMapFile(o);
   }
-  const std::optional<HandModel> model = mapHandOrWarn(map, hand, "drawing no hand");
-  const ExportScene scene = mapScene(map, scene_options, model ? &*model : nullptr);
-  py::gil_scoped_release release;
-  exportScene(output, scene, sceneFormatFromString(format));
-  return output;
+  if (r.hand_status != MapHandResult::Status::kLoaded)
+    py::module_::import("warnings").attr("warn")(r.hand_message + "; drawing no hand");
+  return o.output;
 }
 
 std::string exportGlb(const py::object& trajectory, const py::object& output_path, bool force) {
