@@ -280,6 +280,26 @@ double MeshBvh::closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest,
   return std::sqrt(best2);
 }
 
+bool MeshBvh::within(const Eigen::Vector3d& p, double r) const {
+  const double r2 = r * r;
+  if (nodes_.empty() || !(r > 0.0)) return false;
+  int stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.lo, node.hi) >= r2) continue;
+    if (node.left >= 0) {
+      stack[top++] = node.right;
+      stack[top++] = node.left;
+      continue;
+    }
+    for (int i = node.begin; i < node.end; ++i)
+      if ((closestOnTriangle(p, a_[i], b_[i], c_[i]) - p).squaredNorm() < r2) return true;
+  }
+  return false;
+}
+
 double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min,
                          double t_max, int* face) const {
   double best = std::numeric_limits<double>::infinity();

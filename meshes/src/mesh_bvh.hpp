@@ -36,6 +36,10 @@ class MeshBvh {
   double closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest = nullptr,
                       int* face = nullptr) const;
 
+  /// True when a triangle comes nearer p than r (metres): closestPoint's search with the bound
+  /// r from the start, stopping at the first such triangle.
+  bool within(const Eigen::Vector3d& p, double r) const;
+
   /// Nearest crossing of the ray p + t d (d unit) with a triangle for t in (t_min, t_max]:
   /// returns t and sets *face (original face index), or returns +infinity and sets -1. A ray
   /// through an edge or a vertex hits one of the triangles that share it (barycentric tolerance

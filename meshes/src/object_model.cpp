@@ -216,6 +216,10 @@ double ObjectModel::distanceToSurface(const Eigen::Vector3d& p) const {
   return impl_->bvh->closestPoint(p);
 }
 
+bool ObjectModel::nearSurface(const Eigen::Vector3d& p, double distance) const {
+  return impl_->bvh->within(p, distance);
+}
+
 std::optional<RayHit> ObjectModel::castRay(const Eigen::Vector3d& origin,
                                            const Eigen::Vector3d& direction, double min_distance,
                                            double max_distance) const {

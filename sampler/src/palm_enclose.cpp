@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/Eigenvalues>
@@ -21,6 +22,11 @@ constexpr double kMinProbeDepth = 0.005;
 constexpr double kFaceClearance = 0.01;
 /// Rays from a surface point start this far along so as not to hit their own triangle, metres.
 constexpr double kRayStart = 1e-7;
+/// Metres: no point of the open fingers may be nearer the surface than this (the simulator's
+/// contact tolerance, GraspSimOptions::contact_tolerance): a finger point on the surface marks a
+/// finger link that touches or cuts into the part between its check points, and the trial
+/// retracts the hand off it and ends `no_palm_contact`.
+constexpr double kFingerClearance = 5e-4;
 
 Eigen::Vector3d centroid(const std::vector<Eigen::Vector3d>& pts) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
@@ -104,20 +110,67 @@ std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
 
 namespace {
 
-/// The object's chord through x along d: distances to where the rays x + s d and x - s d
-/// leave the solid (empty when either does not, within max_len).
+/// Surface crossings met from x along d are walked at most this many times per side.
+constexpr int kMaxCrossings = 16;
+/// A walk restarts this far past each crossing, metres.
+constexpr double kStep = 1e-7;
+
+/// How far the object reaches from x along d (unit) within max_len, metres: the distance of the
+/// last surface crossing of the ray x + s d for s in (0, max_len], 0 when it crosses nothing
+/// and x is outside (`inside`: whether x is in the solid); empty when the ray is still inside
+/// the solid at max_len (the object reaches past it) or crosses more than kMaxCrossings times.
+/// Walks through hollows: a mug's wall, the hollow and the far wall give the mug's outer
+/// extent, not the wall's.
+std::optional<double> reach(const ObjectModel& object, const Eigen::Vector3d& x,
+                            const Eigen::Vector3d& d, double max_len, bool inside) {
+  double at = 0.0, last = 0.0;
+  for (int k = 0; k <= kMaxCrossings; ++k) {
+    if (!(max_len - at > kStep)) break;
+    const std::optional<RayHit> hit = object.castRay(x + at * d, d, 0.0, max_len - at);
+    if (!hit) break;
+    if (k == kMaxCrossings) return std::nullopt;
+    last = at + hit->distance;
+    inside = hit->normal.dot(d) < 0.0;  // an entry: the solid continues past it
+    at = last + kStep;
+  }
+  if (inside) return std::nullopt;
+  return last;
+}
+
+/// The object's extent through x along d: how far it reaches along +d and along -d (reach),
+/// empty unless both sides together fit within max_len (the ray along -d only searches the
+/// length the ray along +d left: a part wider than the span costs one side's rays, not two) or
+/// when the line meets nothing.
 std::optional<std::pair<double, double>> chord(const ObjectModel& object, const Eigen::Vector3d& x,
-                                               const Eigen::Vector3d& d, double max_len) {
+                                               const Eigen::Vector3d& d, double max_len,
+                                               bool inside) {
+  const std::optional<double> plus = reach(object, x, d, max_len, inside);
+  if (!plus) return std::nullopt;
+  const double rest = max_len - *plus;
+  if (!(rest > 0.0)) return std::nullopt;
+  const std::optional<double> minus = reach(object, x, -d, rest, inside);
+  if (!minus || !(*plus + *minus > 0.0)) return std::nullopt;
+  return std::make_pair(*plus, *minus);
+}
+
+/// The chord of the solid through x (inside it) along d: distances to where the rays x + s d
+/// and x - s d first leave it, empty unless both fit within max_len together. A lower bound of
+/// chord()'s extent, two rays.
+std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
+                                                    const Eigen::Vector3d& x,
+                                                    const Eigen::Vector3d& d, double max_len) {
   const std::optional<RayHit> plus = object.castRay(x, d, 0.0, max_len);
   if (!plus) return std::nullopt;
-  const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, max_len);
+  const double rest = max_len - plus->distance;
+  if (!(rest > 0.0)) return std::nullopt;
+  const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, rest);
   if (!minus) return std::nullopt;
   return std::make_pair(plus->distance, minus->distance);
 }
 
 /// Rays in the plane kFaceClearance in front of q (outside the surface) from `face` along +-c
-/// and +-v to the palm's extent: none may meet the surface (the palm would cut through the
-/// part). face_cv: the face point's palm-frame (c, v) coordinates, metres.
+/// and +-v to the palm's extent and to its four corners: none may meet the surface (the palm
+/// would cut through the part). face_cv: the face point's palm-frame (c, v) coordinates, metres.
 bool faceClear(const ObjectModel& object, const EncloseGeometry& g, const Eigen::Vector3d& face,
                const Eigen::Vector2d& face_cv, const Eigen::Vector3d& cw,
                const Eigen::Vector3d& vw) {
@@ -130,14 +183,26 @@ bool faceClear(const ObjectModel& object, const EncloseGeometry& g, const Eigen:
       if (object.castRay(face, d, 0.0, reach[side])) return false;
     }
   }
+  // And to the palm's four corners (a handle beside the face, off the axes).
+  for (int sc = 0; sc < 2; ++sc)
+    for (int sv = 0; sv < 2; ++sv) {
+      const Eigen::Vector3d to = ((sc == 0 ? g.palm_max.x() : g.palm_min.x()) - face_cv.x()) * cw +
+                                 ((sv == 0 ? g.palm_max.y() : g.palm_min.y()) - face_cv.y()) * vw;
+      const double len = to.norm();
+      if (len > 0.0 && object.castRay(face, to / len, 0.0, len)) return false;
+    }
   return true;
 }
 
+/// No point of the open fingers is inside the object, nor within kFingerClearance of its
+/// surface (the inside tests first: a pose with a finger over a face fails after a few).
 bool fingersOutside(const ObjectModel& object, const Pose& palm,
                     const std::vector<Eigen::Vector3d>& points) {
   const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
   for (const Eigen::Vector3d& p : points)
     if (object.contains(palm.position + r * p)) return false;
+  for (const Eigen::Vector3d& p : points)
+    if (object.nearSurface(palm.position + r * p, kFingerClearance)) return false;
   return true;
 }
 
@@ -153,16 +218,29 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
                              const std::vector<Eigen::Vector3d>& finger_points,
                              const SurfaceSample& q, double roll, double margin) {
   const Eigen::Vector3d w = -q.normal;
-  const std::optional<RayHit> through = object.castRay(q.point, w, kRayStart);
-  if (!through) return std::nullopt;
-  const Eigen::Vector3d x = q.point + std::min(g.probe_depth, 0.5 * through->distance) * w;
+  // The object's depth along w from q: where the solid first ends; when that is within twice
+  // the probe depth, its last crossing (through a hollow to the far wall).
+  const std::optional<RayHit> exit = object.castRay(q.point, w, kRayStart);
+  if (!exit) return std::nullopt;
+  double through = exit->distance;
+  if (through < 2.0 * g.probe_depth) {
+    const std::optional<double> rest =
+        reach(object, exit->point + kStep * w, w, std::numeric_limits<double>::infinity(), false);
+    if (!rest) return std::nullopt;
+    if (*rest > 0.0) through += kStep + *rest;
+  }
+  const double depth = std::min(g.probe_depth, 0.5 * through);
+  const Eigen::Vector3d x = q.point + depth * w;
+  // x is in the solid unless the first exit is shallower than the probe (a hollow's wall).
+  const bool inside = depth < exit->distance || object.contains(x);
   const double span = g.span_max - g.span_min - 2.0 * margin;
   const Eigen::Vector3d e1 = w.unitOrthogonal(), e2 = w.cross(e1);
   std::array<Candidate, kEncloseRolls> cands;
   for (int k = 0; k < kEncloseRolls; ++k) {
     const double t = roll + M_PI * k / kEncloseRolls;
     cands[k].dir = std::cos(t) * e1 + std::sin(t) * e2;
-    const auto ch = chord(object, x, cands[k].dir, span);
+    const auto ch = inside ? firstChord(object, x, cands[k].dir, span)
+                           : chord(object, x, cands[k].dir, span, inside);
     cands[k].width = ch ? ch->first + ch->second : 1e300;
     if (ch) cands[k].plus = ch->first, cands[k].minus = ch->second;
   }
@@ -174,8 +252,15 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
   Eigen::Matrix3d palm;
   palm << cp, a, cp.cross(a);
   for (int k : order) {
-    const Candidate& cd = cands[k];
+    Candidate& cd = cands[k];
     if (!(cd.width <= span)) break;
+    if (inside) {
+      // The first crossings bound the extent from below; the whole extent (a part that
+      // continues past a gap) must fit too.
+      const auto ch = chord(object, x, cd.dir, span, inside);
+      if (!ch) continue;
+      cd.plus = ch->first, cd.minus = ch->second, cd.width = ch->first + ch->second;
+    }
     // The chord [x - minus d, x + plus d] in palm c-coordinates, centred on the grasp centre,
     // shifted to lie within the span (with margin).
     double centre = g.grasp_centre.x();

@@ -191,12 +191,13 @@ constexpr int kSpins = 4;
 constexpr double kRayStart = 1e-7;
 /// antipodal_palm: the palm-face rays run this far in front of the surface point, metres.
 constexpr double kPalmClearance = 0.01;
-/// antipodal_palm: attempts of the construction-time probe, and its generator's seed (trial k of
-/// the probe draws from Rng(kProbeSeed, k)).
+/// antipodal_palm and palm_enclose: attempts of the construction-time probe, and its generator's
+/// seed (trial k of the probe draws from Rng(kProbeSeed, k)).
 constexpr int kProbeAttempts = 64;
 constexpr std::uint64_t kProbeSeed = 0x70726f6265ULL;  // "probe"
-/// antipodal_palm: below this share of trials finding a pose within `attempts`, each trial
-/// makes one attempt only (Sampler::attemptsInForce).
+/// antipodal_palm and palm_enclose: below this share of trials finding a pose within
+/// `attempts`, each antipodal_palm trial makes one attempt only and palm_enclose makes none (the
+/// mixed sampler's trials; Sampler::attemptsInForce).
 constexpr double kProbeMinFound = 0.5;
 
 /// antipodal_palm: how far the pads' midpoint lies ahead of the palm's front along the approach
@@ -389,11 +390,16 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
         "the palm_enclose sampler needs a hand with at least two fingers that close across its "
         "approach axis, with finger collision shapes (SamplerOptions::enclose and "
         "finger_points); use --sampler mixed or enclose for this hand");
-  attempts_ = options_.kind == SamplerKind::kAntipodalPalm ? probeAttempts() : options_.attempts;
+  const bool probed =
+      options_.kind == SamplerKind::kAntipodalPalm || options_.kind == SamplerKind::kPalmEnclose;
+  attempts_ = probed ? probeAttempts() : options_.attempts;
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
-  if (options_.kind != SamplerKind::kMixed) return options_.kind;
+  // palm_enclose with no attempts in force (the probe): the mixed sampler's trials.
+  const bool mixed = options_.kind == SamplerKind::kMixed ||
+                     (options_.kind == SamplerKind::kPalmEnclose && attempts_ == 0);
+  if (!mixed) return options_.kind;
   return trial % 2 == 0 ? SamplerKind::kVolume : SamplerKind::kSurface;
 }
 
@@ -577,21 +583,36 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::drawPalmJaw(Rng& rng) con
 // The probe: kProbeAttempts attempts from generators of their own (not the trials'), the same
 // for every seed and thread. With p the accepted share, a trial finds a pose within n attempts
 // with probability 1 - (1 - p)^n; when that stays under kProbeMinFound at n = options.attempts
-// (an object that the jaws rarely span, a mug wider than the opening), attempting costs more
-// than it finds and each trial takes one attempt, then the surface sampler's pose.
+// (an object that the jaws rarely span, a mug wider than the opening or the hand's span),
+// attempting costs more than it finds and each trial takes one attempt, then the surface
+// sampler's pose. antipodal_palm and palm_enclose (one attempt: one surface point, its
+// kEncloseRolls directions).
 int Sampler::probeAttempts() const {
-  const JawGeometry& jaws = *options_.jaws;
-  const double min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
-  const double max_w = jaws.open_width - options_.width_margin;
-  if (max_w <= min_w) return 1;
+  double min_w = 0.0, max_w = 0.0;
+  if (options_.kind == SamplerKind::kAntipodalPalm) {
+    const JawGeometry& jaws = *options_.jaws;
+    min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
+    max_w = jaws.open_width - options_.width_margin;
+    if (max_w <= min_w) return 1;
+  }
+  const auto attempt = [&](Rng& rng) {
+    if (options_.kind == SamplerKind::kPalmEnclose)
+      return drawPalmEnclose(object_, *options_.enclose, options_.approach_axis,
+                             options_.finger_points, 1, options_.enclose_margin, rng)
+          .has_value();
+    return palmJawAttempt(rng, min_w, max_w).has_value();
+  };
   int accepted = 0;
   for (int k = 0; k < kProbeAttempts; ++k) {
     Rng rng(kProbeSeed, static_cast<std::uint64_t>(k));
-    if (palmJawAttempt(rng, min_w, max_w)) ++accepted;
+    if (attempt(rng)) ++accepted;
   }
   const double p = static_cast<double>(accepted) / kProbeAttempts;
   const double found = 1.0 - std::pow(1.0 - p, options_.attempts);
-  return found < kProbeMinFound ? 1 : options_.attempts;
+  if (found >= kProbeMinFound) return options_.attempts;
+  // palm_enclose: an attempt costs several rays per direction and its rare poses mostly fail
+  // in the simulator too (barrett x YCB mug): none, the mixed sampler's trials instead.
+  return options_.kind == SamplerKind::kPalmEnclose ? 0 : 1;
 }
 
 std::optional<AntipodalPair> Sampler::antipodalPair(std::uint64_t seed, std::uint64_t trial) const {
@@ -624,7 +645,7 @@ Pose Sampler::sample(std::uint64_t seed, std::uint64_t trial) const {
   if (kind == SamplerKind::kPalmEnclose) {
     const std::optional<Pose> pose =
         drawPalmEnclose(object_, *options_.enclose, options_.approach_axis, options_.finger_points,
-                        options_.attempts, options_.enclose_margin, rng);
+                        attempts_, options_.enclose_margin, rng);
     if (pose) return *pose;
   }
   if (kind == SamplerKind::kEnclose) {

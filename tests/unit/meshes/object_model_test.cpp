@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -208,6 +209,34 @@ TEST(ObjectModelTest, DistanceToSurfaceMatchesBruteForceOnTheBox) {
   }
   // Outside, along the z axis above the top face.
   EXPECT_NEAR(model.distanceToSurface(Eigen::Vector3d(0, 0, 0.5)), 0.38, 1e-7);
+}
+
+TEST(ObjectModelTest, NearSurfaceIsTheBoundedDistanceTest) {
+  // Oracle: the box's distance by its planes (inside) and by the clamped offset (outside); the
+  // bounded query agrees with it at every radius, including points on both sides of the radius.
+  const ObjectModel model = ObjectModel::load(object("box"));
+  const Eigen::Vector3d lo(-0.03, -0.04, 0.0), hi(0.03, 0.04, 0.12);
+  Rng rng(2, 1);
+  int near = 0, far = 0;
+  for (int i = 0; i < 400; ++i) {
+    const Eigen::Vector3d p(rng.uniform(-0.05, 0.05), rng.uniform(-0.06, 0.06),
+                            rng.uniform(-0.02, 0.14));
+    const Eigen::Vector3d outside = (p.cwiseMax(lo).cwiseMin(hi) - p);
+    const double d = outside.norm() > 0.0
+                         ? outside.norm()
+                         : std::min({p.x() - lo.x(), hi.x() - p.x(), p.y() - lo.y(), hi.y() - p.y(),
+                                     p.z() - lo.z(), hi.z() - p.z()});
+    for (const double r : {0.0005, 0.005, 0.02}) {
+      if (std::abs(d - r) < 1e-9) continue;
+      EXPECT_EQ(model.nearSurface(p, r), d < r) << "distance " << d << " radius " << r;
+      (d < r ? near : far) += 1;
+    }
+  }
+  EXPECT_GT(near, 100);
+  EXPECT_GT(far, 100);
+  EXPECT_FALSE(model.nearSurface(Eigen::Vector3d(0, 0, 0.5), 0.38 - 1e-6));
+  EXPECT_TRUE(model.nearSurface(Eigen::Vector3d(0, 0, 0.5), 0.38 + 1e-6));
+  EXPECT_FALSE(model.nearSurface(Eigen::Vector3d(0, 0, 0.06), 0.0));
 }
 
 TEST(ObjectModelTest, QueriesAreThreadSafe) {

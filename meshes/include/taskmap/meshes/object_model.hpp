@@ -97,6 +97,9 @@ class ObjectModel {
   bool contains(const Eigen::Vector3d& p) const;
   /// Unsigned distance from p to the surface, metres.
   double distanceToSurface(const Eigen::Vector3d& p) const;
+  /// True when the surface comes nearer p than `distance` (metres, object frame): the bounded
+  /// form of distanceToSurface(p) < distance, which stops at the first face found that near.
+  bool nearSurface(const Eigen::Vector3d& p, double distance) const;
   /// Nearest surface crossing of the ray origin + t direction for t in (min_distance,
   /// max_distance] (metres, object frame; direction unit). Empty when the ray meets no face
   /// there. Throws Error when direction is not a finite unit vector or the range is not

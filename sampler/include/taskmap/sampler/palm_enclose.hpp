@@ -49,10 +49,12 @@ std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand);
 /// One draw of the palm-enclose sampler from `rng`: up to `attempts` surface points q (each
 /// with a roll psi, drawn whether accepted or not), each tried with the closing axis along the
 /// kRolls directions psi + k pi / kRolls across -n(q), narrowest object extent first. A
-/// direction is accepted when the object's chord across it at the probe depth fits the open
-/// fingers' span (with `margin`, metres, each side), the palm's face is clear and no point of
-/// `finger_points` (palm frame, metres; fingerCheckPoints) lies inside the object. Returns the
-/// palm pose (palm frame in the object frame), or empty when every attempt failed.
+/// direction is accepted when the object's extent across it at the probe depth (its outermost
+/// surface crossings, through hollows: a mug's far wall, not its wall) fits the open fingers'
+/// span (with `margin`, metres, each side), the palm's face is clear (rays to its edges and
+/// corners) and no point of `finger_points` (palm frame, metres; fingerCheckPoints) lies inside
+/// the object or within 0.5 mm of its surface. Returns the palm pose (palm frame in the object
+/// frame), or empty when every attempt failed.
 std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeometry& geometry,
                                     const Eigen::Vector3d& approach_axis,
                                     const std::vector<Eigen::Vector3d>& finger_points, int attempts,
