@@ -65,10 +65,11 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     }
     ++st_.queries;
     if (m_.opt.check_self_collision)
-      for (int o : m_.partners[u]) {
+      for (std::size_t k = 0; k < m_.partners[u].size(); ++k) {
+        const int o = m_.partners[u][k];
         const auto uo = static_cast<std::size_t>(o);
         if ((centre_[u] - centre_[uo]).norm() > m_.radius[u] + m_.radius[uo] + tol_) continue;
-        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_));
+        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_, &pair_axis_[u][k]));
       }
     dist_[u] = d;
     mn = std::min(mn, d);
@@ -115,6 +116,9 @@ void Trial::close() {
   }
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
   centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
+  pair_axis_.resize(m_.partners.size());
+  for (std::size_t u = 0; u < m_.partners.size(); ++u)
+    pair_axis_[u].assign(m_.partners[u].size(), Eigen::Vector3d::Zero());
   // The rings live per thread (their vectors keep their capacity from trial to trial).
   thread_local std::vector<std::array<SeenTriangles, kSeen>> seen;
   seen.resize(std::max(seen.size(), m_.hand.links().size()));
