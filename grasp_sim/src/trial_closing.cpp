@@ -52,6 +52,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     if (m_.opt.check_self_collision) centre_[u] = m_.scene->linkCentre(l, world_[u]);
   }
   double mn = kInf;
+  const bool axes = m_.diag.self_collision_axes;
   for (int l : mov_) {
     if (shifting && heldLink(l)) continue;
     const auto u = static_cast<std::size_t>(l);
@@ -69,7 +70,8 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
         const int o = m_.partners[u][k];
         const auto uo = static_cast<std::size_t>(o);
         if ((centre_[u] - centre_[uo]).norm() > m_.radius[u] + m_.radius[uo] + tol_) continue;
-        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_, &pair_axis_[u][k]));
+        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_,
+                                                   axes ? &pair_axis_[u][k] : nullptr));
       }
     dist_[u] = d;
     mn = std::min(mn, d);
