@@ -311,6 +311,11 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
     return kInf;
   const auto& la = d.links[ua];
   const auto& lb = d.links[ub];
+  // Only pairs with a hull: GJK on boxes, cylinders and spheres costs about what the test does.
+  auto hasHull = [](const std::vector<ShapeEntry>& l) {
+    return std::any_of(l.begin(), l.end(), [](const ShapeEntry& e) { return e.is_hull; });
+  };
+  if (axis && !hasHull(la) && !hasHull(lb)) axis = nullptr;
   if (axis && !axis->isZero()) {
     // Separating-axis gap: min over b of n . x minus max over a, a lower bound of the distance.
     const Eigen::Vector3d n = ta.linear() * *axis;
