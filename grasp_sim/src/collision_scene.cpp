@@ -31,6 +31,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Collision margin of the box, cylinder and hull link shapes: none, so that GJK works on the
 /// exact shapes (spheres keep their radius as margin; distances subtract it).
 constexpr double kConvexMargin = 0.0;
+/// linkLinkDistance's axis test skips GJK when the gap exceeds the threshold by this, metres
+/// (GJK in double precision is accurate to ~1e-12; as the culled queries' kCullSlack).
+constexpr double kAxisSlack = 1e-9;
 
 /// Separating-axis bound between two oriented boxes (15 axes): > 0 is a lower bound on their
 /// distance, <= 0 means they intersect. Stops at the first axis that puts it above `limit`
@@ -282,17 +285,46 @@ double CollisionScene::linkRadius(int link) const {
   return d_->link_radius[static_cast<std::size_t>(link)];
 }
 
+namespace {
+
+/// Largest n . x over the shapes of a link at pose t (object frame; margins included).
+double linkReach(const std::vector<ShapeEntry>& entries, const Eigen::Isometry3d& t,
+                 const Eigen::Vector3d& n) {
+  double hi = -kInf;
+  for (const ShapeEntry& e : entries) {
+    const Eigen::Isometry3d ts = t * e.origin;
+    const Eigen::Vector3d local = ts.linear().transpose() * n;
+    hi = std::max(hi, n.dot(ts * eig(e.shape->localGetSupportingVertex(bt(local)))));
+  }
+  return hi;
+}
+
+}  // namespace
+
 double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b,
-                                        const Eigen::Isometry3d& tb, double threshold) const {
+                                        const Eigen::Isometry3d& tb, double threshold,
+                                        Eigen::Vector3d* axis) const {
   const Data& d = *d_;
   const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
   if ((ta * d.link_centre[ua] - tb * d.link_centre[ub]).norm() >
       d.link_radius[ua] + d.link_radius[ub] + threshold)
     return kInf;
-  double best = kInf;
-  for (const ShapeEntry& ea : d.links[static_cast<std::size_t>(a)]) {
+  const auto& la = d.links[ua];
+  const auto& lb = d.links[ub];
+  // Only pairs with a hull: GJK on boxes, cylinders and spheres costs about what the test does.
+  auto hasHull = [](const std::vector<ShapeEntry>& l) {
+    return std::any_of(l.begin(), l.end(), [](const ShapeEntry& e) { return e.is_hull; });
+  };
+  if (axis && !hasHull(la) && !hasHull(lb)) axis = nullptr;
+  if (axis && !axis->isZero()) {
+    // Separating-axis gap: min over b of n . x minus max over a, a lower bound of the distance.
+    const Eigen::Vector3d n = ta.linear() * *axis;
+    if (-linkReach(lb, tb, -n) - linkReach(la, ta, n) > threshold + kAxisSlack) return kInf;
+  }
+  double best = kInf, nearest_separated = kInf;
+  for (const ShapeEntry& ea : la) {
     const Eigen::Isometry3d sa = ta * ea.origin;
-    for (const ShapeEntry& eb : d.links[static_cast<std::size_t>(b)]) {
+    for (const ShapeEntry& eb : lb) {
       const Eigen::Isometry3d sb = tb * eb.origin;
       if ((sa.translation() - sb.translation()).norm() >
           ea.bounding_radius + eb.bounding_radius + threshold)
@@ -308,6 +340,13 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
                           &overlap))
         dist = 0.0;  // EPA failure on overlapping shapes: treat as touching
       if (dist <= threshold) best = std::min(best, dist);
+      if (axis && !overlap && dist < nearest_separated) {
+        const Eigen::Vector3d w = eig(r.witnesses[1]) - eig(r.witnesses[0]);
+        if (w.norm() > 1e-12) {
+          nearest_separated = dist;
+          *axis = ta.linear().transpose() * w.normalized();
+        }
+      }
     }
   }
   return best;

@@ -133,9 +133,14 @@ class CollisionScene {
   /// Radius of the sphere enclosing link `link` (pose independent), metres.
   double linkRadius(int link) const;
   /// Minimum signed distance between two links at their poses, within `threshold`
-  /// (+infinity beyond).
+  /// (+infinity beyond). With `axis` (a unit direction in link a's frame, or zero; used only when
+  /// a shape of either link is a hull, ignored otherwise): when the two links' extents along it
+  /// leave a gap above threshold + 1e-9 m, +infinity without GJK (the same answer: the gap is a
+  /// lower bound of the distance); otherwise GJK/EPA as without it, and *axis becomes the
+  /// direction from a's witness to b's of the nearest separated shape pair (unchanged when every
+  /// pair overlaps). A caller keeps one per link pair across poses.
   double linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b, const Eigen::Isometry3d& tb,
-                          double threshold) const;
+                          double threshold, Eigen::Vector3d* axis = nullptr) const;
   /// Outward unit normal of triangle `tri`.
   const Eigen::Vector3d& faceNormal(int tri) const;
   /// Centre and radius of a sphere enclosing the object, metres.

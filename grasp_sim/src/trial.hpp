@@ -111,6 +111,9 @@ class Trial {
   std::vector<int> eval_;  // links evaluated per step: mov_, or every shaped link while shifting
   std::vector<Eigen::Isometry3d> world_;
   std::vector<Eigen::Vector3d> centre_;  // evalMoving: each link's bounding sphere's centre
+  // evalMoving: per link and self-collision partner (m_.partners' layout), the last separating
+  // axis of the pair in the link's frame (CollisionScene::linkLinkDistance; zero: none yet).
+  std::vector<std::vector<Eigen::Vector3d>> pair_axis_;
   // Lean queries: per link, what its last kSeen closing evaluations saw (a ring; the squeeze's
   // contacts read the one at the pose where the link stopped) and the next slot.
   static constexpr std::size_t kSeen = 8;

@@ -52,6 +52,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     if (m_.opt.check_self_collision) centre_[u] = m_.scene->linkCentre(l, world_[u]);
   }
   double mn = kInf;
+  const bool axes = m_.diag.self_collision_axes;
   for (int l : mov_) {
     if (shifting && heldLink(l)) continue;
     const auto u = static_cast<std::size_t>(l);
@@ -65,10 +66,12 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     }
     ++st_.queries;
     if (m_.opt.check_self_collision)
-      for (int o : m_.partners[u]) {
+      for (std::size_t k = 0; k < m_.partners[u].size(); ++k) {
+        const int o = m_.partners[u][k];
         const auto uo = static_cast<std::size_t>(o);
         if ((centre_[u] - centre_[uo]).norm() > m_.radius[u] + m_.radius[uo] + tol_) continue;
-        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_));
+        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_,
+                                                   axes ? &pair_axis_[u][k] : nullptr));
       }
     dist_[u] = d;
     mn = std::min(mn, d);
@@ -115,6 +118,9 @@ void Trial::close() {
   }
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
   centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
+  pair_axis_.resize(m_.partners.size());
+  for (std::size_t u = 0; u < m_.partners.size(); ++u)
+    pair_axis_[u].assign(m_.partners[u].size(), Eigen::Vector3d::Zero());
   // The rings live per thread (their vectors keep their capacity from trial to trial).
   thread_local std::vector<std::array<SeenTriangles, kSeen>> seen;
   seen.resize(std::max(seen.size(), m_.hand.links().size()));

@@ -4,18 +4,21 @@
 // same trials, for every hand x object of the reference set (bundled hands, the Robotiq 2F-85 style
 // test hand, bundled objects) and of the real set (--real DIR, default
 // $TASKMAP_REAL_DIR: hands/franka_hand, hands/allegro_right, objects/*.obj; see the README of
-// that folder). Trials are drawn by the build's sampler (mixed, seed 1), one thread.
-// Prints per pair: trials/s new and baseline, their ratio, force-closure ("valid") grasps per
-// second of simulation, and on the trials both ran how many ended the same (status, palm pose,
-// joints: bit for bit) and how many also have the same contacts bit for bit (box and hull contacts
-// on fine meshes come from separating axes, not EPA: equal up to rounding, different at tied
-// features, a face flat on a triangle, and where Bullet's GJK calls an overlapping pair apart;
-// GraspSimDiagnostics::separating_axis_contacts).
-//   grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] [--baseline-seconds S]
-//                  [--profile 1]
+// that folder; --extra DIR adds the real Robotiq 2F-85 and the YCB cracker box, soup can,
+// mustard bottle and scissors of issue 33's extra inputs). Trials are drawn by the build's sampler
+// (mixed, seed 1), one thread. Prints per pair: trials/s new and baseline, their ratio,
+// force-closure ("valid") grasps per second of simulation, and on the trials both ran how many
+// ended the same (status, palm pose, joints: bit for bit) and how many also have the same contacts
+// bit for bit (box and hull contacts on fine meshes come from separating axes, not EPA: equal up to
+// rounding, different at tied features, a face flat on a triangle, and where Bullet's GJK calls an
+// overlapping pair apart; GraspSimDiagnostics::separating_axis_contacts).
+//   grasp_sim_rate [--real DIR] [--extra DIR] [--seconds S] [--only SUBSTRING]
+//                  [--baseline-seconds S] [--profile 1] [--versus bullet|axes]
 // (--baseline-seconds 0 runs one baseline trial per pair: for profiling the new path; --profile 1
 // adds per pair the new path's share of time per phase, queries per trial, the outcomes and the
-// CPU time of the quality stage on the ok trials relative to the simulation's).
+// CPU time of the quality stage on the ok trials relative to the simulation's; --versus axes
+// takes as baseline the default path without the closing's self-collision separating axes,
+// GraspSimDiagnostics::self_collision_axes false).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -233,6 +236,9 @@ struct BenchOptions {
   std::size_t trials = 0;          ///< > 0: exactly this many trials per mode (not `seconds`)
   std::size_t block = 64;          ///< trials simulated before their grasps are scored (as a build)
   bool digest = false;             ///< print a digest of the new path's results
+  /// The baseline: "bullet" (culled_queries false) or "axes" (the default path without the
+  /// self-collision test's separating axes, GraspSimDiagnostics::self_collision_axes false).
+  std::string versus = "bullet";
 };
 
 void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
@@ -246,7 +252,10 @@ void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
   const Sampler sampler(object, so);
   Poses poses{sampler, {}};
   GraspSimDiagnostics fast, base;
-  base.culled_queries = false;
+  if (bo.versus == "axes")
+    base.self_collision_axes = false;
+  else
+    base.culled_queries = false;
   fast.profile = profile;
   const GraspSimulator sim_new(object, hand, {}, fast), sim_old(object, hand, {}, base);
   const Rate rn = run(sim_new, object, poses, seconds, 32, bo.quality, bo.trials, bo.block);
@@ -272,11 +281,13 @@ void benchPair(const Item& h, const Item& o, const BenchOptions& bo) {
 int mainImpl(int argc, char** argv) {
   std::string real = std::getenv("TASKMAP_REAL_DIR") ? std::getenv("TASKMAP_REAL_DIR") : "";
   BenchOptions bo;
-  std::string only;
+  std::string only, extra;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--real")
       real = argv[i + 1];
+    else if (a == "--extra")
+      extra = argv[i + 1];
     else if (a == "--seconds")
       bo.seconds = std::stod(argv[i + 1]);
     else if (a == "--only")
@@ -293,11 +304,14 @@ int mainImpl(int argc, char** argv) {
       bo.block = std::max<std::size_t>(1, std::stoul(argv[i + 1]));
     else if (a == "--digest")
       bo.digest = std::string(argv[i + 1]) == "1";
+    else if (a == "--versus" &&
+             (std::string(argv[i + 1]) == "bullet" || std::string(argv[i + 1]) == "axes"))
+      bo.versus = argv[i + 1];
     else
       throw Error(
-          "usage: grasp_sim_rate [--real DIR] [--seconds S] [--only SUBSTRING] "
+          "usage: grasp_sim_rate [--real DIR] [--extra DIR] [--seconds S] [--only SUBSTRING] "
           "[--baseline-seconds S] [--profile 1] [--quality 0] [--trials N] [--digest 1] [--block "
-          "N]");
+          "N] [--versus bullet|axes]");
   }
   const std::string hands = TASKMAP_HANDS_DIR, objects = TASKMAP_OBJECTS_DIR;
   std::vector<Item> hs, os;
@@ -316,6 +330,12 @@ int mainImpl(int argc, char** argv) {
                   0.0002682457830986903});
   } else {
     std::printf("(no real set: pass --real DIR or set TASKMAP_REAL_DIR)\n");
+  }
+  if (!extra.empty() && fs::is_directory(extra)) {  // issue 33's extra real inputs (not committed)
+    hs.push_back({"robotiq", extra + "/hands/robotiq_2f85/robotiq_arg2f_85.urdf"});
+    for (const char* n : {"ycb_003_cracker_box", "ycb_005_tomato_soup_can",
+                          "ycb_006_mustard_bottle", "ycb_037_scissors"})
+      os.push_back({std::string(n).substr(8), extra + "/objects/" + n + ".obj"});
   }
   std::printf("one thread; trials drawn by the mixed sampler, seed 1; %.1f s per mode and pair%s\n",
               bo.seconds, bo.quality ? "" : "; quality not scored (valid/s 0)");

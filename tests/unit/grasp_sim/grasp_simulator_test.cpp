@@ -287,6 +287,33 @@ TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
   }
 }
 
+// The closing's self-collision test with each link pair's separating axis carried (default)
+// against GJK on every pair within its bounding spheres: the same trials bit for bit (statuses,
+// poses, joints, contacts, query counts) for hands with self-collision partners: the humanoid
+// hand (boxes), a hand with hull links and a mimic jaw pair (coupled closing).
+TEST(GraspSimulator, SelfCollisionAxesGiveTheSameTrials) {
+  const ObjectModel object = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/mug.obj");
+  const Eigen::Vector3d lo = object.massProperties().bounds_min;
+  const Eigen::Vector3d hi = object.massProperties().bounds_max;
+  for (const std::string& hand_path : {std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf",
+                                       std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf",
+                                       testing::testHandPath("panda_mimic")}) {
+    SCOPED_TRACE(hand_path);
+    const HandModel hand = HandModel::load(hand_path);
+    GraspSimDiagnostics plain;
+    plain.self_collision_axes = false;
+    const GraspSimulator with_axes(object, hand), without(object, hand, {}, plain);
+    int ok = 0;
+    for (const Pose& p : randomPoses(40, lo, hi)) {
+      const GraspResult a = with_axes.simulate(p), b = without.simulate(p);
+      expectSame(a, b, true);
+      EXPECT_EQ(a.stats.closing_steps, b.stats.closing_steps);
+      ok += a.status == GraspStatus::kOk;
+    }
+    EXPECT_GT(ok, 0);  // the trials reach the closing
+  }
+}
+
 TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
   const ObjectModel basket = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj");
   for (const char* name : {"panda", "barrett", "humanoid"}) {

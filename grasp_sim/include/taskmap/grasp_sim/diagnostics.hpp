@@ -32,6 +32,11 @@ struct GraspSimDiagnostics {
   /// overlapping pair apart (which can give a finger its first contact). Closing and squeeze
   /// keep EPA: the pose and joints are the same either way, bit for bit. Needs culled_queries.
   bool separating_axis_contacts = true;
+  /// The closing's self-collision test: true = each link pair's last separating axis is tried
+  /// before GJK and proves most pairs apart (docs/METHOD.md §2), the same answers bit for bit;
+  /// false = GJK/EPA on every pair whose bounding spheres are within the threshold (the
+  /// previous path, kept to compare).
+  bool self_collision_axes = true;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;
 };
