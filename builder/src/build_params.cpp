@@ -204,6 +204,11 @@ void visitClosingCheck(Io& io, P& p) {
   io("closing_timestep", c.timestep);
   io("closing_substeps", c.substeps);
   io("closing_solver_iterations", c.solver_iterations);
+  io("closing_torsional_friction", c.torsional_friction);
+  io("closing_warm_start_drives", c.warm_start_drives);
+  io("closing_jaw_solver_iterations", c.jaws.solver_iterations);
+  io("closing_jaw_torsional_friction", c.jaws.torsional_friction);
+  io("closing_jaw_warm_start_drives", c.jaws.warm_start_drives);
   io("closing_contact_erp", c.contact_erp);
   io("closing_max_settle_steps", c.max_settle_steps);
   io("closing_settle_erp", c.settle_erp);

@@ -45,6 +45,9 @@ void ClosingCheckOptions::validate() const {
     throw Error("closing check option mode must be off, closing or pushes");
   positive(object_mass, "object_mass", " (kg)");
   positive(friction, "friction", "");
+  if (!(torsional_friction >= 0.0 && std::isfinite(torsional_friction)))
+    throw Error("closing check option torsional_friction must be >= 0 (m; 0: none), got " +
+                std::to_string(torsional_friction));
   positive(kp_revolute, "kp_revolute", " (N m / rad)");
   positive(damping_revolute, "damping_revolute", " (N m s / rad)");
   positive(kp_prismatic, "kp_prismatic", " (N / m)");
@@ -77,6 +80,15 @@ void ClosingCheckOptions::validate() const {
         "got " +
         std::to_string(interpolation_stages) + ", " + std::to_string(substeps) + " and " +
         std::to_string(solver_iterations));
+  if (jaws.solver_iterations < 0)
+    throw Error(
+        "closing check option jaws.solver_iterations must be >= 0 (0: solver_iterations), "
+        "got " +
+        std::to_string(jaws.solver_iterations));
+  if (!std::isfinite(jaws.torsional_friction))
+    throw Error(
+        "closing check option jaws.torsional_friction must be a number (m; < 0: "
+        "torsional_friction)");
   if (!(rest_speed >= 0.0 && std::isfinite(rest_speed)))
     throw Error("closing check option rest_speed must be >= 0 (m/s; 0: no early end), got " +
                 std::to_string(rest_speed));
@@ -106,6 +118,9 @@ ClosingCheckOptions ClosingCheckOptions::earlyVerdict() {
   o.push_duration = 0.05;
   o.rest_speed = 0.005;
   o.rest_steps = 2;
+  o.jaws.solver_iterations = 20;
+  o.jaws.torsional_friction = 0.02;
+  o.jaws.warm_start_drives = true;
   return o;
 }
 

@@ -121,6 +121,8 @@ ClosingChecker::Model::Model(const ObjectModel& o, const HandModel& h,
       queue.push_back(child);
     }
   }
+  for (const HandJoint& j : hj)
+    if (j.type == JointType::kPrismatic && j.driver >= 0) jaws = true;
   makeObject(o);
 }
 

@@ -37,6 +37,7 @@ struct ClosingChecker::Model {
   Eigen::Isometry3d object_principal;                  ///< principal frame in the object frame
   Eigen::Vector3d object_inertia = Eigen::Vector3d::Zero();  ///< principal moments, kg m^2
   int object_pieces = 0;
+  bool jaws = false;  ///< a driven prismatic joint (parallel jaws): ClosingCheckOptions::jaws apply
   std::vector<int> multibody_of;  ///< per hand link: multibody index (-1 base, -2 none)
 
   Model(const ObjectModel& object, const HandModel& h, const ClosingCheckOptions& o);

@@ -192,6 +192,11 @@ void addObject(const ClosingChecker::Model& m, ClosingWorld* w) {
   info.m_friction = m.options.friction;
   info.m_restitution = 0.0;
   w->object = std::make_unique<btRigidBody>(info);
+  // Bullet combines torsional friction as spin_a friction_b + spin_b friction_a: the hand's
+  // spinning friction 0 and its friction 1 leave the object's value.
+  const bool jaw_value = m.jaws && m.options.jaws.torsional_friction >= 0.0;
+  w->object->setSpinningFriction(jaw_value ? m.options.jaws.torsional_friction
+                                           : m.options.torsional_friction);
   w->object->setActivationState(DISABLE_DEACTIVATION);
   w->world.addRigidBody(w->object.get(), kObjectGroup, kHandGroup);
 }
@@ -313,7 +318,11 @@ ClosingCheckResult ClosingChecker::Model::run(const Pose& palm_pose,
   const Eigen::Isometry3d palm = palm_pose.toIsometry();
   ClosingWorld w;
   w.world.setGravity(btVector3(0, 0, 0));
-  w.world.getSolverInfo().m_numIterations = o.solver_iterations;
+  btContactSolverInfo& solver = w.world.getSolverInfo();
+  solver.m_numIterations =
+      jaws && o.jaws.solver_iterations > 0 ? o.jaws.solver_iterations : o.solver_iterations;
+  if (o.warm_start_drives || (jaws && o.jaws.warm_start_drives))
+    solver.m_solverMode |= SOLVER_USE_ARTICULATED_WARMSTARTING;
   w.world.getSolverInfo().m_erp2 = o.contact_erp;
   buildHand(*this, palm * hand.rootToPalm().inverse(), jointTargets(hand, pregrasp), &w);
   addDrives(*this, &w);

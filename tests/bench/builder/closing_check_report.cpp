@@ -13,10 +13,11 @@
 // A variant with penetration=1e-9 ends every check after its world is built (the cost of
 // construction), mode=closing leaves out the pushes: the breakdown of the check's cost.
 // Variant keys: timestep, substeps, iterations, closing_time, stages, push_duration, settle,
-// pieces, erp, settle_erp, translation, rotation, rest_speed, rest_steps, penetration, mode.
-// Without --variant one variant, "default", of the options given; a variant whose name starts
-// with "early" starts from ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N
-// checks the first N labelled grasps of each map.
+// pieces, erp, settle_erp, translation, rotation, rest_speed, rest_steps, penetration, torsional,
+// jaw_force, warm_drives, two_friction, jaw_iterations, mode. Without --variant one variant,
+// "default", of the options given; a variant whose name starts with "early" starts from
+// ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N checks the first N
+// labelled grasps of each map.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -96,6 +97,18 @@ void setKey(taskmap::ClosingCheckOptions* o, const std::string& key, const std::
     o->rest_steps = std::atoi(v.c_str());
   else if (key == "penetration")
     o->max_penetration = x;
+  else if (key == "torsional")
+    o->torsional_friction = x;
+  else if (key == "jaw_iterations")
+    o->jaws.solver_iterations = std::atoi(v.c_str());
+  else if (key == "jaw_torsional")
+    o->jaws.torsional_friction = x;
+  else if (key == "jaw_warm_drives")
+    o->jaws.warm_start_drives = x != 0.0;
+  else if (key == "warm_drives")
+    o->warm_start_drives = x != 0.0;
+  else if (key == "jaw_force")
+    o->jaw_force = x;
   else if (key == "mode")
     o->mode = taskmap::closingCheckModeFromString(v);
   else

@@ -14,8 +14,13 @@
 // --jaw KIND (default antipodal) is the new sampler of the parallel-jaw hands; --extra DIR
 // (default ../extra_real) adds issue 33's own pairs where their inputs exist there (the real
 // Robotiq 2F-85 URDF and sidecar, YCB soup can, mustard bottle, cracker box, scissors).
+// --closing-check KIND (off, closing, pushes, pushes_early: what `taskmap build --closing-check`
+// takes) adds a third build per round, the new sampler with the closing check, and prints its
+// stored grasps per CPU-second, its ratios to mixed and to the new sampler alone, its hold rate,
+// the check's CPU per checked grasp and the share of checked grasps it passes; --trials N caps
+// every build's trials (default: BuildOptions' 200000).
 //   sampler_rate [--real DIR] [--extra DIR] [--valid N] [--rounds R] [--only SUBSTRING]
-//                [--multi KIND] [--jaw KIND] [--hold N]
+//                [--multi KIND] [--jaw KIND] [--hold N] [--closing-check KIND] [--trials N]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -45,15 +50,27 @@ struct Run {
   std::uint64_t trials = 0, stored = 0;
   std::map<std::string, std::uint64_t> outcomes;
   std::size_t tested = 0, holding = 0;  ///< physics hold test of the first --hold grasps
+  std::uint64_t checks = 0;             ///< grasps the closing check ran on
+  double check_seconds = 0.0;           ///< CPU seconds of the closing check
 };
 
+/// The closing check of `taskmap build --closing-check KIND` (off: none).
+ClosingCheckOptions closingCheck(const std::string& kind) {
+  if (kind == "pushes_early") return ClosingCheckOptions::earlyVerdict();
+  ClosingCheckOptions c;
+  c.mode = closingCheckModeFromString(kind);
+  return c;
+}
+
 Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, std::uint64_t valid,
-          std::size_t hold) {
+          std::size_t hold, const ClosingCheckOptions& check, std::uint64_t trials) {
   BuildOptions o;
   o.threads = 1;
   o.valid_target = valid;
   o.cluster = false;
   o.sampler.kind = kind;
+  o.closing_check = check;
+  if (trials > 0) o.max_trials = trials;
   const BuildResult r = buildMap(object, hand, o);
   const BuildTiming& t = r.timing;
   const double cpu = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
@@ -65,6 +82,8 @@ Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, st
   run.sampling = t.sampling_seconds;
   run.quality = t.quality_seconds;
   run.outcomes = r.map.sampling.outcomes;
+  run.checks = t.closing_checks;
+  run.check_seconds = t.closing_check_seconds;
   if (hold > 0 && run.stored > 0) {
     // What `taskmap validate MAP --grasps N --threads 1` computes.
     TaskMapData map = r.map;
@@ -108,7 +127,8 @@ int benchMain(int argc, char** argv) {
   std::uint64_t valid = 300;
   int rounds = 1;
   std::size_t hold = 60;
-  std::string only, multi = "enclose", jaw = "antipodal";
+  std::string only, multi = "enclose", jaw = "antipodal", check_kind = "off";
+  std::uint64_t trials = 0;
   std::string extra = std::string(TASKMAP_SOURCE_DIR) + "/../extra_real";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -128,10 +148,17 @@ int benchMain(int argc, char** argv) {
       jaw = v;
     else if (a == "--extra")
       extra = v;
+    else if (a == "--closing-check")
+      check_kind = v;
+    else if (a == "--trials")
+      trials = std::stoull(v);
     else
       throw Error("unknown option " + a +
-                  " (--real, --extra, --valid, --rounds, --only, --multi, --jaw, --hold)");
+                  " (--real, --extra, --valid, --rounds, --only, --multi, --jaw, --hold, "
+                  "--closing-check, --trials)");
   }
+  const ClosingCheckOptions check = closingCheck(check_kind);
+  const bool with_check = check.mode != ClosingCheckMode::kOff;
   const SamplerKind multi_kind = samplerKindFromString(multi);
   const SamplerKind jaw_kind = samplerKindFromString(jaw);
   const std::string src = TASKMAP_SOURCE_DIR;
@@ -198,15 +225,22 @@ int benchMain(int argc, char** argv) {
       MeshLoadOptions lo;
       lo.scale = oi.scale;
       const ObjectModel object = ObjectModel::load(oi.path, lo);
-      std::vector<double> old_rates, new_rates;
-      Run old_run, new_run, old_first, new_first;
+      std::vector<double> old_rates, new_rates, check_rates;
+      Run old_first, new_first, check_first;
+      const ClosingCheckOptions off;
       for (int r = 0; r < rounds; ++r) {
         // The hold test once (its labels do not depend on timing).
-        old_run = build(object, hand, SamplerKind::kMixed, valid, r == 0 ? hold : 0);
-        new_run = build(object, hand, new_kind, valid, r == 0 ? hold : 0);
+        const std::size_t h = r == 0 ? hold : 0;
+        const Run old_run = build(object, hand, SamplerKind::kMixed, valid, h, off, trials);
+        const Run new_run = build(object, hand, new_kind, valid, h, off, trials);
         if (r == 0) old_first = old_run, new_first = new_run;
         old_rates.push_back(old_run.rate);
         new_rates.push_back(new_run.rate);
+        if (with_check) {
+          const Run check_run = build(object, hand, new_kind, valid, h, check, trials);
+          if (r == 0) check_first = check_run;
+          check_rates.push_back(check_run.rate);
+        }
       }
       const double o = median(old_rates), n = median(new_rates);
       const auto per = [](const Run& r) {
@@ -230,6 +264,21 @@ int benchMain(int argc, char** argv) {
           ms(new_first, new_first.simulation), ms(old_first, old_first.sampling),
           ms(new_first, new_first.sampling), ms(old_first, old_first.quality),
           ms(new_first, new_first.quality), shares(old_first, new_first).c_str());
+      if (with_check) {
+        const double c = median(check_rates);
+        const Run& k = check_first;
+        std::printf(
+            "%-20s %-15s %-14s with --closing-check %s: %.1f stored g/s (%.2fx mixed, %.2fx "
+            "%s alone), %llu stored in %llu trials, hold %.0f%% (%zu/%zu), check %.2f ms/grasp "
+            "CPU, passes %.0f%% of %llu checked\n",
+            hi.name.c_str(), oi.name.c_str(), toString(new_kind), check_kind.c_str(), c,
+            o > 0 ? c / o : 0.0, n > 0 ? c / n : 0.0, toString(new_kind),
+            static_cast<unsigned long long>(k.stored), static_cast<unsigned long long>(k.trials),
+            pct(k), k.holding, k.tested,
+            k.checks ? 1e3 * k.check_seconds / static_cast<double>(k.checks) : 0.0,
+            k.checks ? 100.0 * static_cast<double>(k.stored) / static_cast<double>(k.checks) : 0.0,
+            static_cast<unsigned long long>(k.checks));
+      }
       std::fflush(stdout);
     }
   }

@@ -63,6 +63,12 @@ TEST(ClosingCheck, ModeNamesAndOptionErrors) {
   o.rest_steps = 0;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"rest_steps", ">= 1"}));
   o = ClosingCheckOptions();
+  o.torsional_friction = -0.01;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"torsional_friction", ">= 0", "m"}));
+  o = ClosingCheckOptions();
+  o.jaws.solver_iterations = -1;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"jaws.solver_iterations", ">= 0"}));
+  o = ClosingCheckOptions();
   o.timestep = 0.2;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"timestep", "closing_time"}));
   // The constructor validates, and check() names a joint count that does not fit.
@@ -216,6 +222,34 @@ TEST(ClosingCheck, EarlyVerdictEndsPushesAtRestOrAtTheThreshold) {
   EXPECT_TRUE(d.translation >= early.max_translation || d.rotation >= early.max_rotation);
   EXPECT_LE(d.translation, c.translation + 1e-3);
   EXPECT_LT(d.steps, c.steps);
+}
+
+// The jaws' settings of the early verdict (ClosingCheckOptions::jaws: 20 solver iterations,
+// torsional friction 0.02 m, warm-started drives; what they change on jaw grasps is tested in
+// closing_check_build_test). A hand without a driven prismatic joint ignores them: the
+// barrett's numbers are the same bit for bit with and without.
+TEST(ClosingCheck, JawSettingsLeaveOtherHandsAlone) {
+  const ClosingCheckOptions early = ClosingCheckOptions::earlyVerdict();
+  EXPECT_EQ(early.jaws.solver_iterations, 20);
+  EXPECT_EQ(early.jaws.torsional_friction, 0.02);
+  EXPECT_TRUE(early.jaws.warm_start_drives);
+  ClosingCheckOptions plain = early;
+  plain.jaws = ClosingCheckOptions::Jaws();
+  const TriangleMesh cyl = testing::makeCylinder(0.035, 0.16, 48, 0);
+  const ObjectModel cylinder = ObjectModel::fromMesh(cyl, "cylinder");
+  const HandModel barrett = testing::referenceHand("barrett");
+  const ClosingChecker with_jaws(cylinder, barrett, early), without(cylinder, barrett, plain);
+  const std::vector<GraspResult> grasps = barrettCylinderGrasps(cyl, 3);
+  ASSERT_EQ(grasps.size(), 3u);
+  for (const GraspResult& b : grasps) {
+    const ClosingCheckResult x = with_jaws.check(b.pose, b.joints);
+    const ClosingCheckResult y = without.check(b.pose, b.joints);
+    EXPECT_EQ(x.holds, y.holds);
+    EXPECT_EQ(x.translation, y.translation);
+    EXPECT_EQ(x.rotation, y.rotation);
+    EXPECT_EQ(x.steps, y.steps);
+    EXPECT_EQ(x.failed_push, y.failed_push);
+  }
 }
 
 // Each check builds its own world: the same grasp gives the same numbers, bit for bit, repeated

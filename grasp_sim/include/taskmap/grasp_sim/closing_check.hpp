@@ -42,19 +42,37 @@ struct ClosingCheckOptions {
   ClosingCheckMode mode = ClosingCheckMode::kOff;  ///< off by default
   double object_mass = 0.1;                        ///< kg, the free object's mass
   double friction = 0.6;                           ///< Coulomb friction of hand-object contacts
-  double kp_revolute = 5.0;                        ///< N m / rad, position gain of revolute joints
-  double damping_revolute = 0.1;                   ///< N m s / rad, revolute joint damping
-  double kp_prismatic = 20000.0;                   ///< N / m, position gain of prismatic joints
-  double damping_prismatic = 100.0;                ///< N s / m, prismatic joint damping
-  double jaw_force = 70.0;         ///< N, force limit of each prismatic joint (parallel jaw)
-  double link_density = 800.0;     ///< kg / m^3, hand links' mass from their shapes
-  double pregrasp_fraction = 0.9;  ///< start: this far from the preshape to the grasp
-  double squeeze_fraction = 1.1;   ///< end target: this far from the preshape past the grasp
-  double closing_time = 0.8;       ///< s, pregrasp to grasp and grasp to squeeze, half each
-  int interpolation_stages = 10;   ///< control targets per half (linear steps)
-  double timestep = 0.004;         ///< s, control period
-  int substeps = 4;                ///< Bullet steps per control period (>= 1)
-  int solver_iterations = 10;      ///< Bullet constraint solver iterations per step (>= 1)
+  /// m: torsional friction of hand-object contacts (a contact resists turning about its normal
+  /// with at most this times its normal force; the hold test's 0.02; 0: none)
+  double torsional_friction = 0.0;
+  double kp_revolute = 5.0;          ///< N m / rad, position gain of revolute joints
+  double damping_revolute = 0.1;     ///< N m s / rad, revolute joint damping
+  double kp_prismatic = 20000.0;     ///< N / m, position gain of prismatic joints
+  double damping_prismatic = 100.0;  ///< N s / m, prismatic joint damping
+  double jaw_force = 70.0;           ///< N, force limit of each prismatic joint (parallel jaw)
+  double link_density = 800.0;       ///< kg / m^3, hand links' mass from their shapes
+  double pregrasp_fraction = 0.9;    ///< start: this far from the preshape to the grasp
+  double squeeze_fraction = 1.1;     ///< end target: this far from the preshape past the grasp
+  double closing_time = 0.8;         ///< s, pregrasp to grasp and grasp to squeeze, half each
+  int interpolation_stages = 10;     ///< control targets per half (linear steps)
+  double timestep = 0.004;           ///< s, control period
+  int substeps = 4;                  ///< Bullet steps per control period (>= 1)
+  int solver_iterations = 10;        ///< Bullet constraint solver iterations per step (>= 1)
+  /// Start each step's solve of the joint drives and limits from their previous impulses
+  /// (Bullet's SOLVER_USE_ARTICULATED_WARMSTARTING): a grip that a chain of drive, contact,
+  /// object, contact, drive transmits builds up over the steps instead of within one step's
+  /// iterations
+  bool warm_start_drives = false;
+  /// Overrides for hands with a driven prismatic joint (parallel jaws). Their grip is a chain
+  /// (drive, contact, object, contact, drive) that the solver's Gauss-Seidel iterations resolve
+  /// slowly, and two opposed pads leave an axis that only torsional friction holds: with few
+  /// iterations and none, the jaws press too lightly and a 1 N push slides or turns the object
+  /// out of a grip that holds in the hold test (docs/VALIDATION.md, second round).
+  struct Jaws {
+    int solver_iterations = 0;         ///< >= 0; 0: ClosingCheckOptions::solver_iterations
+    double torsional_friction = -1.0;  ///< m; < 0: ClosingCheckOptions::torsional_friction
+    bool warm_start_drives = false;    ///< warm-start the drives (also when warm_start_drives is)
+  } jaws;
   /// Bullet's contact error reduction (btContactSolverInfo::m_erp2): the share of a
   /// penetration removed per step (the stored grasps start pressed in by the squeeze).
   double contact_erp = 0.2;
@@ -83,7 +101,8 @@ struct ClosingCheckOptions {
   /// The early-verdict settings (docs/METHOD.md §4d, docs/VALIDATION.md "A cheaper closing
   /// check"): 8 ms steps, 4 solver iterations, closing 0.1 s (2 x 5 stages), at most 10 settle
   /// steps at erp 0.8, pushes of at most 0.05 s that end at rest (5 mm/s for 2 steps) or at
-  /// the first step past a threshold; about 30x cheaper than the defaults, mode kPushes.
+  /// the first step past a threshold; about 30x cheaper than the defaults, mode kPushes. Jaws:
+  /// 20 iterations, torsional friction 0.02 m (the hold test's), drives warm-started.
   static ClosingCheckOptions earlyVerdict();
 };
 
