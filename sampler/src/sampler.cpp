@@ -196,8 +196,8 @@ constexpr double kPalmClearance = 0.01;
 constexpr int kProbeAttempts = 64;
 constexpr std::uint64_t kProbeSeed = 0x70726f6265ULL;  // "probe"
 /// antipodal_palm and palm_enclose: below this share of trials finding a pose within
-/// `attempts`, each antipodal_palm trial makes one attempt only and palm_enclose makes none (the
-/// mixed sampler's trials; Sampler::attemptsInForce).
+/// `attempts`, they make no attempt: their trials are the mixed sampler's
+/// (Sampler::attemptsInForce).
 constexpr double kProbeMinFound = 0.5;
 
 /// antipodal_palm: how far the pads' midpoint lies ahead of the palm's front along the approach
@@ -396,9 +396,11 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
-  // palm_enclose with no attempts in force (the probe): the mixed sampler's trials.
-  const bool mixed = options_.kind == SamplerKind::kMixed ||
-                     (options_.kind == SamplerKind::kPalmEnclose && attempts_ == 0);
+  // antipodal_palm and palm_enclose with no attempts in force (the probe): the mixed sampler's
+  // trials.
+  const bool probed =
+      options_.kind == SamplerKind::kAntipodalPalm || options_.kind == SamplerKind::kPalmEnclose;
+  const bool mixed = options_.kind == SamplerKind::kMixed || (probed && attempts_ == 0);
   if (!mixed) return options_.kind;
   return trial % 2 == 0 ? SamplerKind::kVolume : SamplerKind::kSurface;
 }
@@ -584,16 +586,16 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::drawPalmJaw(Rng& rng) con
 // for every seed and thread. With p the accepted share, a trial finds a pose within n attempts
 // with probability 1 - (1 - p)^n; when that stays under kProbeMinFound at n = options.attempts
 // (an object that the jaws rarely span, a mug wider than the opening or the hand's span),
-// attempting costs more than it finds and each trial takes one attempt, then the surface
-// sampler's pose. antipodal_palm and palm_enclose (one attempt: one surface point, its
-// kEncloseRolls directions).
+// attempting costs more than it finds, and the rare poses found mostly fail in the simulator
+// too: no attempt, the mixed sampler's trials instead. antipodal_palm and palm_enclose (one
+// attempt: one surface point, its kEncloseRolls directions).
 int Sampler::probeAttempts() const {
   double min_w = 0.0, max_w = 0.0;
   if (options_.kind == SamplerKind::kAntipodalPalm) {
     const JawGeometry& jaws = *options_.jaws;
     min_w = std::max(jaws.closed_width, 0.0) + options_.width_margin;
     max_w = jaws.open_width - options_.width_margin;
-    if (max_w <= min_w) return 1;
+    if (max_w <= min_w) return 0;
   }
   const auto attempt = [&](Rng& rng) {
     if (options_.kind == SamplerKind::kPalmEnclose)
@@ -609,10 +611,7 @@ int Sampler::probeAttempts() const {
   }
   const double p = static_cast<double>(accepted) / kProbeAttempts;
   const double found = 1.0 - std::pow(1.0 - p, options_.attempts);
-  if (found >= kProbeMinFound) return options_.attempts;
-  // palm_enclose: an attempt costs several rays per direction and its rare poses mostly fail
-  // in the simulator too (barrett x YCB mug): none, the mixed sampler's trials instead.
-  return options_.kind == SamplerKind::kPalmEnclose ? 0 : 1;
+  return found >= kProbeMinFound ? options_.attempts : 0;
 }
 
 std::optional<AntipodalPair> Sampler::antipodalPair(std::uint64_t seed, std::uint64_t trial) const {

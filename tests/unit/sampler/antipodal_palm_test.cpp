@@ -157,27 +157,33 @@ TEST(AntipodalPalmTest, PosesArePureFunctionsOfSeedAndTrialOnAnyThread) {
   EXPECT_NE(s.sample(9, 1).position, s.sample(9, 2).position);
 }
 
-TEST(AntipodalPalmTest, ProbeFallsBackFastWhereTheJawsRarelySpanTheObject) {
+TEST(AntipodalPalmTest, ProbeFallsBackToMixedWhereTheJawsRarelySpanTheObject) {
   // The YCB mug (8.6 cm) is wider than the Franka opening (8 cm): the construction-time probe
-  // finds too few poses for half the trials to find one within 16 attempts, so each trial makes
-  // one attempt; on the banana and the soup can it keeps the 16. The probe is the same for any
-  // seed and on any thread (its generators are its own).
+  // finds too few poses for half the trials to find one within 16 attempts, so the sampler
+  // makes no attempt and its trials are the mixed sampler's; on the banana and the soup can it
+  // keeps the 16. The probe is the same for any seed and on any thread (its generators are its
+  // own).
   const Sampler mug(ycbMug(), palmOptions(franka()));
-  EXPECT_EQ(mug.attemptsInForce(), 1);
+  EXPECT_EQ(mug.attemptsInForce(), 0);
   EXPECT_EQ(Sampler(banana(), palmOptions(franka())).attemptsInForce(), 16);
   EXPECT_EQ(Sampler(soupCan(), palmOptions(knuckleJaw())).attemptsInForce(), 16);
   int other = 0;
   std::thread th([&] { other = Sampler(ycbMug(), palmOptions(franka())).attemptsInForce(); });
   th.join();
-  EXPECT_EQ(other, 1);
-  // With one attempt, a trial's pose is its single attempt's or the surface sampler's from the
-  // same generator: most mug trials fall back, and each is still a pure function of the trial.
-  int fell_back = 0;
+  EXPECT_EQ(other, 0);
+  // The mixed sampler's poses, trial for trial (volume on even trials, surface on odd), and no
+  // antipodal pair.
+  SamplerOptions mixed = palmOptions(franka());
+  mixed.kind = SamplerKind::kMixed;
+  const Sampler as_mixed(ycbMug(), mixed);
   for (std::uint64_t t = 0; t < 50; ++t) {
-    if (!mug.antipodalPair(4, t)) ++fell_back;
-    EXPECT_EQ(mug.sample(4, t).position, mug.sample(4, t).position);
+    EXPECT_EQ(mug.kindOfTrial(t), t % 2 == 0 ? SamplerKind::kVolume : SamplerKind::kSurface);
+    EXPECT_FALSE(mug.antipodalPair(4, t).has_value());
+    EXPECT_EQ(mug.sample(4, t).position, as_mixed.sample(4, t).position);
+    EXPECT_EQ(mug.sample(4, t).orientation.coeffs(), as_mixed.sample(4, t).orientation.coeffs());
   }
-  EXPECT_GT(fell_back, 40);
+  // Where the probe keeps the attempts, trials are antipodal_palm's.
+  EXPECT_EQ(Sampler(banana(), palmOptions(franka())).kindOfTrial(0), SamplerKind::kAntipodalPalm);
   // Other kinds keep their attempts.
   SamplerOptions o = palmOptions(franka());
   o.kind = SamplerKind::kAntipodal;

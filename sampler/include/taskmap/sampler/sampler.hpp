@@ -179,17 +179,17 @@ class Sampler {
   /// approach at angle `spin` about it, or empty when a finger point is inside the object.
   std::optional<Pose> palmJawPose(const AntipodalPair& pair, double spin) const;
   /// The concrete kind (kVolume, kSurface, kAntipodal, kEnclose, kAntipodalPalm or
-  /// kPalmEnclose) trial `trial` uses (kMixed's, and kPalmEnclose's with attemptsInForce() 0:
-  /// kVolume on even trials, kSurface on odd).
+  /// kPalmEnclose) trial `trial` uses (kMixed's, and kAntipodalPalm's and kPalmEnclose's with
+  /// attemptsInForce() 0: kVolume on even trials, kSurface on odd).
   SamplerKind kindOfTrial(std::uint64_t trial) const;
   /// The options given at construction.
   const SamplerOptions& options() const { return options_; }
   /// Attempts a trial makes before the surface sampler's pose. options().attempts, except for
   /// kAntipodalPalm and kPalmEnclose on an object where a probe at construction (64 attempts
   /// from generators of their own, the same for any seed and thread) predicts that fewer than
-  /// half the trials would find a pose within options().attempts: then kAntipodalPalm makes 1
-  /// and kPalmEnclose 0, its trials then being the mixed sampler's (kindOfTrial: volume on even
-  /// trials, surface on odd; fall back fast, docs/METHOD.md §2).
+  /// half the trials would find a pose within options().attempts: then 0, the trials being the
+  /// mixed sampler's (kindOfTrial: volume on even trials, surface on odd; fall back fast,
+  /// docs/METHOD.md §2).
   int attemptsInForce() const { return attempts_; }
 
  private:
