@@ -5,6 +5,8 @@
 // (KeyboardInterrupt) stops the build cleanly: the workers finish their trial, nothing is
 // written, and the KeyboardInterrupt reaches the caller.
 #include "builder_bindings.hpp"
+
+#include "fs_path.hpp"
 #include "python_run.hpp"
 
 #include <pybind11/stl.h>
@@ -217,7 +219,7 @@ py::object importAcronym(const std::string& acronym, const std::string& object,
 /// taskmap.recluster: `taskmap cluster` as a call (its option names as keywords).
 py::object recluster(const py::object& map, const ReclusterOptions& o, const std::string& output,
                      bool force) {
-  const std::string path = py::str(py::module_::import("os").attr("fspath")(map));
+  const std::string path = fsPath(map);
   const std::string target = output.empty() ? path : output;
   if (!output.empty()) checkOutputPath(output, {path}, OutputKind::kTaskMap, force);
   {

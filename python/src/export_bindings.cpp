@@ -2,6 +2,8 @@
 // and `taskmap view` as calls, with the commands' option names as keywords.
 #include "export_bindings.hpp"
 
+#include "fs_path.hpp"
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -24,10 +26,6 @@ namespace py = pybind11;
 namespace taskmap {
 namespace {
 
-std::string pathOf(const py::object& path) {
-  return py::str(py::module_::import("os").attr("fspath")(path));
-}
-
 /// The map's hand as the commands find it (`hand`: URDF or bundled name; "": the map's own, by
 /// its SHA-256); a Python warning and no hand when there is none.
 std::optional<HandModel> mapHandOrWarn(const TaskMapData& map, const std::string& hand,
@@ -45,9 +43,9 @@ std::string exportMap(const py::object& map_path, const std::string& format,
                       const std::string& object_file, std::optional<double> palm_offset,
                       const std::string& hand, bool force) {
   MapExportOptions o;
-  o.map = pathOf(map_path);
+  o.map = fsPath(map_path);
   o.format = format;
-  o.output = pathOf(output_path);
+  o.output = fsPath(output_path);
   o.glyph_size = glyph_size;
   o.density = density;
   o.object_file = object_file;
@@ -66,7 +64,7 @@ std::string exportMap(const py::object& map_path, const std::string& format,
 }
 
 std::string exportGlb(const py::object& trajectory, const py::object& output_path, bool force) {
-  const std::string input = pathOf(trajectory), output = pathOf(output_path);
+  const std::string input = fsPath(trajectory), output = fsPath(output_path);
   checkOutputPath(output, {input}, OutputKind::kGlb, force, "output");
   writeGlb(readTrajectory(input), output);
   return output;
@@ -74,7 +72,7 @@ std::string exportGlb(const py::object& trajectory, const py::object& output_pat
 
 std::string view(const py::object& file_path, const py::object& output_path,
                  const std::string& hand, int ghosts, const std::string& title) {
-  const std::string file = pathOf(file_path);
+  const std::string file = fsPath(file_path);
   if (!std::filesystem::exists(file))
     throw Error("file '" + file + "' does not exist; give a task map or a trajectory (.h5)");
   PageOptions page;
@@ -84,7 +82,7 @@ std::string view(const py::object& file_path, const py::object& output_path,
   const std::string output =
       output_path.is_none()
           ? std::filesystem::path(file).filename().replace_extension(".html").string()
-          : pathOf(output_path);
+          : fsPath(output_path);
   std::optional<TaskMapData> map;
   try {
     map = readMap(file);

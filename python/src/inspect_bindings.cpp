@@ -3,6 +3,8 @@
 // keyword arguments of the commands.
 #include "inspect_bindings.hpp"
 
+#include "fs_path.hpp"
+
 #include "builder_bindings.hpp"
 
 #include <cstdlib>
@@ -68,7 +70,7 @@ py::dict summary(const py::object& map) {
     text = summaryJson(summarizeMap(map.cast<const TaskMap&>().data(), ""));
   } else {
     InspectOptions options;
-    options.map = py::str(py::module_::import("os").attr("fspath")(map)).cast<std::string>();
+    options.map = fsPath(map);
     text = summaryJson(inspectMap(options).summary);
   }
   return jsonDict(text);
@@ -89,7 +91,7 @@ py::dict handInfoDict(const std::string& hand, const std::string& png, const std
 
 py::dict meshInfoDict(const py::object& file, double scale, bool no_repair,
                       const std::string& repair, double wrap_alpha, double wrap_offset) {
-  const std::string path = py::str(py::module_::import("os").attr("fspath")(file));
+  const std::string path = fsPath(file);
   if (!(scale > 0.0)) throw Error("mesh_info: scale must be positive");
   const MeshLoadOptions options = meshOptions(scale, no_repair, repair, wrap_alpha, wrap_offset);
   requireObjectFile(path);
@@ -99,9 +101,8 @@ py::dict meshInfoDict(const py::object& file, double scale, bool no_repair,
 py::dict handInitDict(const py::object& urdf_path, const py::object& output_path, bool force,
                       const std::vector<std::string>& package_path) {
   const PackagePath scope(package_path);
-  const std::string urdf = py::str(py::module_::import("os").attr("fspath")(urdf_path));
-  const std::string output =
-      output_path.is_none() ? "" : py::str(py::module_::import("os").attr("fspath")(output_path));
+  const std::string urdf = fsPath(urdf_path);
+  const std::string output = output_path.is_none() ? "" : fsPath(output_path);
   if (!std::filesystem::exists(urdf)) throw Error("hand_init: no URDF file '" + urdf + "'");
   if (!output.empty() && std::filesystem::exists(output) && !force)
     throw Error("hand_init: '" + output + "' exists; pass force=True to replace it");

@@ -2,6 +2,8 @@
 // [--height H]`, with the same keyword arguments.
 #include "picture_bindings.hpp"
 
+#include "fs_path.hpp"
+
 #include <optional>
 #include <string>
 
@@ -29,7 +31,7 @@ std::string picture(const py::object& map, const std::string& png, const std::st
   std::string path;
   if (!py::isinstance<TaskMap>(map)) {
     InspectOptions inspect;
-    inspect.map = py::str(py::module_::import("os").attr("fspath")(map)).cast<std::string>();
+    inspect.map = fsPath(map);
     inspect.validate();
     path = inspect.map;
     read = readMap(path);
