@@ -227,6 +227,20 @@ void expectSame(const GraspResult& a, const GraspResult& b, bool same_queries = 
   }
 }
 
+/// Simulates each pose with both simulators and expects the same trials (expectSame, and the
+/// same number of closing steps); returns how many ended kOk.
+int sameTrials(const GraspSimulator& x, const GraspSimulator& y, const std::vector<Pose>& poses,
+               bool same_queries) {
+  int ok = 0;
+  for (const Pose& p : poses) {
+    const GraspResult a = x.simulate(p), b = y.simulate(p);
+    expectSame(a, b, same_queries);
+    EXPECT_EQ(a.stats.closing_steps, b.stats.closing_steps);
+    ok += a.status == GraspStatus::kOk;
+  }
+  return ok;
+}
+
 TEST(GraspSimulator, ParallelThreadsMatchSequentialRun) {
   const HandModel hand = loadHand("barrett");
   GraspSimulator sim(testing::makeCylinder(0.035, 0.20, 32, 2), hand);
@@ -275,14 +289,8 @@ TEST(GraspSimulator, CulledQueriesGiveTheBaselineTrials) {
       culled.separating_axis_contacts =
           false;  // EPA, as the baseline (contact_depths_test.cpp has the rest)
       const GraspSimulator fast(object, hand, {}, culled), slow(object, hand, {}, baseline);
-      int ok = 0;
-      for (const Pose& p : randomPoses(40, lo, hi)) {
-        const GraspResult a = fast.simulate(p), b = slow.simulate(p);
-        expectSame(a, b, false);
-        EXPECT_EQ(a.stats.closing_steps, b.stats.closing_steps);
-        ok += a.status == GraspStatus::kOk;
-      }
-      EXPECT_GT(ok, 0);  // the trials reach closing, squeeze and contacts
+      // the trials reach closing, squeeze and contacts
+      EXPECT_GT(sameTrials(fast, slow, randomPoses(40, lo, hi), false), 0);
     }
   }
 }
@@ -303,14 +311,8 @@ TEST(GraspSimulator, SelfCollisionAxesGiveTheSameTrials) {
     GraspSimDiagnostics plain;
     plain.self_collision_axes = false;
     const GraspSimulator with_axes(object, hand), without(object, hand, {}, plain);
-    int ok = 0;
-    for (const Pose& p : randomPoses(40, lo, hi)) {
-      const GraspResult a = with_axes.simulate(p), b = without.simulate(p);
-      expectSame(a, b, true);
-      EXPECT_EQ(a.stats.closing_steps, b.stats.closing_steps);
-      ok += a.status == GraspStatus::kOk;
-    }
-    EXPECT_GT(ok, 0);  // the trials reach the closing
+    // the trials reach the closing
+    EXPECT_GT(sameTrials(with_axes, without, randomPoses(40, lo, hi), true), 0);
   }
 }
 
