@@ -396,11 +396,9 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
-  // antipodal_palm and palm_enclose with no attempts in force (the probe): the mixed sampler's
-  // trials.
-  const bool probed =
-      options_.kind == SamplerKind::kAntipodalPalm || options_.kind == SamplerKind::kPalmEnclose;
-  const bool mixed = options_.kind == SamplerKind::kMixed || (probed && attempts_ == 0);
+  // No attempts in force (only the probe of antipodal_palm and palm_enclose sets 0; options
+  // need >= 1): the mixed sampler's trials.
+  const bool mixed = options_.kind == SamplerKind::kMixed || attempts_ == 0;
   if (!mixed) return options_.kind;
   return trial % 2 == 0 ? SamplerKind::kVolume : SamplerKind::kSurface;
 }
