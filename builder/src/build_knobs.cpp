@@ -90,7 +90,7 @@ void checkBuildKnobs(const BuildKnobs& knobs, KnobStyle style) {
 BuildOptions buildOptionsOf(const BuildKnobs& k, KnobStyle style) {
   checkBuildKnobs(k, style);
   BuildOptions o;
-  o.sampler.kind = samplerKindFromString(k.sampler);
+  if (!k.sampler.empty()) o.sampler.kind = samplerKindFromString(k.sampler);
   o.valid_target = k.valid;
   o.max_trials = k.trials;
   o.seed = k.seed;

@@ -339,34 +339,38 @@ BuildParams buildParamsFromJson(const std::string& text) {
   return p;
 }
 
-BuildParams buildParamsOf(const BuildOptions& options, const HandModel& hand) {
+namespace {
+
+// The options as the build runs them with this hand: the sampler kind resolved (an unset kind is
+// the hand's default), the antipodal and enclosing samplers' geometry, the grasp mode and the
+// fingertip standoff.
+BuildParams resolvedParams(const BuildOptions& options, const HandModel& hand) {
   BuildParams p;
   p.options = options;
-  if (options.sampler.kind == SamplerKind::kAntipodal ||
-      options.sampler.kind == SamplerKind::kAntipodalPalm ||
-      options.sampler.kind == SamplerKind::kPalmEnclose)
+  const SamplerKind kind = detail::samplerKindFor(options, hand);
+  p.options.sampler.kind = kind;
+  if (kind == SamplerKind::kAntipodal || kind == SamplerKind::kAntipodalPalm ||
+      kind == SamplerKind::kPalmEnclose)
     p.options.sampler = detail::samplerOptionsFor(options, hand);
   p.options.sampler.approach_axis = hand.approachAxis();
   GraspSimOptions& s = p.options.simulation;
   if (!s.grasp_mode) s.grasp_mode = hand.graspMode();
   if (*s.grasp_mode == GraspMode::kFingertip)
     s.standoff = resolveStandoff(hand, options.simulation);
-  return buildParamsFromJson(buildParamsJson(p));  // what a map of this build reads back
+  return p;
+}
+
+}  // namespace
+
+BuildParams buildParamsOf(const BuildOptions& options, const HandModel& hand) {
+  // What a map of this build reads back.
+  return buildParamsFromJson(buildParamsJson(resolvedParams(options, hand)));
 }
 
 namespace detail {
 
 std::string paramsJson(const BuildOptions& o, const HandModel& hand) {
-  BuildParams p;
-  p.options = o;
-  if (o.sampler.kind == SamplerKind::kAntipodal || o.sampler.kind == SamplerKind::kAntipodalPalm ||
-      o.sampler.kind == SamplerKind::kPalmEnclose)
-    p.options.sampler = samplerOptionsFor(o, hand);
-  p.options.sampler.approach_axis = hand.approachAxis();
-  GraspSimOptions& s = p.options.simulation;
-  if (!s.grasp_mode) s.grasp_mode = hand.graspMode();
-  if (*s.grasp_mode == GraspMode::kFingertip) s.standoff = resolveStandoff(hand, o.simulation);
-  return buildParamsJson(p);
+  return buildParamsJson(resolvedParams(o, hand));
 }
 
 }  // namespace detail

@@ -98,7 +98,8 @@ std::string buildSummaryText(const std::string& label, const BuildResult& result
   std::ostringstream os;
   os << label << ": " << toString(result.status) << ": " << result.message << "\n";
   os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
-     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << "\n";
+     << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << ", sampler "
+     << map.sampling.sampler << "\n";
   os << "  outcomes ";
   for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
   os << "\n";

@@ -59,7 +59,7 @@ void describeMap(const ObjectModel& object, const HandModel& hand, const BuildOp
   map.hand.urdf_sha256 = hand.urdfSha256();
   map.hand.joint_names = hand.jointNames();
   for (const HandLink& l : hand.links()) map.hand.link_names.push_back(l.name);
-  map.sampling.sampler = toString(options.sampler.kind);
+  map.sampling.sampler = toString(detail::samplerKindFor(options, hand));
   map.sampling.seed = options.seed;
   map.sampling.params_json = detail::paramsJson(options, hand);
   map.quality.friction = options.quality.friction;

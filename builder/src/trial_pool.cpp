@@ -27,8 +27,13 @@ int threadCount(int requested) {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+SamplerKind samplerKindFor(const BuildOptions& options, const HandModel& hand) {
+  return options.sampler.kind ? *options.sampler.kind : defaultSamplerKind(hand);
+}
+
 SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand) {
   SamplerOptions o = options.sampler;
+  o.kind = samplerKindFor(options, hand);
   o.approach_axis = hand.approachAxis().normalized();
   o.friction = options.quality.friction;
   if (!o.jaws) o.jaws = jawGeometry(hand);

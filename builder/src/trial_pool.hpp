@@ -37,8 +37,13 @@ int threadCount(int requested);
 /// Spacing of the finger points the antipodal_palm sampler tests for being inside, metres.
 constexpr double kFingerCheckSpacing = 0.01;
 
-/// The options the sampler gets: the hand's approach axis, the build's friction, the jaws and
-/// finger points the kind needs, and (antipodal_palm) whether the palm must touch.
+/// The sampler a build runs: options.sampler.kind, or the hand's default (defaultSamplerKind:
+/// antipodal_palm for parallel jaws, mixed for other hands) when it is unset.
+SamplerKind samplerKindFor(const BuildOptions& options, const HandModel& hand);
+
+/// The options the sampler gets: the kind (samplerKindFor), the hand's approach axis, the build's
+/// friction, the jaws and finger points the kind needs, and (antipodal_palm) whether the palm must
+/// touch.
 SamplerOptions samplerOptionsFor(const BuildOptions& options, const HandModel& hand);
 
 /// The closing checker of a build, or null when options.closing_check is off.

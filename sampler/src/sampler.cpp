@@ -1,7 +1,9 @@
 #include "taskmap/sampler/sampler.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 #include <utility>
 
 #include <Eigen/Geometry>
@@ -191,6 +193,13 @@ constexpr int kSpins = 4;
 constexpr double kRayStart = 1e-7;
 /// antipodal_palm: the palm-face rays run this far in front of the surface point, metres.
 constexpr double kPalmClearance = 0.01;
+/// antipodal_palm: no point of the open fingers may come nearer the surface than this, metres
+/// (twice the simulator's default contact tolerance: a finger that grazes the object touches
+/// before the palm, and the trial ends no_palm_contact; a panda on a sphere as wide as its
+/// opening did so in every trial).
+constexpr double kJawFingerClearance = 1e-3;
+/// antipodal_palm: the clearance is tested on one finger point per cube of this edge, metres.
+constexpr double kClearanceCell = 0.004;
 /// antipodal_palm and palm_enclose: attempts of the construction-time probe, and its generator's
 /// seed (trial k of the probe draws from Rng(kProbeSeed, k)).
 constexpr int kProbeAttempts = 64;
@@ -367,9 +376,37 @@ std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rn
   return p;
 }
 
+namespace {
+
+// The first of `points` in each cube of edge `cell` (a grid through the origin), in order.
+std::vector<Eigen::Vector3d> onePerCell(const std::vector<Eigen::Vector3d>& points, double cell) {
+  std::set<std::array<long long, 3>> seen;
+  std::vector<Eigen::Vector3d> out;
+  for (const Eigen::Vector3d& p : points) {
+    const std::array<long long, 3> key = {std::llround(std::floor(p.x() / cell)),
+                                          std::llround(std::floor(p.y() / cell)),
+                                          std::llround(std::floor(p.z() / cell))};
+    if (seen.insert(key).second) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+SamplerKind defaultSamplerKind(const HandModel& hand) {
+  return jawGeometry(hand) ? SamplerKind::kAntipodalPalm : SamplerKind::kMixed;
+}
+
+SamplerKind samplerKindOf(const SamplerOptions& options) {
+  if (options.kind) return *options.kind;
+  const bool jaws = options.jaws && !options.finger_points.empty();
+  return jaws ? SamplerKind::kAntipodalPalm : SamplerKind::kMixed;
+}
+
 Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
     : object_(std::move(object)), options_(options) {
   options_.validate();
+  options_.kind = samplerKindOf(options_);
   if (options_.kind == SamplerKind::kAntipodal && !options_.jaws)
     throw Error(
         "the antipodal sampler needs a parallel-jaw hand (two fingers whose pads face each "
@@ -390,6 +427,8 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
         "the palm_enclose sampler needs a hand with at least two fingers that close across its "
         "approach axis, with finger collision shapes (SamplerOptions::enclose and "
         "finger_points); use --sampler mixed or enclose for this hand");
+  if (options_.kind == SamplerKind::kAntipodalPalm)
+    clearance_points_ = onePerCell(options_.finger_points, kClearanceCell);
   const bool probed =
       options_.kind == SamplerKind::kAntipodalPalm || options_.kind == SamplerKind::kPalmEnclose;
   attempts_ = probed ? probeAttempts() : options_.attempts;
@@ -399,7 +438,7 @@ SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
   // No attempts in force (only the probe of antipodal_palm and palm_enclose sets 0; options
   // need >= 1): the mixed sampler's trials.
   const bool mixed = options_.kind == SamplerKind::kMixed || attempts_ == 0;
-  if (!mixed) return options_.kind;
+  if (!mixed) return *options_.kind;
   return trial % 2 == 0 ? SamplerKind::kVolume : SamplerKind::kSurface;
 }
 
@@ -452,10 +491,13 @@ Pose Sampler::jawPose(const AntipodalPair& pair, double spin) const {
   return pose;
 }
 
-bool Sampler::fingersOutside(const Pose& palm) const {
+bool Sampler::fingersOutside(const Pose& palm, double clearance) const {
   const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
   for (const Eigen::Vector3d& p : options_.finger_points)
     if (object_.contains(palm.position + r * p)) return false;
+  if (clearance > 0.0)
+    for (const Eigen::Vector3d& p : clearance_points_)
+      if (object_.nearSurface(palm.position + r * p, clearance)) return false;
   return true;
 }
 
@@ -463,7 +505,7 @@ bool Sampler::fingersOutside(const Pose& palm) const {
 // inside.
 std::optional<Pose> Sampler::palmJawPose(const AntipodalPair& pair, double spin) const {
   const Pose pose = jawPose(pair, spin);
-  if (!fingersOutside(pose)) return std::nullopt;
+  if (!fingersOutside(pose, kJawFingerClearance)) return std::nullopt;
   return pose;
 }
 
@@ -535,7 +577,7 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::palmFirstAttempt(const Su
   pose.orientation = Eigen::Quaterniond(r).normalized();
   pose.position = centre + (depth - (centre - q.point).dot(w)) * w - r * jaws.pad_midpoint;
   if (!palmFaceClear(pose, q.point - kPalmClearance * w)) return std::nullopt;
-  if (!fingersOutside(pose)) return std::nullopt;
+  if (!fingersOutside(pose, kJawFingerClearance)) return std::nullopt;
   return std::make_pair(pair, pose);
 }
 

@@ -119,7 +119,8 @@ class MapSchemaTest(unittest.TestCase):
     def test_sampling_and_quality(self):
         with h5py.File(self.map, "r") as f:
             s = f["sampling"]
-            self.assertEqual(text(s.attrs["sampler"]), "mixed")
+            # No --sampler: the hand's default, antipodal_palm for the panda's parallel jaws.
+            self.assertEqual(text(s.attrs["sampler"]), "antipodal_palm")
             self.assertEqual(int(s.attrs["seed"]), 3)
             trials = int(s.attrs["trials"])
             outcomes = {k[len("outcome_"):]: int(v) for k, v in s.attrs.items()
@@ -129,6 +130,7 @@ class MapSchemaTest(unittest.TestCase):
             params = json.loads(s.attrs["params_json"])
             self.assertEqual(params["valid"], VALID)
             self.assertEqual(params["seed"], 3)
+            self.assertEqual(params["sampler"], "antipodal_palm")
             self.assertEqual(params["object"], self.obj)
             self.assertNotIn("threads", params)  # the map does not depend on it
             q = f["quality"]

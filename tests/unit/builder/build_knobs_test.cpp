@@ -31,6 +31,7 @@ TEST(BuildKnobs, DefaultsGiveTheDefaultBuildOptions) {
   const BuildOptions o = buildOptionsOf(BuildKnobs{}, KnobStyle::kCommandLine);
   const BuildOptions d;
   EXPECT_EQ(o.sampler.kind, d.sampler.kind);
+  EXPECT_FALSE(o.sampler.kind.has_value());  // the hand's: antipodal_palm for jaws, else mixed
   EXPECT_EQ(o.valid_target, d.valid_target);
   EXPECT_EQ(o.max_trials, d.max_trials);
   EXPECT_EQ(o.seed, d.seed);

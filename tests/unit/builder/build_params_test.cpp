@@ -229,6 +229,16 @@ TEST(BuildParamsTest, ABuiltMapReadsBackIntoItsOptions) {
   EXPECT_EQ(read.options.seed, 5U);
   EXPECT_EQ(read.scale, 0.5);
   EXPECT_EQ(read.options.simulation.grasp_mode, testing::pandaHand().graspMode());
+  // No sampler named: the hand's, antipodal_palm for the panda's jaws, written as the one run;
+  // mixed for a hand without jaws.
+  EXPECT_EQ(back.sampling.sampler, "antipodal_palm");
+  EXPECT_EQ(read.options.sampler.kind, SamplerKind::kAntipodalPalm);
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const BuildOptions defaults;
+  EXPECT_EQ(buildParamsOf(defaults, barrett).options.sampler.kind, SamplerKind::kMixed);
+  o.sampler.kind = SamplerKind::kVolume;
+  EXPECT_EQ(buildParamsOf(o, testing::pandaHand()).options.sampler.kind, SamplerKind::kVolume);
   EXPECT_EQ(buildParamsJson(read), back.sampling.params_json);  // the same bytes again
 }
 

@@ -47,13 +47,14 @@ TEST(BuildReportTest, SummaryNamesOutcomesStoredGraspsTimesAndOutput) {
   r.message = "3 of 10 valid grasps";
   r.map.object.name = "cylinder";
   r.map.hand.name = "barrett";
+  r.map.sampling.sampler = "mixed";
   r.map.sampling.outcomes = {{"ok", 3}, {"no_contact", 7}};
   r.timing.sampling_seconds = 1.0;
   r.timing.simulation_seconds = 2.0;
   r.timing.quality_seconds = 1.0;
   const std::string text = buildSummaryText("taskmap build", r, 0.5, "2", "out.h5");
   EXPECT_TRUE(has(text, "object    cylinder")) << text;
-  EXPECT_TRUE(has(text, "hand barrett")) << text;
+  EXPECT_TRUE(has(text, "hand barrett, sampler mixed\n")) << text;  // the one that ran
   EXPECT_TRUE(has(text, "no_contact 7")) << text;
   EXPECT_TRUE(has(text, "simulation 50.0%")) << text;
   EXPECT_TRUE(has(text, "wrote     out.h5\n")) << text;

@@ -65,6 +65,7 @@ TEST(ClosingCheckBuild, JawSettingsPassJawGraspsThatHoldInPhysics) {
   o.valid_target = 10;
   o.threads = 1;
   o.cluster = false;
+  o.sampler.kind = SamplerKind::kMixed;  // the sampler of the grasps the settings were chosen on
   const BuildResult built = buildMap(testing::boxObject(), hand, o);
   ASSERT_EQ(built.status, BuildStatus::kComplete) << built.message;
   const ClosingCheckOptions early = ClosingCheckOptions::earlyVerdict();

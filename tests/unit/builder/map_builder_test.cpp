@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,13 +57,24 @@ TEST(MapBuilderTest, BlockSizeDoesNotChangeTheMap) {
   testing::expectSameMapContent(buildMap(box(), panda(), a).map, buildMap(box(), panda(), b).map);
 }
 
-TEST(MapBuilderTest, MatchesSequentialOracle) {
-  const BuildOptions options = smallBuild(2);
+// The sampler options a build gives the panda for `kind` (unset: the hand's default), written
+// out here rather than taken from the builder.
+SamplerOptions pandaSampler(std::optional<SamplerKind> kind) {
+  SamplerOptions so;
+  so.kind = kind;
+  so.approach_axis = panda().approachAxis();
+  if (!kind) {
+    so.jaws = jawGeometry(panda());
+    so.finger_points = fingerCheckPoints(panda(), 0.01);
+    so.place_palm = true;
+  }
+  return so;
+}
+
+// The build against trials run one by one, in index order, with the same stages.
+void expectSequentialOracle(const BuildOptions& options, const SamplerOptions& so) {
   const BuildResult r = buildMap(box(), panda(), options);
   ASSERT_EQ(r.status, BuildStatus::kComplete);
-  // Oracle: trials one by one, in index order, with the same stages.
-  SamplerOptions so = options.sampler;
-  so.approach_axis = panda().approachAxis();
   const Sampler sampler(box(), so);
   const GraspSimulator sim(box(), panda(), options.simulation);
   const MassProperties& mp = box().massProperties();
@@ -93,6 +105,17 @@ TEST(MapBuilderTest, MatchesSequentialOracle) {
   }
   EXPECT_GE(r.timing.trials_simulated, trials);
   EXPECT_GT(r.timing.simulation_seconds, 0.0);
+}
+
+// The default sampler (antipodal_palm for the panda) and mixed.
+TEST(MapBuilderTest, MatchesSequentialOracle) {
+  for (const std::optional<SamplerKind> kind :
+       {std::optional<SamplerKind>(), std::optional(SamplerKind::kMixed)}) {
+    SCOPED_TRACE(kind ? toString(*kind) : "default");
+    BuildOptions options = smallBuild(2);
+    options.sampler.kind = kind;
+    expectSequentialOracle(options, pandaSampler(kind));
+  }
 }
 
 TEST(MapBuilderTest, VolumeIsOptionalAndLeavesTheGraspsAsTheyWere) {
@@ -310,7 +333,11 @@ TEST(MapBuilderTest, ProgressIsReported) {
     last = p;
   };
   control.interval_seconds = 0.001;
-  buildMap(box(), panda(), smallBuild(2), control);
+  // Mixed: its ~150 trials outlast the interval (the panda's default, antipodal_palm, stores
+  // the grasps in a handful).
+  BuildOptions o = smallBuild(2);
+  o.sampler.kind = SamplerKind::kMixed;
+  buildMap(box(), panda(), o, control);
   EXPECT_GE(calls, 1);
   EXPECT_EQ(last.valid_target, kValid);
   EXPECT_GE(last.valid_found, kValid);

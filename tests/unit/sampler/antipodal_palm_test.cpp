@@ -134,9 +134,12 @@ TEST(AntipodalPalmTest, PalmFrontOnTheSurfaceAndPairInTheCones) {
                   obj->contains(y + 1e-4 * w);
       }
       EXPECT_TRUE(touches) << "trial " << t;
-      // No open finger point inside.
-      for (const Eigen::Vector3d& q : s.options().finger_points)
+      // No open finger point inside, nor within 1 mm of the surface (a finger grazing the
+      // object would touch before the palm).
+      for (const Eigen::Vector3d& q : s.options().finger_points) {
         ASSERT_FALSE(obj->contains(pose.position + r * q)) << "trial " << t;
+        ASSERT_GE(obj->distanceToSurface(pose.position + r * q), 1e-3) << "trial " << t;
+      }
     }
     EXPECT_GT(accepted, 60);
   }
@@ -203,8 +206,42 @@ TEST(AntipodalPalmTest, FingertipVariantKeepsThePadsOnThePair) {
     const Pose pose = s.sample(2, t);
     const Eigen::Vector3d mid = pose.position + pose.orientation * g.pad_midpoint;
     EXPECT_LT((mid - 0.5 * (p->p1 + p->p2)).norm(), 1e-9);
+    for (const Eigen::Vector3d& q : s.options().finger_points)
+      ASSERT_GE(banana().distanceToSurface(pose.position + pose.orientation * q), 1e-3);
   }
   EXPECT_GT(accepted, 20);
+}
+
+TEST(AntipodalPalmTest, FallsBackToMixedWhereEveryPalmPoseGrazesTheObject) {
+  // The bundled panda (8 cm opening, 4.5 cm fingers) with its palm on a sphere 8 cm across:
+  // its fingers reach the sphere's equator, where the sphere is as wide as the opening, so at
+  // every palm pose a finger grazes the surface and would touch before the palm (before the
+  // 1 mm clearance every such trial of a build ended no_palm_contact). The probe finds no pose
+  // and the trials are the mixed sampler's.
+  const HandModel panda = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
+  const ObjectModel sphere = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/sphere.obj");
+  const Sampler s(sphere, palmOptions(panda));
+  EXPECT_EQ(s.attemptsInForce(), 0);
+  EXPECT_EQ(s.kindOfTrial(1), SamplerKind::kSurface);
+}
+
+TEST(AntipodalPalmTest, DefaultKindIsAntipodalPalmForJawsMixedOtherwise) {
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  EXPECT_EQ(defaultSamplerKind(franka()), SamplerKind::kAntipodalPalm);
+  EXPECT_EQ(defaultSamplerKind(knuckleJaw()), SamplerKind::kAntipodalPalm);
+  EXPECT_EQ(defaultSamplerKind(barrett), SamplerKind::kMixed);
+  // Unset kind: antipodal_palm when the jaws and finger points are given, else mixed; a kind
+  // that is set is kept.
+  SamplerOptions o = palmOptions(franka());
+  o.kind.reset();
+  EXPECT_EQ(samplerKindOf(o), SamplerKind::kAntipodalPalm);
+  EXPECT_EQ(Sampler(banana(), o).kindOfTrial(0), SamplerKind::kAntipodalPalm);
+  o.finger_points.clear();
+  EXPECT_EQ(samplerKindOf(o), SamplerKind::kMixed);
+  EXPECT_EQ(samplerKindOf(SamplerOptions{}), SamplerKind::kMixed);
+  o.kind = SamplerKind::kVolume;
+  EXPECT_EQ(samplerKindOf(o), SamplerKind::kVolume);
 }
 
 TEST(AntipodalPalmTest, NeedsJawsAndFingerPoints) {

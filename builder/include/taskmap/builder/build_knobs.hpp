@@ -19,7 +19,7 @@ namespace taskmap {
 
 /// The knob values, named as the command line's options with '_' for '-'.
 struct BuildKnobs {
-  std::string sampler = "mixed";  ///< initial poses (SamplerKind's names)
+  std::string sampler;            ///< initial poses (SamplerKind's names; "" = the hand's)
   std::uint64_t valid = 1000;     ///< stop after this many force-closure grasps
   std::uint64_t trials = 200000;  ///< trial budget
   std::uint64_t seed = 1;         ///< run seed
@@ -110,7 +110,8 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "object), antipodal_palm (parallel jaws: an antipodal pair, the palm placed where "
              "it meets the surface behind it, no open finger inside the object), palm_enclose "
              "(multi-finger hands: the palm's front on a surface point, the fingers closing "
-             "across the object's narrowest chord that fits them, no open finger inside)",
+             "across the object's narrowest chord that fits them, no open finger inside). "
+             "Default: the hand's, antipodal_palm for parallel jaws, mixed for other hands",
              {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm",
               "palm_enclose"}},
     k.sampler);

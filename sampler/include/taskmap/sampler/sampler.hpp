@@ -95,6 +95,11 @@ struct JawGeometry {
 /// (more or fewer fingers, fingers without shapes, pads that do not face each other).
 std::optional<JawGeometry> jawGeometry(const HandModel& hand);
 
+/// The sampler of a build that names none: kAntipodalPalm for a parallel-jaw hand (jawGeometry()
+/// not empty), kMixed for any other hand (docs/METHOD.md §2; measured in docs/PERFORMANCE.md,
+/// "antipodal_palm against mixed on every jaw pair").
+SamplerKind defaultSamplerKind(const HandModel& hand);
+
 /// Points spanning the collision shapes of every finger link in the open preshape, palm frame,
 /// metres: box corners, hull points, the extremes of spheres and cylinders along their axes.
 std::vector<Eigen::Vector3d> openFingerPoints(const HandModel& hand);
@@ -114,7 +119,9 @@ std::vector<Eigen::Vector3d> palmShapePoints(const HandModel& hand, const Eigen:
 
 /// Options of the sampler.
 struct SamplerOptions {
-  SamplerKind kind = SamplerKind::kMixed;
+  /// The sampler; unset: kAntipodalPalm when `jaws` and `finger_points` are given, kMixed
+  /// otherwise (a build gives them for a parallel-jaw hand: defaultSamplerKind()).
+  std::optional<SamplerKind> kind;
   /// Unit direction, palm frame, in which the hand moves toward the object
   /// (HandModel::approachAxis()).
   Eigen::Vector3d approach_axis = Eigen::Vector3d::UnitZ();
@@ -148,6 +155,10 @@ struct SamplerOptions {
   /// Throws Error naming the option when a value is out of range (non-unit axis, bad range).
   void validate() const;
 };
+
+/// The kind `options` samples with: options.kind, or when unset kAntipodalPalm if jaws and
+/// finger_points are given, else kMixed.
+SamplerKind samplerKindOf(const SamplerOptions& options);
 
 /// An antipodal pair of surface points (object frame).
 struct AntipodalPair {
@@ -202,13 +213,17 @@ class Sampler {
   std::optional<std::pair<AntipodalPair, Pose>> palmFirstAttempt(const SurfaceSample& q,
                                                                  double through, double roll,
                                                                  double min_w, double max_w) const;
-  bool fingersOutside(const Pose& palm) const;
+  bool fingersOutside(const Pose& palm, double clearance = 0.0) const;
   bool palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const;
   Pose jawPose(const AntipodalPair& pair, double spin) const;
 
   ObjectModel object_;
   SamplerOptions options_;
   int attempts_ = 1;  ///< attemptsInForce()
+  /// antipodal_palm: the finger points whose distance to the surface is tested, one per
+  /// kClearanceCell cube (a Robotiq's 45,652 finger points, mostly hull midpoints, become a few
+  /// thousand), in finger_points' order.
+  std::vector<Eigen::Vector3d> clearance_points_;
 };
 
 /// Orientation whose rotation maps the palm-frame axis onto `direction` (both unit), followed
