@@ -54,6 +54,15 @@ Eigen::Vector3d closingAxis(const std::vector<std::vector<Eigen::Vector3d>>& ope
   return c.normalized();
 }
 
+/// Metres: the smallest CollisionShape::thickness of the finger links' shapes (0 when none).
+double thinnestFingerLink(const HandModel& hand) {
+  double thin = std::numeric_limits<double>::infinity();
+  for (const HandLink& link : hand.links())
+    if (link.finger >= 0)
+      for (const CollisionShape& shape : link.shapes) thin = std::min(thin, shape.thickness());
+  return std::isfinite(thin) ? thin : 0.0;
+}
+
 }  // namespace
 
 void EncloseGeometry::validate() const {
@@ -67,6 +76,8 @@ void EncloseGeometry::validate() const {
   if (!grasp_centre.allFinite()) throw Error("enclose grasp_centre must be finite (metres)");
   if (!palm_min.allFinite() || !palm_max.allFinite() || (palm_min.array() > palm_max.array()).any())
     throw Error("enclose palm_min and palm_max must be finite with palm_min <= palm_max (metres)");
+  if (!std::isfinite(min_depth) || min_depth < 0.0)
+    throw Error("enclose min_depth must be a finite length >= 0 in metres");
 }
 
 std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
@@ -105,6 +116,7 @@ std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
   const Eigen::Vector3d shut = centroid(all_closed);
   g.probe_depth = std::max(kMinProbeDepth, a.dot(shut) - g.palm_front);
   g.grasp_centre = Eigen::Vector2d(c.dot(shut), 0.5 * (g.palm_min.y() + g.palm_max.y()));
+  g.min_depth = 0.5 * thinnestFingerLink(hand);
   return g;
 }
 
@@ -168,6 +180,41 @@ std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
   return std::make_pair(plus->distance, minus->distance);
 }
 
+/// The object's depth along w (unit) from the surface point q (on the surface, w into the
+/// solid): where the solid first ends; when that is within twice `probe_depth`, its last
+/// crossing (through a hollow to the far wall). Empty when the ray from q leaves nothing (q is
+/// not in front of the solid) or the walk through the hollow does not end.
+std::optional<std::pair<double, RayHit>> throughDepth(const ObjectModel& object,
+                                                      const Eigen::Vector3d& q,
+                                                      const Eigen::Vector3d& w,
+                                                      double probe_depth) {
+  const std::optional<RayHit> exit = object.castRay(q, w, kRayStart);
+  if (!exit) return std::nullopt;
+  double through = exit->distance;
+  if (through < 2.0 * probe_depth) {
+    const std::optional<double> rest =
+        reach(object, exit->point + kStep * w, w, std::numeric_limits<double>::infinity(), false);
+    if (!rest) return std::nullopt;
+    if (*rest > 0.0) through += kStep + *rest;
+  }
+  return std::make_pair(through, *exit);
+}
+
+/// Whether the object reaches at least g.min_depth ahead of the palm's front at the chord's
+/// midpoint `mid` (at depth `depth` behind the face plane through q): the first surface met
+/// along w from kFaceClearance in front of that plane (within min_depth behind it), then
+/// throughDepth from there; the far end must lie min_depth or more behind the plane. With
+/// `through` (the depth at q) at least min_depth, no ray is cast.
+bool deepEnough(const ObjectModel& object, const EncloseGeometry& g, const Eigen::Vector3d& mid,
+                const Eigen::Vector3d& w, double depth, double through) {
+  if (through >= g.min_depth) return true;
+  const Eigen::Vector3d start = mid - (depth + kFaceClearance) * w;
+  const std::optional<RayHit> entry = object.castRay(start, w, 0.0, kFaceClearance + g.min_depth);
+  if (!entry) return false;
+  const auto at_mid = throughDepth(object, entry->point, w, g.probe_depth);
+  return at_mid && entry->distance - kFaceClearance + at_mid->first >= g.min_depth;
+}
+
 /// Rays in the plane kFaceClearance in front of q (outside the surface) from `face` along +-c
 /// and +-v to the palm's extent and to its four corners: none may meet the surface (the palm
 /// would cut through the part). face_cv: the face point's palm-frame (c, v) coordinates, metres.
@@ -218,17 +265,10 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
                              const std::vector<Eigen::Vector3d>& finger_points,
                              const SurfaceSample& q, double roll, double margin) {
   const Eigen::Vector3d w = -q.normal;
-  // The object's depth along w from q: where the solid first ends; when that is within twice
-  // the probe depth, its last crossing (through a hollow to the far wall).
-  const std::optional<RayHit> exit = object.castRay(q.point, w, kRayStart);
-  if (!exit) return std::nullopt;
-  double through = exit->distance;
-  if (through < 2.0 * g.probe_depth) {
-    const std::optional<double> rest =
-        reach(object, exit->point + kStep * w, w, std::numeric_limits<double>::infinity(), false);
-    if (!rest) return std::nullopt;
-    if (*rest > 0.0) through += kStep + *rest;
-  }
+  const auto at_q = throughDepth(object, q.point, w, g.probe_depth);
+  if (!at_q) return std::nullopt;
+  const double through = at_q->first;
+  const RayHit* const exit = &at_q->second;
   const double depth = std::min(g.probe_depth, 0.5 * through);
   const Eigen::Vector3d x = q.point + depth * w;
   // x is in the solid unless the first exit is shallower than the probe (a hollow's wall).
@@ -254,6 +294,10 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
   for (int k : order) {
     Candidate& cd = cands[k];
     if (!(cd.width <= span)) break;
+    // A part lower than min_depth ahead of the palm where the fingers close (at the midpoint
+    // of the chord's first crossings): the fingers would fold over it onto the palm.
+    if (!deepEnough(object, g, x + 0.5 * (cd.plus - cd.minus) * cd.dir, w, depth, through))
+      continue;
     if (inside) {
       // The first crossings bound the extent from below; the whole extent (a part that
       // continues past a gap) must fit too.

@@ -19,8 +19,12 @@
 // stored grasps per CPU-second, its ratios to mixed and to the new sampler alone, its hold rate,
 // the check's CPU per checked grasp and the share of checked grasps it passes; --trials N caps
 // every build's trials (default: BuildOptions' 200000).
+// --previous 1 adds a build per round with palm_enclose as it was before the minimum part depth
+// (EncloseGeometry::min_depth 0: no test) and prints its rate, the new sampler's ratio to it,
+// its trials per stored grasp, hold rate and outcome shares (palm_enclose pairs only).
 //   sampler_rate [--real DIR] [--extra DIR] [--valid N] [--rounds R] [--only SUBSTRING]
 //                [--multi KIND] [--jaw KIND] [--hold N] [--closing-check KIND] [--trials N]
+//                [--previous 1]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -63,8 +67,14 @@ ClosingCheckOptions closingCheck(const std::string& kind) {
 }
 
 Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, std::uint64_t valid,
-          std::size_t hold, const ClosingCheckOptions& check, std::uint64_t trials) {
+          std::size_t hold, const ClosingCheckOptions& check, std::uint64_t trials,
+          bool previous = false) {
   BuildOptions o;
+  if (previous) {
+    // palm_enclose before the minimum part depth: the same geometry with the test off.
+    o.sampler.enclose = encloseGeometry(hand);
+    if (o.sampler.enclose) o.sampler.enclose->min_depth = 0.0;
+  }
   o.threads = 1;
   o.valid_target = valid;
   o.cluster = false;
@@ -129,6 +139,7 @@ int benchMain(int argc, char** argv) {
   std::size_t hold = 60;
   std::string only, multi = "enclose", jaw = "antipodal", check_kind = "off";
   std::uint64_t trials = 0;
+  bool previous = false;
   std::string extra = std::string(TASKMAP_SOURCE_DIR) + "/../extra_real";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -152,10 +163,12 @@ int benchMain(int argc, char** argv) {
       check_kind = v;
     else if (a == "--trials")
       trials = std::stoull(v);
+    else if (a == "--previous")
+      previous = v != "0";
     else
       throw Error("unknown option " + a +
                   " (--real, --extra, --valid, --rounds, --only, --multi, --jaw, --hold, "
-                  "--closing-check, --trials)");
+                  "--closing-check, --trials, --previous)");
   }
   const ClosingCheckOptions check = closingCheck(check_kind);
   const bool with_check = check.mode != ClosingCheckMode::kOff;
@@ -225,8 +238,9 @@ int benchMain(int argc, char** argv) {
       MeshLoadOptions lo;
       lo.scale = oi.scale;
       const ObjectModel object = ObjectModel::load(oi.path, lo);
-      std::vector<double> old_rates, new_rates, check_rates;
-      Run old_first, new_first, check_first;
+      std::vector<double> old_rates, new_rates, check_rates, prev_rates;
+      Run old_first, new_first, check_first, prev_first;
+      const bool with_prev = previous && new_kind == SamplerKind::kPalmEnclose;
       const ClosingCheckOptions off;
       for (int r = 0; r < rounds; ++r) {
         // The hold test once (its labels do not depend on timing).
@@ -236,6 +250,11 @@ int benchMain(int argc, char** argv) {
         if (r == 0) old_first = old_run, new_first = new_run;
         old_rates.push_back(old_run.rate);
         new_rates.push_back(new_run.rate);
+        if (with_prev) {
+          const Run prev_run = build(object, hand, new_kind, valid, h, off, trials, true);
+          if (r == 0) prev_first = prev_run;
+          prev_rates.push_back(prev_run.rate);
+        }
         if (with_check) {
           const Run check_run = build(object, hand, new_kind, valid, h, check, trials);
           if (r == 0) check_first = check_run;
@@ -264,6 +283,16 @@ int benchMain(int argc, char** argv) {
           ms(new_first, new_first.simulation), ms(old_first, old_first.sampling),
           ms(new_first, new_first.sampling), ms(old_first, old_first.quality),
           ms(new_first, new_first.quality), shares(old_first, new_first).c_str());
+      if (with_prev) {
+        const double p = median(prev_rates);
+        std::printf(
+            "%-20s %-15s previous palm_enclose: %.1f stored g/s (new %.2fx it, %.2fx mixed), "
+            "%.1f trials per stored grasp, hold %.0f%% (%zu/%zu), sampling %.2f ms/grasp; "
+            "outcomes previous->new%s\n",
+            hi.name.c_str(), oi.name.c_str(), p, p > 0 ? n / p : 0.0, o > 0 ? p / o : 0.0,
+            per(prev_first), pct(prev_first), prev_first.holding, prev_first.tested,
+            ms(prev_first, prev_first.sampling), shares(prev_first, new_first).c_str());
+      }
       if (with_check) {
         const double c = median(check_rates);
         const Run& k = check_first;
