@@ -132,13 +132,17 @@ constexpr double kStep = 1e-7;
 /// and x is outside (`inside`: whether x is in the solid); empty when the ray is still inside
 /// the solid at max_len (the object reaches past it) or crosses more than kMaxCrossings times.
 /// Walks through hollows: a mug's wall, the hollow and the far wall give the mug's outer
-/// extent, not the wall's.
+/// extent, not the wall's. `first`, when given, is the ray's first hit already cast
+/// (castRay(x, d, 0, max_len)): the walk starts from it with the same result.
 std::optional<double> reach(const ObjectModel& object, const Eigen::Vector3d& x,
-                            const Eigen::Vector3d& d, double max_len, bool inside) {
+                            const Eigen::Vector3d& d, double max_len, bool inside,
+                            const RayHit* first = nullptr) {
   double at = 0.0, last = 0.0;
   for (int k = 0; k <= kMaxCrossings; ++k) {
     if (!(max_len - at > kStep)) break;
-    const std::optional<RayHit> hit = object.castRay(x + at * d, d, 0.0, max_len - at);
+    const std::optional<RayHit> hit = k == 0 && first != nullptr
+                                          ? std::optional<RayHit>(*first)
+                                          : object.castRay(x + at * d, d, 0.0, max_len - at);
     if (!hit) break;
     if (k == kMaxCrossings) return std::nullopt;
     last = at + hit->distance;
@@ -152,23 +156,30 @@ std::optional<double> reach(const ObjectModel& object, const Eigen::Vector3d& x,
 /// The object's extent through x along d: how far it reaches along +d and along -d (reach),
 /// empty unless both sides together fit within max_len (the ray along -d only searches the
 /// length the ray along +d left: a part wider than the span costs one side's rays, not two) or
-/// when the line meets nothing.
+/// when the line meets nothing. `first`, when given, holds the first hits of the rays along +d
+/// within max_len and along -d within max_len less the +d hit's distance (firstChord's): the
+/// walks start from them where their range is the same, with the same result.
 std::optional<std::pair<double, double>> chord(const ObjectModel& object, const Eigen::Vector3d& x,
                                                const Eigen::Vector3d& d, double max_len,
-                                               bool inside) {
-  const std::optional<double> plus = reach(object, x, d, max_len, inside);
+                                               bool inside,
+                                               const std::pair<RayHit, RayHit>* first = nullptr) {
+  const std::optional<double> plus =
+      reach(object, x, d, max_len, inside, first != nullptr ? &first->first : nullptr);
   if (!plus) return std::nullopt;
   const double rest = max_len - *plus;
   if (!(rest > 0.0)) return std::nullopt;
-  const std::optional<double> minus = reach(object, x, -d, rest, inside);
+  // The -d ray's first hit within the shorter range is the one cast when it lies within it.
+  const bool seed = first != nullptr && first->second.distance <= rest;
+  const std::optional<double> minus =
+      reach(object, x, -d, rest, inside, seed ? &first->second : nullptr);
   if (!minus || !(*plus + *minus > 0.0)) return std::nullopt;
   return std::make_pair(*plus, *minus);
 }
 
 /// The chord of the solid through x (inside it) along d: distances to where the rays x + s d
 /// and x - s d first leave it, empty unless both fit within max_len together. A lower bound of
-/// chord()'s extent, two rays.
-std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
+/// chord()'s extent, two rays; the hits themselves (chord() walks on from them).
+std::optional<std::pair<RayHit, RayHit>> firstChord(const ObjectModel& object,
                                                     const Eigen::Vector3d& x,
                                                     const Eigen::Vector3d& d, double max_len) {
   const std::optional<RayHit> plus = object.castRay(x, d, 0.0, max_len);
@@ -177,7 +188,7 @@ std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
   if (!(rest > 0.0)) return std::nullopt;
   const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, rest);
   if (!minus) return std::nullopt;
-  return std::make_pair(plus->distance, minus->distance);
+  return std::make_pair(*plus, *minus);
 }
 
 /// The object's depth along w (unit) from the surface point q (on the surface, w into the
@@ -256,6 +267,7 @@ bool fingersOutside(const ObjectModel& object, const Pose& palm,
 struct Candidate {
   double width = 0.0, plus = 0.0, minus = 0.0;
   Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+  std::optional<std::pair<RayHit, RayHit>> first;  ///< firstChord's hits (x inside the solid)
 };
 
 /// One surface point: the kEncloseRolls directions across w = -n, narrowest chord first, each
@@ -279,8 +291,14 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
   for (int k = 0; k < kEncloseRolls; ++k) {
     const double t = roll + M_PI * k / kEncloseRolls;
     cands[k].dir = std::cos(t) * e1 + std::sin(t) * e2;
-    const auto ch = inside ? firstChord(object, x, cands[k].dir, span)
-                           : chord(object, x, cands[k].dir, span, inside);
+    std::optional<std::pair<double, double>> ch;
+    if (inside) {
+      cands[k].first = firstChord(object, x, cands[k].dir, span);
+      if (cands[k].first)
+        ch = std::make_pair(cands[k].first->first.distance, cands[k].first->second.distance);
+    } else {
+      ch = chord(object, x, cands[k].dir, span, inside);
+    }
     cands[k].width = ch ? ch->first + ch->second : 1e300;
     if (ch) cands[k].plus = ch->first, cands[k].minus = ch->second;
   }
@@ -301,7 +319,7 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
     if (inside) {
       // The first crossings bound the extent from below; the whole extent (a part that
       // continues past a gap) must fit too.
-      const auto ch = chord(object, x, cd.dir, span, inside);
+      const auto ch = chord(object, x, cd.dir, span, inside, &*cd.first);
       if (!ch) continue;
       cd.plus = ch->first, cd.minus = ch->second, cd.width = ch->first + ch->second;
     }

@@ -2,7 +2,8 @@
 // the new one, in one process, per hand x object of the reference set (bundled hands, the
 // Robotiq 2F-85 style test hand; bundled objects and the YCB banana of tests/data/real) and the
 // real set (--real DIR, default $TASKMAP_REAL_DIR or ../shared/real: the Franka and Allegro
-// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs).
+// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs; the
+// Allegro on the bundled cylinder, box, basket and mug).
 // Default build options otherwise (clustering off: it is
 // not part of the trial CPU time). Parallel-jaw hands (jawGeometry) compare `mixed` with
 // `antipodal`, other hands `mixed` with --multi (default `enclose`).
@@ -22,6 +23,7 @@
 // --previous 1 adds a build per round with palm_enclose as it was before the minimum part depth
 // (EncloseGeometry::min_depth 0: no test) and prints its rate, the new sampler's ratio to it,
 // its trials per stored grasp, hold rate and outcome shares (palm_enclose pairs only).
+// --only A|B|... runs the pairs whose "hand object" name contains any of the substrings.
 //   sampler_rate [--real DIR] [--extra DIR] [--valid N] [--rounds R] [--only SUBSTRING]
 //                [--multi KIND] [--jaw KIND] [--hold N] [--closing-check KIND] [--trials N]
 //                [--previous 1]
@@ -131,6 +133,19 @@ std::string shares(const Run& a, const Run& b) {
   return out;
 }
 
+/// Whether `name` contains one of the '|'-separated substrings of `only` (all when empty).
+bool selected(const std::string& only, const std::string& name) {
+  if (only.empty()) return true;
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t bar = only.find('|', from);
+    const std::string part = only.substr(from, bar == std::string::npos ? bar : bar - from);
+    if (!part.empty() && name.find(part) != std::string::npos) return true;
+    if (bar == std::string::npos) return false;
+    from = bar + 1;
+  }
+}
+
 int benchMain(int argc, char** argv) {
   const char* env = std::getenv("TASKMAP_REAL_DIR");
   std::string real = env != nullptr ? env : std::string(TASKMAP_SOURCE_DIR) + "/../shared/real";
@@ -199,6 +214,10 @@ int benchMain(int argc, char** argv) {
     sets.push_back(
         {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
          real_objects});
+    // The Allegro on the reference objects but the YCB banana (in its real set above).
+    sets.push_back(
+        {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
+         {reference_objects[0], reference_objects[1], reference_objects[2], reference_objects[3]}});
     // The bundled multi-finger hands on the real mugs (the YCB banana is in the reference set).
     for (const std::string h : {"barrett", "humanoid"})
       sets.push_back({{h, src + "/meshes/hands/" + h + "/" + h + ".urdf", "", 1.0},
@@ -233,7 +252,7 @@ int benchMain(int argc, char** argv) {
     const HandModel hand = HandModel::load(hi.path);
     const SamplerKind new_kind = jawGeometry(hand) ? jaw_kind : multi_kind;
     for (const Item& oi : objects) {
-      if (!only.empty() && (hi.name + " " + oi.name).find(only) == std::string::npos) continue;
+      if (!selected(only, hi.name + " " + oi.name)) continue;
       if (!fs::exists(oi.path)) continue;
       MeshLoadOptions lo;
       lo.scale = oi.scale;
