@@ -54,6 +54,15 @@ Eigen::Vector3d closingAxis(const std::vector<std::vector<Eigen::Vector3d>>& ope
   return c.normalized();
 }
 
+/// Metres: the smallest CollisionShape::thickness of the finger links' shapes (0 when none).
+double thinnestFingerLink(const HandModel& hand) {
+  double thin = std::numeric_limits<double>::infinity();
+  for (const HandLink& link : hand.links())
+    if (link.finger >= 0)
+      for (const CollisionShape& shape : link.shapes) thin = std::min(thin, shape.thickness());
+  return std::isfinite(thin) ? thin : 0.0;
+}
+
 }  // namespace
 
 void EncloseGeometry::validate() const {
@@ -67,6 +76,8 @@ void EncloseGeometry::validate() const {
   if (!grasp_centre.allFinite()) throw Error("enclose grasp_centre must be finite (metres)");
   if (!palm_min.allFinite() || !palm_max.allFinite() || (palm_min.array() > palm_max.array()).any())
     throw Error("enclose palm_min and palm_max must be finite with palm_min <= palm_max (metres)");
+  if (!std::isfinite(min_depth) || min_depth < 0.0)
+    throw Error("enclose min_depth must be a finite length >= 0 in metres");
 }
 
 std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
@@ -105,6 +116,7 @@ std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand) {
   const Eigen::Vector3d shut = centroid(all_closed);
   g.probe_depth = std::max(kMinProbeDepth, a.dot(shut) - g.palm_front);
   g.grasp_centre = Eigen::Vector2d(c.dot(shut), 0.5 * (g.palm_min.y() + g.palm_max.y()));
+  g.min_depth = 0.5 * thinnestFingerLink(hand);
   return g;
 }
 
@@ -120,13 +132,17 @@ constexpr double kStep = 1e-7;
 /// and x is outside (`inside`: whether x is in the solid); empty when the ray is still inside
 /// the solid at max_len (the object reaches past it) or crosses more than kMaxCrossings times.
 /// Walks through hollows: a mug's wall, the hollow and the far wall give the mug's outer
-/// extent, not the wall's.
+/// extent, not the wall's. `first`, when given, is the ray's first hit already cast
+/// (castRay(x, d, 0, max_len)): the walk starts from it with the same result.
 std::optional<double> reach(const ObjectModel& object, const Eigen::Vector3d& x,
-                            const Eigen::Vector3d& d, double max_len, bool inside) {
+                            const Eigen::Vector3d& d, double max_len, bool inside,
+                            const RayHit* first = nullptr) {
   double at = 0.0, last = 0.0;
   for (int k = 0; k <= kMaxCrossings; ++k) {
     if (!(max_len - at > kStep)) break;
-    const std::optional<RayHit> hit = object.castRay(x + at * d, d, 0.0, max_len - at);
+    const std::optional<RayHit> hit = k == 0 && first != nullptr
+                                          ? std::optional<RayHit>(*first)
+                                          : object.castRay(x + at * d, d, 0.0, max_len - at);
     if (!hit) break;
     if (k == kMaxCrossings) return std::nullopt;
     last = at + hit->distance;
@@ -140,23 +156,30 @@ std::optional<double> reach(const ObjectModel& object, const Eigen::Vector3d& x,
 /// The object's extent through x along d: how far it reaches along +d and along -d (reach),
 /// empty unless both sides together fit within max_len (the ray along -d only searches the
 /// length the ray along +d left: a part wider than the span costs one side's rays, not two) or
-/// when the line meets nothing.
+/// when the line meets nothing. `first`, when given, holds the first hits of the rays along +d
+/// within max_len and along -d within max_len less the +d hit's distance (firstChord's): the
+/// walks start from them where their range is the same, with the same result.
 std::optional<std::pair<double, double>> chord(const ObjectModel& object, const Eigen::Vector3d& x,
                                                const Eigen::Vector3d& d, double max_len,
-                                               bool inside) {
-  const std::optional<double> plus = reach(object, x, d, max_len, inside);
+                                               bool inside,
+                                               const std::pair<RayHit, RayHit>* first = nullptr) {
+  const std::optional<double> plus =
+      reach(object, x, d, max_len, inside, first != nullptr ? &first->first : nullptr);
   if (!plus) return std::nullopt;
   const double rest = max_len - *plus;
   if (!(rest > 0.0)) return std::nullopt;
-  const std::optional<double> minus = reach(object, x, -d, rest, inside);
+  // The -d ray's first hit within the shorter range is the one cast when it lies within it.
+  const bool seed = first != nullptr && first->second.distance <= rest;
+  const std::optional<double> minus =
+      reach(object, x, -d, rest, inside, seed ? &first->second : nullptr);
   if (!minus || !(*plus + *minus > 0.0)) return std::nullopt;
   return std::make_pair(*plus, *minus);
 }
 
 /// The chord of the solid through x (inside it) along d: distances to where the rays x + s d
 /// and x - s d first leave it, empty unless both fit within max_len together. A lower bound of
-/// chord()'s extent, two rays.
-std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
+/// chord()'s extent, two rays; the hits themselves (chord() walks on from them).
+std::optional<std::pair<RayHit, RayHit>> firstChord(const ObjectModel& object,
                                                     const Eigen::Vector3d& x,
                                                     const Eigen::Vector3d& d, double max_len) {
   const std::optional<RayHit> plus = object.castRay(x, d, 0.0, max_len);
@@ -165,7 +188,42 @@ std::optional<std::pair<double, double>> firstChord(const ObjectModel& object,
   if (!(rest > 0.0)) return std::nullopt;
   const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, rest);
   if (!minus) return std::nullopt;
-  return std::make_pair(plus->distance, minus->distance);
+  return std::make_pair(*plus, *minus);
+}
+
+/// The object's depth along w (unit) from the surface point q (on the surface, w into the
+/// solid): where the solid first ends; when that is within twice `probe_depth`, its last
+/// crossing (through a hollow to the far wall). Empty when the ray from q leaves nothing (q is
+/// not in front of the solid) or the walk through the hollow does not end.
+std::optional<std::pair<double, RayHit>> throughDepth(const ObjectModel& object,
+                                                      const Eigen::Vector3d& q,
+                                                      const Eigen::Vector3d& w,
+                                                      double probe_depth) {
+  const std::optional<RayHit> exit = object.castRay(q, w, kRayStart);
+  if (!exit) return std::nullopt;
+  double through = exit->distance;
+  if (through < 2.0 * probe_depth) {
+    const std::optional<double> rest =
+        reach(object, exit->point + kStep * w, w, std::numeric_limits<double>::infinity(), false);
+    if (!rest) return std::nullopt;
+    if (*rest > 0.0) through += kStep + *rest;
+  }
+  return std::make_pair(through, *exit);
+}
+
+/// Whether the object reaches at least g.min_depth ahead of the palm's front at the chord's
+/// midpoint `mid` (at depth `depth` behind the face plane through q): the first surface met
+/// along w from kFaceClearance in front of that plane (within min_depth behind it), then
+/// throughDepth from there; the far end must lie min_depth or more behind the plane. With
+/// `through` (the depth at q) at least min_depth, no ray is cast.
+bool deepEnough(const ObjectModel& object, const EncloseGeometry& g, const Eigen::Vector3d& mid,
+                const Eigen::Vector3d& w, double depth, double through) {
+  if (through >= g.min_depth) return true;
+  const Eigen::Vector3d start = mid - (depth + kFaceClearance) * w;
+  const std::optional<RayHit> entry = object.castRay(start, w, 0.0, kFaceClearance + g.min_depth);
+  if (!entry) return false;
+  const auto at_mid = throughDepth(object, entry->point, w, g.probe_depth);
+  return at_mid && entry->distance - kFaceClearance + at_mid->first >= g.min_depth;
 }
 
 /// Rays in the plane kFaceClearance in front of q (outside the surface) from `face` along +-c
@@ -209,6 +267,7 @@ bool fingersOutside(const ObjectModel& object, const Pose& palm,
 struct Candidate {
   double width = 0.0, plus = 0.0, minus = 0.0;
   Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+  std::optional<std::pair<RayHit, RayHit>> first;  ///< firstChord's hits (x inside the solid)
 };
 
 /// One surface point: the kEncloseRolls directions across w = -n, narrowest chord first, each
@@ -218,17 +277,10 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
                              const std::vector<Eigen::Vector3d>& finger_points,
                              const SurfaceSample& q, double roll, double margin) {
   const Eigen::Vector3d w = -q.normal;
-  // The object's depth along w from q: where the solid first ends; when that is within twice
-  // the probe depth, its last crossing (through a hollow to the far wall).
-  const std::optional<RayHit> exit = object.castRay(q.point, w, kRayStart);
-  if (!exit) return std::nullopt;
-  double through = exit->distance;
-  if (through < 2.0 * g.probe_depth) {
-    const std::optional<double> rest =
-        reach(object, exit->point + kStep * w, w, std::numeric_limits<double>::infinity(), false);
-    if (!rest) return std::nullopt;
-    if (*rest > 0.0) through += kStep + *rest;
-  }
+  const auto at_q = throughDepth(object, q.point, w, g.probe_depth);
+  if (!at_q) return std::nullopt;
+  const double through = at_q->first;
+  const RayHit* const exit = &at_q->second;
   const double depth = std::min(g.probe_depth, 0.5 * through);
   const Eigen::Vector3d x = q.point + depth * w;
   // x is in the solid unless the first exit is shallower than the probe (a hollow's wall).
@@ -239,8 +291,14 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
   for (int k = 0; k < kEncloseRolls; ++k) {
     const double t = roll + M_PI * k / kEncloseRolls;
     cands[k].dir = std::cos(t) * e1 + std::sin(t) * e2;
-    const auto ch = inside ? firstChord(object, x, cands[k].dir, span)
-                           : chord(object, x, cands[k].dir, span, inside);
+    std::optional<std::pair<double, double>> ch;
+    if (inside) {
+      cands[k].first = firstChord(object, x, cands[k].dir, span);
+      if (cands[k].first)
+        ch = std::make_pair(cands[k].first->first.distance, cands[k].first->second.distance);
+    } else {
+      ch = chord(object, x, cands[k].dir, span, inside);
+    }
     cands[k].width = ch ? ch->first + ch->second : 1e300;
     if (ch) cands[k].plus = ch->first, cands[k].minus = ch->second;
   }
@@ -254,10 +312,14 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
   for (int k : order) {
     Candidate& cd = cands[k];
     if (!(cd.width <= span)) break;
+    // A part lower than min_depth ahead of the palm where the fingers close (at the midpoint
+    // of the chord's first crossings): the fingers would fold over it onto the palm.
+    if (!deepEnough(object, g, x + 0.5 * (cd.plus - cd.minus) * cd.dir, w, depth, through))
+      continue;
     if (inside) {
       // The first crossings bound the extent from below; the whole extent (a part that
       // continues past a gap) must fit too.
-      const auto ch = chord(object, x, cd.dir, span, inside);
+      const auto ch = chord(object, x, cd.dir, span, inside, &*cd.first);
       if (!ch) continue;
       cd.plus = ch->first, cd.minus = ch->second, cd.width = ch->first + ch->second;
     }

@@ -2,7 +2,8 @@
 // the new one, in one process, per hand x object of the reference set (bundled hands, the
 // Robotiq 2F-85 style test hand; bundled objects and the YCB banana of tests/data/real) and the
 // real set (--real DIR, default $TASKMAP_REAL_DIR or ../shared/real: the Franka and Allegro
-// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs).
+// hands; YCB banana, YCB mug, ACRONYM mug; the bundled barrett and humanoid on the two mugs; the
+// Allegro on the bundled cylinder, box, basket and mug).
 // Default build options otherwise (clustering off: it is
 // not part of the trial CPU time). Parallel-jaw hands (jawGeometry) compare `mixed` with
 // `antipodal`, other hands `mixed` with --multi (default `enclose`).
@@ -19,8 +20,13 @@
 // stored grasps per CPU-second, its ratios to mixed and to the new sampler alone, its hold rate,
 // the check's CPU per checked grasp and the share of checked grasps it passes; --trials N caps
 // every build's trials (default: BuildOptions' 200000).
+// --previous 1 adds a build per round with palm_enclose as it was before the minimum part depth
+// (EncloseGeometry::min_depth 0: no test) and prints its rate, the new sampler's ratio to it,
+// its trials per stored grasp, hold rate and outcome shares (palm_enclose pairs only).
+// --only A|B|... runs the pairs whose "hand object" name contains any of the substrings.
 //   sampler_rate [--real DIR] [--extra DIR] [--valid N] [--rounds R] [--only SUBSTRING]
 //                [--multi KIND] [--jaw KIND] [--hold N] [--closing-check KIND] [--trials N]
+//                [--previous 1]
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -63,8 +69,14 @@ ClosingCheckOptions closingCheck(const std::string& kind) {
 }
 
 Run build(const ObjectModel& object, const HandModel& hand, SamplerKind kind, std::uint64_t valid,
-          std::size_t hold, const ClosingCheckOptions& check, std::uint64_t trials) {
+          std::size_t hold, const ClosingCheckOptions& check, std::uint64_t trials,
+          bool previous = false) {
   BuildOptions o;
+  if (previous) {
+    // palm_enclose before the minimum part depth: the same geometry with the test off.
+    o.sampler.enclose = encloseGeometry(hand);
+    if (o.sampler.enclose) o.sampler.enclose->min_depth = 0.0;
+  }
   o.threads = 1;
   o.valid_target = valid;
   o.cluster = false;
@@ -121,6 +133,19 @@ std::string shares(const Run& a, const Run& b) {
   return out;
 }
 
+/// Whether `name` contains one of the '|'-separated substrings of `only` (all when empty).
+bool selected(const std::string& only, const std::string& name) {
+  if (only.empty()) return true;
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t bar = only.find('|', from);
+    const std::string part = only.substr(from, bar == std::string::npos ? bar : bar - from);
+    if (!part.empty() && name.find(part) != std::string::npos) return true;
+    if (bar == std::string::npos) return false;
+    from = bar + 1;
+  }
+}
+
 int benchMain(int argc, char** argv) {
   const char* env = std::getenv("TASKMAP_REAL_DIR");
   std::string real = env != nullptr ? env : std::string(TASKMAP_SOURCE_DIR) + "/../shared/real";
@@ -129,6 +154,7 @@ int benchMain(int argc, char** argv) {
   std::size_t hold = 60;
   std::string only, multi = "enclose", jaw = "antipodal", check_kind = "off";
   std::uint64_t trials = 0;
+  bool previous = false;
   std::string extra = std::string(TASKMAP_SOURCE_DIR) + "/../extra_real";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
@@ -152,10 +178,12 @@ int benchMain(int argc, char** argv) {
       check_kind = v;
     else if (a == "--trials")
       trials = std::stoull(v);
+    else if (a == "--previous")
+      previous = v != "0";
     else
       throw Error("unknown option " + a +
                   " (--real, --extra, --valid, --rounds, --only, --multi, --jaw, --hold, "
-                  "--closing-check, --trials)");
+                  "--closing-check, --trials, --previous)");
   }
   const ClosingCheckOptions check = closingCheck(check_kind);
   const bool with_check = check.mode != ClosingCheckMode::kOff;
@@ -186,6 +214,10 @@ int benchMain(int argc, char** argv) {
     sets.push_back(
         {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
          real_objects});
+    // The Allegro on the reference objects but the YCB banana (in its real set above).
+    sets.push_back(
+        {{"allegro", real + "/hands/allegro_right/allegro_hand_description_right.urdf", "", 1.0},
+         {reference_objects[0], reference_objects[1], reference_objects[2], reference_objects[3]}});
     // The bundled multi-finger hands on the real mugs (the YCB banana is in the reference set).
     for (const std::string h : {"barrett", "humanoid"})
       sets.push_back({{h, src + "/meshes/hands/" + h + "/" + h + ".urdf", "", 1.0},
@@ -220,13 +252,14 @@ int benchMain(int argc, char** argv) {
     const HandModel hand = HandModel::load(hi.path);
     const SamplerKind new_kind = jawGeometry(hand) ? jaw_kind : multi_kind;
     for (const Item& oi : objects) {
-      if (!only.empty() && (hi.name + " " + oi.name).find(only) == std::string::npos) continue;
+      if (!selected(only, hi.name + " " + oi.name)) continue;
       if (!fs::exists(oi.path)) continue;
       MeshLoadOptions lo;
       lo.scale = oi.scale;
       const ObjectModel object = ObjectModel::load(oi.path, lo);
-      std::vector<double> old_rates, new_rates, check_rates;
-      Run old_first, new_first, check_first;
+      std::vector<double> old_rates, new_rates, check_rates, prev_rates;
+      Run old_first, new_first, check_first, prev_first;
+      const bool with_prev = previous && new_kind == SamplerKind::kPalmEnclose;
       const ClosingCheckOptions off;
       for (int r = 0; r < rounds; ++r) {
         // The hold test once (its labels do not depend on timing).
@@ -236,6 +269,11 @@ int benchMain(int argc, char** argv) {
         if (r == 0) old_first = old_run, new_first = new_run;
         old_rates.push_back(old_run.rate);
         new_rates.push_back(new_run.rate);
+        if (with_prev) {
+          const Run prev_run = build(object, hand, new_kind, valid, h, off, trials, true);
+          if (r == 0) prev_first = prev_run;
+          prev_rates.push_back(prev_run.rate);
+        }
         if (with_check) {
           const Run check_run = build(object, hand, new_kind, valid, h, check, trials);
           if (r == 0) check_first = check_run;
@@ -264,6 +302,16 @@ int benchMain(int argc, char** argv) {
           ms(new_first, new_first.simulation), ms(old_first, old_first.sampling),
           ms(new_first, new_first.sampling), ms(old_first, old_first.quality),
           ms(new_first, new_first.quality), shares(old_first, new_first).c_str());
+      if (with_prev) {
+        const double p = median(prev_rates);
+        std::printf(
+            "%-20s %-15s previous palm_enclose: %.1f stored g/s (new %.2fx it, %.2fx mixed), "
+            "%.1f trials per stored grasp, hold %.0f%% (%zu/%zu), sampling %.2f ms/grasp; "
+            "outcomes previous->new%s\n",
+            hi.name.c_str(), oi.name.c_str(), p, p > 0 ? n / p : 0.0, o > 0 ? p / o : 0.0,
+            per(prev_first), pct(prev_first), prev_first.holding, prev_first.tested,
+            ms(prev_first, prev_first.sampling), shares(prev_first, new_first).c_str());
+      }
       if (with_check) {
         const double c = median(check_rates);
         const Run& k = check_first;

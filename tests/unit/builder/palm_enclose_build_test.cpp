@@ -3,6 +3,7 @@
 // sampler and few of its trials end without the palm (trial counts, not time), the map is the
 // same for any thread count, and the map records its sampler and the hand geometry it used.
 #include <string>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -57,6 +58,49 @@ TEST(PalmEncloseBuildTest, SameMapForAnyThreadCount) {
   ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
   testing::expectSameMapContent(
       one.map, buildMap(banana(), allegro(), encloseBuild(SamplerKind::kPalmEnclose, 3)).map);
+}
+
+/// The solid axis-aligned box [lo, hi], outward triangles.
+TriangleMesh boxMesh(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
+                               i & 4 ? hi.z() : lo.z());
+  const int quads[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                           {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  const Eigen::Vector3d mid = 0.5 * (lo + hi);
+  for (const auto& q : quads)
+    for (Eigen::Vector3i f :
+         {Eigen::Vector3i(q[0], q[1], q[2]), Eigen::Vector3i(q[0], q[2], q[3])}) {
+      const auto& v = mesh.vertices;
+      const Eigen::Vector3d n = (v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]);
+      if (n.dot((v[f[0]] + v[f[1]] + v[f[2]]) / 3.0 - mid) < 0.0) std::swap(f[1], f[2]);
+      mesh.faces.push_back(f);
+    }
+  return mesh;
+}
+
+TEST(PalmEncloseBuildTest, SameMapForAnyThreadCountWhereThinPartsAreSkipped) {
+  // The bundled barrett on a plate 10 x 6 cm, 6 mm thick: the minimum part depth
+  // (EncloseGeometry::min_depth, 1 cm) rejects the poses whose fingers would close over the
+  // plate onto the palm, so the map differs from one built without it; 1 and 3 threads give the
+  // same map.
+  const ObjectModel plate = ObjectModel::fromMesh(
+      boxMesh(Eigen::Vector3d(-0.05, -0.03, 0.0), Eigen::Vector3d(0.05, 0.03, 0.006)), "plate");
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const BuildResult one = buildMap(plate, barrett, encloseBuild(SamplerKind::kPalmEnclose, 1));
+  ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
+  testing::expectSameMapContent(
+      one.map, buildMap(plate, barrett, encloseBuild(SamplerKind::kPalmEnclose, 3)).map);
+  BuildOptions without = encloseBuild(SamplerKind::kPalmEnclose, 1);
+  without.sampler.enclose = encloseGeometry(barrett);
+  without.sampler.enclose->min_depth = 0.0;
+  const BuildResult before = buildMap(plate, barrett, without);
+  ASSERT_EQ(before.status, BuildStatus::kComplete) << before.message;
+  const bool differ = before.map.grasps.pose.rows() != one.map.grasps.pose.rows() ||
+                      before.map.grasps.pose != one.map.grasps.pose;
+  EXPECT_TRUE(differ) << "the minimum part depth changed no grasp on the plate";
 }
 
 TEST(PalmEncloseBuildTest, HandWithoutClosingFingersIsRefusedWithAClearMessage) {

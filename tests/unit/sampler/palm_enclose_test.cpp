@@ -66,7 +66,14 @@ TEST(PalmEnclose, GeometryFromTheHandsShapes) {
         EXPECT_LE(g->closing_axis.dot(p), g->span_max + 1e-12);
       }
     EXPECT_GT(g->span_max - g->span_min, 0.05);  // both hands open wider than 5 cm
+    // The minimum part depth: half the thinnest finger link (the barrett's 2 cm boxes: 1 cm).
+    double thin = 1e300;
+    for (const HandLink& link : h->links())
+      if (link.finger >= 0)
+        for (const CollisionShape& shape : link.shapes) thin = std::min(thin, shape.thickness());
+    EXPECT_DOUBLE_EQ(g->min_depth, 0.5 * thin);
   }
+  EXPECT_DOUBLE_EQ(encloseGeometry(barrett())->min_depth, 0.01);
 }
 
 // The box's chord along the line y0 + s d (slab method, independent of the mesh's rays): the
@@ -182,6 +189,59 @@ TriangleMesh hollowBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, dou
   shell(lo, hi, true);
   shell(lo + Eigen::Vector3d::Constant(wall), hi - Eigen::Vector3d::Constant(wall), false);
   return mesh;
+}
+
+/// The solid axis-aligned box [lo, hi] (the outer shell of hollowBox).
+TriangleMesh solidBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh shell = hollowBox(lo, hi, 0.25 * (hi - lo).minCoeff());
+  shell.faces.resize(12);  // the outer shell's 12 triangles come first
+  shell.vertices.resize(8);
+  return shell;
+}
+
+/// Accepted poses (of 200 draws, one attempt each) on `object` with geometry g, and how many of
+/// them approach along z (the plate's large faces).
+std::pair<int, int> posesAlongZ(const ObjectModel& object, const HandModel& h,
+                                const EncloseGeometry& g) {
+  const SamplerOptions o = encloseOptions(h);
+  int accepted = 0, along_z = 0;
+  for (std::uint64_t i = 0; i < 200; ++i) {
+    Rng rng(11, i);
+    const std::optional<Pose> pose =
+        drawPalmEnclose(object, g, o.approach_axis, o.finger_points, 1, o.enclose_margin, rng);
+    if (!pose) continue;
+    ++accepted;
+    const Eigen::Vector3d w = pose->orientation * o.approach_axis;
+    if (std::abs(w.z()) > 0.9) ++along_z;
+  }
+  return {accepted, along_z};
+}
+
+TEST(PalmEnclose, ThinPartsAreNotClosedOverOntoThePalm) {
+  // Plates 10 x 10 cm of thickness 4 mm and 2 cm, the barrett (min_depth 1 cm): a palm on a
+  // large face of the thin plate has only 4 mm of part in front of it, its fingers would fold
+  // over the plate onto the palm (self_collision), so no accepted pose approaches along z; on its
+  // edges (10 cm deep) poses are accepted. Without the test (min_depth 0) the large faces are
+  // taken too, and on the 2 cm plate (deeper than 1 cm) they are taken with it.
+  const EncloseGeometry g = *encloseGeometry(barrett());
+  ASSERT_DOUBLE_EQ(g.min_depth, 0.01);
+  EncloseGeometry without = g;
+  without.min_depth = 0.0;
+  const ObjectModel thin = ObjectModel::fromMesh(
+      solidBox(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.004)), "plate");
+  const ObjectModel thick = ObjectModel::fromMesh(
+      solidBox(Eigen::Vector3d(-0.05, -0.05, 0.0), Eigen::Vector3d(0.05, 0.05, 0.02)), "slab");
+  const auto [thin_accepted, thin_z] = posesAlongZ(thin, barrett(), g);
+  EXPECT_GT(thin_accepted, 0);
+  EXPECT_EQ(thin_z, 0) << "a palm on the 4 mm plate's face with the fingers across it";
+  const auto [before_accepted, before_z] = posesAlongZ(thin, barrett(), without);
+  EXPECT_GT(before_z, 10) << "without the test the plate's faces were taken (" << before_z << " of "
+                          << before_accepted << ")";
+  const auto [thick_accepted, thick_z] = posesAlongZ(thick, barrett(), g);
+  EXPECT_GT(thick_z, 10) << "the 2 cm slab's faces (" << thick_z << " of " << thick_accepted << ")";
+  g.validate();
+  without.min_depth = -1e-3;
+  EXPECT_TRUE(testing::throwsError([&] { without.validate(); }, {"min_depth"}));
 }
 
 TEST(PalmEnclose, ExtentThroughAHollowIsTheOuterOne) {

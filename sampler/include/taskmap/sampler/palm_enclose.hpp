@@ -38,6 +38,10 @@ struct EncloseGeometry {
   /// Metres, (along c, along v): the palm-rigid links' points' smallest and largest coordinates.
   Eigen::Vector2d palm_min = Eigen::Vector2d::Zero();
   Eigen::Vector2d palm_max = Eigen::Vector2d::Zero();  ///< see palm_min, metres
+  /// Metres, >= 0: how far the object must reach ahead of the palm's front (along the approach)
+  /// where the fingers close, or the fingers fold over it onto the palm (`self_collision`):
+  /// half the thinnest finger link's thickness (encloseGeometry). 0: no such test.
+  double min_depth = 0.0;
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };
@@ -51,7 +55,9 @@ std::optional<EncloseGeometry> encloseGeometry(const HandModel& hand);
 /// kRolls directions psi + k pi / kRolls across -n(q), narrowest object extent first. A
 /// direction is accepted when the object's extent across it at the probe depth (its outermost
 /// surface crossings, through hollows: a mug's far wall, not its wall) fits the open fingers'
-/// span (with `margin`, metres, each side), the palm's face is clear (rays to its edges and
+/// span (with `margin`, metres, each side), the object reaches at least geometry.min_depth ahead
+/// of the palm's front at q or at the midpoint of the chord's first crossings (deepEnough), the
+/// palm's face is clear (rays to its edges and
 /// corners) and no point of `finger_points` (palm frame, metres; fingerCheckPoints) lies inside
 /// the object or within 0.5 mm of its surface. Returns the palm pose (palm frame in the object
 /// frame), or empty when every attempt failed.
