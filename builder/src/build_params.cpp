@@ -249,6 +249,7 @@ void visitSamplerExtras(Io& io, S& s) {
     if (palm_enclose && s.enclose) {
       io.j["enclose_span"] = s.enclose->span_max - s.enclose->span_min;
       io.j["enclose_probe_depth"] = s.enclose->probe_depth;
+      io.j["enclose_min_depth"] = s.enclose->min_depth;
     }
   }
 }

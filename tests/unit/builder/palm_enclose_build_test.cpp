@@ -51,6 +51,7 @@ TEST(PalmEncloseBuildTest, StoresInFewerTrialsThanMixedWithThePalmTouching) {
   EXPECT_EQ(p.at("enclose_margin").get<double>(), SamplerOptions{}.enclose_margin);
   const EncloseGeometry g = *encloseGeometry(allegro());
   EXPECT_NEAR(p.at("enclose_span").get<double>(), g.span_max - g.span_min, 1e-12);
+  EXPECT_EQ(p.at("enclose_min_depth").get<double>(), g.min_depth);
 }
 
 TEST(PalmEncloseBuildTest, SameMapForAnyThreadCount) {
