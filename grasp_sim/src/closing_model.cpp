@@ -2,12 +2,14 @@
 #include "closing_model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btCylinderShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <Eigen/Eigenvalues>
 
 #include "collision_data.hpp"
@@ -17,6 +19,47 @@
 #include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap {
+namespace {
+
+/// Bullet's convex hull, with access to its cached bounding box (protected in Bullet).
+class BoxedHull : public btConvexHullShape {
+ public:
+  using btConvexHullShape::btConvexHullShape;
+  /// Grows the cached bounding box by `pad` (m) on every side.
+  void pad(double pad) {
+    btVector3 lo, hi;
+    getCachedLocalAabb(lo, hi);
+    const btVector3 d(pad, pad, pad);
+    setCachedLocalAabb(lo - d, hi + d);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<btConvexHullShape> hullShape(const std::vector<Eigen::Vector3d>& points,
+                                             double margin, double pad) {
+  auto hull = std::make_unique<BoxedHull>(points.front().data(), static_cast<int>(points.size()),
+                                          sizeof(Eigen::Vector3d));
+  hull->optimizeConvexHull();
+  hull->setMargin(margin);
+  // The constructor cached the bounding box with Bullet's default margin (4 cm) and setMargin
+  // keeps it: recomputed, it is the hull's grown by `margin` (getAabb adds `margin` again).
+  hull->recalcLocalAabb();
+  hull->pad(pad);
+  return hull;
+}
+
+double contactPad(const std::vector<std::vector<Eigen::Vector3d>>& pieces,
+                  const Eigen::Isometry3d& to_principal, double margin) {
+  Eigen::AlignedBox3d box;
+  for (const auto& piece : pieces)
+    for (const auto& p : piece) box.extend(to_principal * p);
+  const double disc =
+      box.center().norm() + 0.5 * box.diagonal().norm() + std::sqrt(3.0) * 2.0 * margin;
+  const double k = static_cast<double>(gContactBreakingThreshold);
+  return k * disc / (1.0 - k * std::sqrt(3.0));
+}
+
 namespace {
 
 std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margin) {
@@ -30,13 +73,8 @@ std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margi
       break;
     case ShapeType::kSphere:
       return std::make_unique<btSphereShape>(s.radius);  // its margin is its radius
-    case ShapeType::kConvex: {
-      auto hull = std::make_unique<btConvexHullShape>(
-          s.points.front().data(), static_cast<int>(s.points.size()), sizeof(Eigen::Vector3d));
-      hull->optimizeConvexHull();
-      shape = std::move(hull);
-      break;
-    }
+    case ShapeType::kConvex:
+      return hullShape(s.points, margin, 0.0);
   }
   shape->setMargin(margin);
   return shape;
@@ -81,14 +119,12 @@ void ClosingChecker::Model::makeObject(const ObjectModel& o) {
   object_pieces = static_cast<int>(pieces.pieces.size());
   object = std::make_unique<btCompoundShape>(true, object_pieces);
   const Eigen::Isometry3d to_principal = object_principal.inverse();
+  const double pad = contactPad(pieces.pieces, to_principal, options.margin);
   for (const auto& piece : pieces.pieces) {
     std::vector<Eigen::Vector3d> local;
     local.reserve(piece.size());
     for (const auto& p : piece) local.push_back(to_principal * p);
-    auto hull = std::make_unique<btConvexHullShape>(
-        local.front().data(), static_cast<int>(local.size()), sizeof(Eigen::Vector3d));
-    hull->optimizeConvexHull();
-    hull->setMargin(options.margin);
+    std::unique_ptr<btConvexHullShape> hull = hullShape(local, options.margin, pad);
     object->addChildShape(btTransform::getIdentity(), hull.get());
     convex.push_back(std::move(hull));
   }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -16,6 +17,20 @@
 namespace taskmap {
 
 struct ClosingWorld;  // one check's Bullet world (closing_world.cpp)
+
+/// A Bullet convex hull of `points` (at least 4, not flat; m) with collision margin `margin`
+/// whose cached bounding box is the hull's grown by margin + pad (Bullet's constructor caches it
+/// with its default 4 cm margin, which setMargin does not recompute; docs/METHOD.md §4d).
+std::unique_ptr<btConvexHullShape> hullShape(const std::vector<Eigen::Vector3d>& points,
+                                             double margin, double pad);
+
+/// The pad (m) of the object's pieces' bounding boxes that keeps every hand-piece pair within
+/// Bullet's contact distance in the narrow phase: the contact breaking threshold of a pair is
+/// gContactBreakingThreshold (0.02) times the smaller of the two compounds' angular motion discs,
+/// at most the object's (its bounding box's centre distance plus half diagonal, here of the
+/// pieces `pieces` mapped by `to_principal`, grown by the margin and by the pad itself).
+double contactPad(const std::vector<std::vector<Eigen::Vector3d>>& pieces,
+                  const Eigen::Isometry3d& to_principal, double margin);
 
 /// One hand link as a multibody link (its centre of mass at the link frame's origin).
 struct ClosingLink {
