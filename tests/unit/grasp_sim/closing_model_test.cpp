@@ -1,9 +1,9 @@
 // The closing check's Bullet shapes (grasp_sim/src/closing_model.hpp, white box).
 // Oracles: a hull's bounding box is its points' extremes grown by twice the margin (and the pad),
-// not by Bullet's default 4 cm margin that its constructor cached; the object's padded pieces
-// give the same contacts with a box link as pieces whose boxes are grown by 4 cm (Bullet's
-// stale box, a superset of every pair in contact distance) at random poses, in fewer narrow-phase
-// pairs; the pad covers the contact breaking threshold Bullet gives the object's manifolds.
+// not by Bullet's default 4 cm margin that its constructor cached; the compounds keep the contact
+// breaking thresholds of the stale boxes; the object's padded pieces give the same contacts with
+// a box link and a hull link as the stale shapes (boxes grown by 4 cm: a superset of every pair
+// in contact distance) at random poses, in fewer narrow-phase pairs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -87,17 +87,14 @@ struct Scene {
   btCollisionWorld world{&dispatcher, &broadphase, &config};
 };
 
-/// Contact distances between `object` (at the identity) and a box link at `pose`, sorted, and
-/// the number of narrow-phase pairs (manifolds) Bullet processed.
-std::pair<std::vector<double>, int> contacts(btCompoundShape* object, const btTransform& pose) {
+/// Contact distances between `object` (at the identity) and `link` at `pose`, sorted, and the
+/// number of narrow-phase pairs (manifolds) Bullet processed.
+std::pair<std::vector<double>, int> contacts(btCollisionShape* object, btCollisionShape* link,
+                                             const btTransform& pose) {
   Scene s;
-  btBoxShape box(btVector3(0.01, 0.004, 0.02));
-  box.setMargin(kMargin);
-  btCompoundShape link(true, 1);
-  link.addChildShape(btTransform(btQuaternion::getIdentity(), btVector3(0.003, 0, 0)), &box);
   btCollisionObject a, b;
   a.setCollisionShape(object);
-  b.setCollisionShape(&link);
+  b.setCollisionShape(link);
   b.setWorldTransform(pose);
   s.world.addCollisionObject(&a);
   s.world.addCollisionObject(&b);
@@ -114,23 +111,64 @@ std::pair<std::vector<double>, int> contacts(btCompoundShape* object, const btTr
   return {d, pairs};
 }
 
-TEST(ClosingModel, PaddedPiecesFindTheContactsOfStaleBoxesInFewerPairs) {
-  const auto pieces = ringPieces();
-  const double pad = contactPad(pieces, Eigen::Isometry3d::Identity(), kMargin);
-  std::vector<std::unique_ptr<btConvexHullShape>> own;
-  btCompoundShape padded(true, 12), stale(true, 12);
-  for (const auto& p : pieces) {
-    own.push_back(hullShape(p, kMargin, pad));
-    padded.addChildShape(btTransform::getIdentity(), own.back().get());
-    own.push_back(staleHull(p));
-    stale.addChildShape(btTransform::getIdentity(), own.back().get());
+/// The object (ring pieces) and a link (a box, or a hull) as the check builds them now and as
+/// it built them before (stale boxes).
+struct Bodies {
+  std::vector<std::vector<Eigen::Vector3d>> pieces = ringPieces();
+  std::vector<Eigen::Vector3d> finger;
+  std::vector<std::unique_ptr<btConvexShape>> own;
+  btCompoundShape stale_object{true, 12}, stale_box{true, 1}, stale_hull{true, 1};
+  ClosingCompound object{12}, box{1}, hull{1};
+  Bodies() {
+    std::mt19937 rng(5);
+    finger = blob(&rng, Eigen::Vector3d::Zero(), 0.008);
+    const btTransform at(btQuaternion::getIdentity(), btVector3(0.003, 0, 0));
+    own.push_back(std::make_unique<btBoxShape>(btVector3(0.01, 0.004, 0.02)));
+    own.back()->setMargin(kMargin);
+    box.addChildShape(at, own.back().get());
+    stale_box.addChildShape(at, own.back().get());
+    box.disc = staleDisc(box, {nullptr}, kMargin);
+    own.push_back(hullShape(finger, kMargin, 0.0));
+    hull.addChildShape(at, own.back().get());
+    hull.disc = staleDisc(hull, {&finger}, kMargin);
+    own.push_back(staleHull(finger));
+    stale_hull.addChildShape(at, own.back().get());
+    btCompoundShape tight(false, 12);
+    std::vector<const std::vector<Eigen::Vector3d>*> points;
+    for (const auto& p : pieces) {
+      own.push_back(hullShape(p, kMargin, 0.0));
+      tight.addChildShape(btTransform::getIdentity(), own.back().get());
+      points.push_back(&p);
+    }
+    object.disc = staleDisc(tight, points, kMargin);
+    const double pad =
+        gContactBreakingThreshold * std::min(object.disc, std::max(box.disc, hull.disc));
+    for (const auto& p : pieces) {
+      own.push_back(hullShape(p, kMargin, pad));
+      object.addChildShape(btTransform::getIdentity(), own.back().get());
+      own.push_back(staleHull(p));
+      stale_object.addChildShape(btTransform::getIdentity(), own.back().get());
+    }
   }
-  // The pad covers the breaking threshold of every manifold with the object.
-  EXPECT_GE(pad, padded.getContactBreakingThreshold(gContactBreakingThreshold) - 1e-15);
-  EXPECT_LT(pad, 1.01 * padded.getContactBreakingThreshold(gContactBreakingThreshold));
+};
+
+TEST(ClosingModel, ContactBreakingThresholdsAreTheStaleBoxes) {
+  Bodies b;
+  const double k = gContactBreakingThreshold;
+  EXPECT_EQ(b.object.getContactBreakingThreshold(k), b.stale_object.getContactBreakingThreshold(k));
+  EXPECT_EQ(b.hull.getContactBreakingThreshold(k), b.stale_hull.getContactBreakingThreshold(k));
+  EXPECT_EQ(b.box.getContactBreakingThreshold(k), b.stale_box.getContactBreakingThreshold(k));
+  // The stale hull box made the finger's threshold larger than its own box gives.
+  btCompoundShape plain(true, 1);
+  plain.addChildShape(b.hull.getChildTransform(0), b.hull.getChildShape(0));
+  EXPECT_GT(b.hull.getContactBreakingThreshold(k), plain.getContactBreakingThreshold(k) + 1e-3);
+}
+
+TEST(ClosingModel, PaddedPiecesFindTheContactsOfStaleBoxesInFewerPairs) {
+  Bodies b;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  int touching = 0, pairs_padded = 0, pairs_stale = 0;
+  int touching = 0, pairs_now = 0, pairs_stale = 0;
   for (int trial = 0; trial < 300; ++trial) {
     const double a = M_PI * u(rng);
     const Eigen::Vector3d at(0.075 * std::cos(a), 0.075 * std::sin(a), 0.02 * u(rng));
@@ -139,16 +177,17 @@ TEST(ClosingModel, PaddedPiecesFindTheContactsOfStaleBoxesInFewerPairs) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = q.toRotationMatrix();
     pose.translation() = at;
-    const auto [dp, np] = contacts(&padded, bt(pose));
-    const auto [ds, ns] = contacts(&stale, bt(pose));
-    ASSERT_EQ(dp.size(), ds.size()) << "trial " << trial;
-    for (std::size_t i = 0; i < dp.size(); ++i) EXPECT_NEAR(dp[i], ds[i], 1e-12);
-    touching += !dp.empty();
-    pairs_padded += np;
+    const bool hull = trial % 2 == 1;
+    const auto [dn, nn] = contacts(&b.object, hull ? &b.hull : &b.box, bt(pose));
+    const auto [ds, ns] = contacts(&b.stale_object, hull ? &b.stale_hull : &b.stale_box, bt(pose));
+    ASSERT_EQ(dn.size(), ds.size()) << "trial " << trial;
+    for (std::size_t i = 0; i < dn.size(); ++i) EXPECT_NEAR(dn[i], ds[i], 1e-12);
+    touching += !dn.empty();
+    pairs_now += nn;
     pairs_stale += ns;
   }
-  EXPECT_GT(touching, 50);                   // the poses test contacts, not only misses
-  EXPECT_LT(2 * pairs_padded, pairs_stale);  // and the tight boxes skip far pairs
+  EXPECT_GT(touching, 50);                // the poses test contacts, not only misses
+  EXPECT_LT(2 * pairs_now, pairs_stale);  // and the tight boxes skip far pairs
 }
 
 }  // namespace
