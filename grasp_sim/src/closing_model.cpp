@@ -2,12 +2,14 @@
 #include "closing_model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btCylinderShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <BulletCollision/NarrowPhaseCollision/btPersistentManifold.h>
 #include <Eigen/Eigenvalues>
 
 #include "collision_data.hpp"
@@ -17,6 +19,56 @@
 #include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap {
+namespace {
+
+/// Bullet's convex hull, with access to its cached bounding box (protected in Bullet).
+class BoxedHull : public btConvexHullShape {
+ public:
+  using btConvexHullShape::btConvexHullShape;
+  /// Grows the cached bounding box by `pad` (m) on every side.
+  void pad(double pad) {
+    btVector3 lo, hi;
+    getCachedLocalAabb(lo, hi);
+    const btVector3 d(pad, pad, pad);
+    setCachedLocalAabb(lo - d, hi + d);
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<btConvexHullShape> hullShape(const std::vector<Eigen::Vector3d>& points,
+                                             double margin, double pad) {
+  auto hull = std::make_unique<BoxedHull>(points.front().data(), static_cast<int>(points.size()),
+                                          sizeof(Eigen::Vector3d));
+  hull->optimizeConvexHull();
+  hull->setMargin(margin);
+  // The constructor cached the bounding box with Bullet's default margin (4 cm) and setMargin
+  // keeps it: recomputed, it is the hull's grown by `margin` (getAabb adds `margin` again).
+  hull->recalcLocalAabb();
+  hull->pad(pad);
+  return hull;
+}
+
+double staleDisc(const btCompoundShape& tight,
+                 const std::vector<const std::vector<Eigen::Vector3d>*>& hulls, double margin) {
+  btCompoundShape stale(false, tight.getNumChildShapes());
+  std::vector<std::unique_ptr<btConvexHullShape>> own;
+  for (int i = 0; i < tight.getNumChildShapes(); ++i) {
+    const std::vector<Eigen::Vector3d>* points = hulls[static_cast<std::size_t>(i)];
+    if (!points) {
+      stale.addChildShape(tight.getChildTransform(i),
+                          const_cast<btCollisionShape*>(tight.getChildShape(i)));
+      continue;
+    }
+    own.push_back(std::make_unique<btConvexHullShape>(
+        points->front().data(), static_cast<int>(points->size()), sizeof(Eigen::Vector3d)));
+    own.back()->optimizeConvexHull();
+    own.back()->setMargin(margin);  // the box cached by the constructor stays
+    stale.addChildShape(tight.getChildTransform(i), own.back().get());
+  }
+  return stale.getAngularMotionDisc();
+}
+
 namespace {
 
 std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margin) {
@@ -30,13 +82,8 @@ std::unique_ptr<btConvexShape> convexShape(const CollisionShape& s, double margi
       break;
     case ShapeType::kSphere:
       return std::make_unique<btSphereShape>(s.radius);  // its margin is its radius
-    case ShapeType::kConvex: {
-      auto hull = std::make_unique<btConvexHullShape>(
-          s.points.front().data(), static_cast<int>(s.points.size()), sizeof(Eigen::Vector3d));
-      hull->optimizeConvexHull();
-      shape = std::move(hull);
-      break;
-    }
+    case ShapeType::kConvex:
+      return hullShape(s.points, margin, 0.0);
   }
   shape->setMargin(margin);
   return shape;
@@ -56,11 +103,14 @@ ClosingLink ClosingChecker::Model::makeLink(int link, int parent, int joint) {
   c.mass = m.mass;
   c.inertia = m.inertia + m.mass * m.centre.squaredNorm();
   if (l.shapes.empty()) return c;
-  c.shape = std::make_unique<btCompoundShape>(true, static_cast<int>(l.shapes.size()));
+  c.shape = std::make_unique<ClosingCompound>(static_cast<int>(l.shapes.size()));
+  std::vector<const std::vector<Eigen::Vector3d>*> hulls;
   for (const auto& s : l.shapes) {
     convex.push_back(convexShape(s, options.margin));
     c.shape->addChildShape(bt(s.origin), convex.back().get());
+    hulls.push_back(s.type == ShapeType::kConvex ? &s.points : nullptr);
   }
+  c.shape->disc = staleDisc(*c.shape, hulls, options.margin);
   return c;
 }
 
@@ -79,16 +129,29 @@ void ClosingChecker::Model::makeObject(const ObjectModel& o) {
   po.max_pieces = options.object_max_pieces;
   const ConvexPieces pieces = convexPieces(o.mesh(), po, "object '" + o.name() + "'");
   object_pieces = static_cast<int>(pieces.pieces.size());
-  object = std::make_unique<btCompoundShape>(true, object_pieces);
+  object = std::make_unique<ClosingCompound>(object_pieces);
   const Eigen::Isometry3d to_principal = object_principal.inverse();
-  for (const auto& piece : pieces.pieces) {
-    std::vector<Eigen::Vector3d> local;
-    local.reserve(piece.size());
-    for (const auto& p : piece) local.push_back(to_principal * p);
-    auto hull = std::make_unique<btConvexHullShape>(
-        local.front().data(), static_cast<int>(local.size()), sizeof(Eigen::Vector3d));
-    hull->optimizeConvexHull();
-    hull->setMargin(options.margin);
+  std::vector<std::vector<Eigen::Vector3d>> local(pieces.pieces.size());
+  btCompoundShape tight(false, object_pieces);  // the pieces unpadded: the object's disc
+  std::vector<std::unique_ptr<btConvexHullShape>> unpadded;
+  for (std::size_t i = 0; i < pieces.pieces.size(); ++i) {
+    for (const auto& p : pieces.pieces[i]) local[i].push_back(to_principal * p);
+    unpadded.push_back(hullShape(local[i], options.margin, 0.0));
+    tight.addChildShape(btTransform::getIdentity(), unpadded.back().get());
+  }
+  std::vector<const std::vector<Eigen::Vector3d>*> hulls;
+  for (const auto& l : local) hulls.push_back(&l);
+  object->disc = staleDisc(tight, hulls, options.margin);
+  // A hand-object manifold keeps contacts within gContactBreakingThreshold times the smaller
+  // disc of the two bodies (btCollisionDispatcher::getNewManifold): padding the pieces' boxes by
+  // that much lets every pair in contact distance reach the narrow phase.
+  double links_disc = base.shape ? base.shape->disc : 0.0;
+  for (const ClosingLink& l : links)
+    if (l.shape) links_disc = std::max(links_disc, l.shape->disc);
+  const double pad = static_cast<double>(gContactBreakingThreshold) *
+                     std::min(static_cast<double>(object->disc), links_disc);
+  for (const auto& l : local) {
+    std::unique_ptr<btConvexHullShape> hull = hullShape(l, options.margin, pad);
     object->addChildShape(btTransform::getIdentity(), hull.get());
     convex.push_back(std::move(hull));
   }

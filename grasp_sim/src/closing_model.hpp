@@ -6,6 +6,7 @@
 #include <vector>
 
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/CollisionShapes/btConvexShape.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -17,6 +18,32 @@ namespace taskmap {
 
 struct ClosingWorld;  // one check's Bullet world (closing_world.cpp)
 
+/// A Bullet convex hull of `points` (at least 4, not flat; m) with collision margin `margin`
+/// whose cached bounding box is the hull's grown by margin + pad (Bullet's constructor caches it
+/// with its default 4 cm margin, which setMargin does not recompute; docs/METHOD.md §4d).
+std::unique_ptr<btConvexHullShape> hullShape(const std::vector<Eigen::Vector3d>& points,
+                                             double margin, double pad);
+
+/// A compound whose contact breaking threshold (how far apart Bullet keeps a contact point of
+/// its manifolds, and finds one) is factor x `disc`, set by the model: the disc Bullet gave it
+/// while the hull boxes carried the stale 4 cm margin, so the check's contacts are unchanged.
+class ClosingCompound : public btCompoundShape {
+ public:
+  /// Room for n children, with Bullet's dynamic box tree.
+  explicit ClosingCompound(int n) : btCompoundShape(true, n) {}
+  double disc = 0.0;  ///< m, the angular motion disc the threshold uses
+  /// factor x disc, m.
+  btScalar getContactBreakingThreshold(btScalar factor) const override {
+    return factor * static_cast<btScalar>(disc);
+  }
+};
+
+/// The angular motion disc (m) Bullet computed for `tight` when its hull children (those with
+/// points in `hulls`, one entry per child, null for the others) kept the box their constructor
+/// cached with the 4 cm default margin; `margin` (m) is the hulls' collision margin.
+double staleDisc(const btCompoundShape& tight,
+                 const std::vector<const std::vector<Eigen::Vector3d>*>& hulls, double margin);
+
 /// One hand link as a multibody link (its centre of mass at the link frame's origin).
 struct ClosingLink {
   int link = -1;    ///< index into HandModel::links()
@@ -24,7 +51,7 @@ struct ClosingLink {
   int joint = -1;   ///< index into HandModel::joints() of the joint from the parent
   double mass = 0.0;
   double inertia = 0.0;                    ///< kg m^2, about each axis through the link origin
-  std::unique_ptr<btCompoundShape> shape;  ///< null for links without collision shapes
+  std::unique_ptr<ClosingCompound> shape;  ///< null for links without collision shapes
 };
 
 struct ClosingChecker::Model {
@@ -33,7 +60,7 @@ struct ClosingChecker::Model {
   ClosingLink base;                                    ///< the root link (fixed)
   std::vector<ClosingLink> links;                      ///< the others, parents first
   std::vector<std::unique_ptr<btConvexShape>> convex;  ///< every convex child shape (owned)
-  std::unique_ptr<btCompoundShape> object;             ///< pieces in the principal frame
+  std::unique_ptr<ClosingCompound> object;             ///< pieces in the principal frame
   Eigen::Isometry3d object_principal;                  ///< principal frame in the object frame
   Eigen::Vector3d object_inertia = Eigen::Vector3d::Zero();  ///< principal moments, kg m^2
   int object_pieces = 0;

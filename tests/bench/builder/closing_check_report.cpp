@@ -9,7 +9,7 @@
 //
 //   closing_check_report [--mode closing|pushes] [--grasps N] [--variant NAME:KEY=V,KEY=V ...]
 //                        [--translation M] [--rotation RAD] [--substeps N] [--erp E]
-//                        [--push-duration S] MAP.h5 ...
+//                        [--push-duration S] [--perturb M] MAP.h5 ...
 // A variant with penetration=1e-9 ends every check after its world is built (the cost of
 // construction), mode=closing leaves out the pushes: the breakdown of the check's cost.
 // Variant keys: timestep, substeps, iterations, closing_time, stages, push_duration, settle,
@@ -17,7 +17,9 @@
 // jaw_force, warm_drives, two_friction, jaw_iterations, mode. Without --variant one variant,
 // "default", of the options given; a variant whose name starts with "early" starts from
 // ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N checks the first N
-// labelled grasps of each map.
+// labelled grasps of each map. --perturb M moves every palm by M metres along x of the object
+// frame before the check (the check's sensitivity: how many verdicts a perturbation far below
+// any physical tolerance changes; docs/VALIDATION.md, third round).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -150,7 +152,7 @@ void printTally(const char* what, const std::string& key, const std::string& var
 
 /// Runs every variant on the map's labelled grasps; returns a tally per variant.
 std::vector<Tally> report(const std::string& path, const std::vector<Variant>& variants,
-                          int max_grasps) {
+                          int max_grasps, double perturb) {
   const taskmap::TaskMapData map = taskmap::readMap(path);
   std::vector<Tally> tally(variants.size());
   if (!map.validation) {
@@ -184,7 +186,9 @@ std::vector<Tally> report(const std::string& path, const std::vector<Variant>& v
     for (std::size_t v = 0; v < variants.size(); ++v) {
       const auto t0 = Clock::now();
       const double c0 = threadCpu();
-      const taskmap::ClosingCheckResult r = checkers[v]->check(map.grasps.poseAt(i), q);
+      taskmap::Pose palm = map.grasps.poseAt(i);
+      palm.position.x() += perturb;
+      const taskmap::ClosingCheckResult r = checkers[v]->check(palm, q);
       Tally& t = tally[v];
       t.check_cpu_s += threadCpu() - c0;
       t.check_s += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -212,6 +216,7 @@ int main(int argc, char** argv) {
   options.mode = taskmap::ClosingCheckMode::kClosing;
   std::vector<std::string> maps, specs;
   int max_grasps = 1 << 30;
+  double perturb = 0.0;
   try {
     for (int a = 1; a < argc; ++a) {
       const std::string arg = argv[a];
@@ -229,6 +234,8 @@ int main(int argc, char** argv) {
         options.substeps = std::atoi(argv[++a]);
       } else if (arg == "--grasps" && a + 1 < argc) {
         max_grasps = std::atoi(argv[++a]);
+      } else if (arg == "--perturb" && a + 1 < argc) {
+        perturb = std::atof(argv[++a]);
       } else if (arg == "--variant" && a + 1 < argc) {
         specs.push_back(argv[++a]);
       } else {
@@ -243,7 +250,7 @@ int main(int argc, char** argv) {
     std::vector<Tally> all(variants.size());
     for (const std::string& m : maps) {
       try {
-        const std::vector<Tally> t = report(m, variants, max_grasps);
+        const std::vector<Tally> t = report(m, variants, max_grasps, perturb);
         auto& h = by_hand[handGroup(m)];
         h.resize(variants.size());
         for (std::size_t v = 0; v < variants.size(); ++v) h[v].add(t[v]), all[v].add(t[v]);
