@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <set>
 #include <utility>
 
@@ -200,6 +201,10 @@ constexpr double kPalmClearance = 0.01;
 constexpr double kJawFingerClearance = 1e-3;
 /// antipodal_palm: the clearance is tested on one finger point per cube of this edge, metres.
 constexpr double kClearanceCell = 0.004;
+/// The finger points are grouped by cube of this edge, metres; a group of at least
+/// kGroupTestMin points is first tested as a ball (Sampler::FingerGroup).
+constexpr double kGroupCell = 0.01;
+constexpr std::size_t kGroupTestMin = 8;
 /// antipodal_palm and palm_enclose: attempts of the construction-time probe, and its generator's
 /// seed (trial k of the probe draws from Rng(kProbeSeed, k)).
 constexpr int kProbeAttempts = 64;
@@ -378,16 +383,20 @@ std::optional<AntipodalPair> antipodalAttempt(const ObjectModel& object, Rng& rn
 
 namespace {
 
-// The first of `points` in each cube of edge `cell` (a grid through the origin), in order.
+using CellKey = std::array<long long, 3>;
+
+// The cube of edge `cell` (a grid through the origin) holding p.
+CellKey cellOf(const Eigen::Vector3d& p, double cell) {
+  return {std::llround(std::floor(p.x() / cell)), std::llround(std::floor(p.y() / cell)),
+          std::llround(std::floor(p.z() / cell))};
+}
+
+// The first of `points` in each cube of edge `cell`, in order.
 std::vector<Eigen::Vector3d> onePerCell(const std::vector<Eigen::Vector3d>& points, double cell) {
-  std::set<std::array<long long, 3>> seen;
+  std::set<CellKey> seen;
   std::vector<Eigen::Vector3d> out;
-  for (const Eigen::Vector3d& p : points) {
-    const std::array<long long, 3> key = {std::llround(std::floor(p.x() / cell)),
-                                          std::llround(std::floor(p.y() / cell)),
-                                          std::llround(std::floor(p.z() / cell))};
-    if (seen.insert(key).second) out.push_back(p);
-  }
+  for (const Eigen::Vector3d& p : points)
+    if (seen.insert(cellOf(p, cell)).second) out.push_back(p);
   return out;
 }
 
@@ -429,9 +438,29 @@ Sampler::Sampler(ObjectModel object, const SamplerOptions& options)
         "finger_points); use --sampler mixed or enclose for this hand");
   if (options_.kind == SamplerKind::kAntipodalPalm)
     clearance_points_ = onePerCell(options_.finger_points, kClearanceCell);
+  groupFingerPoints();
   const bool probed =
       options_.kind == SamplerKind::kAntipodalPalm || options_.kind == SamplerKind::kPalmEnclose;
   attempts_ = probed ? probeAttempts() : options_.attempts;
+}
+
+void Sampler::groupFingerPoints() {
+  std::map<CellKey, std::size_t> index;
+  for (const Eigen::Vector3d& p : options_.finger_points) {
+    const auto [it, added] = index.emplace(cellOf(p, kGroupCell), finger_groups_.size());
+    if (added) finger_groups_.emplace_back();
+    finger_groups_[it->second].points.push_back(p);
+  }
+  for (FingerGroup& g : finger_groups_) {
+    Eigen::Vector3d lo = g.points.front(), hi = lo;
+    for (const Eigen::Vector3d& p : g.points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    g.centre = 0.5 * (lo + hi);
+    for (const Eigen::Vector3d& p : g.points) g.radius = std::max(g.radius, (p - g.centre).norm());
+    g.radius += 1e-9;  // every point strictly inside the ball
+  }
 }
 
 SamplerKind Sampler::kindOfTrial(std::uint64_t trial) const {
@@ -493,8 +522,14 @@ Pose Sampler::jawPose(const AntipodalPair& pair, double spin) const {
 
 bool Sampler::fingersOutside(const Pose& palm, double clearance) const {
   const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
-  for (const Eigen::Vector3d& p : options_.finger_points)
-    if (object_.contains(palm.position + r * p)) return false;
+  for (const FingerGroup& g : finger_groups_) {
+    if (g.points.size() >= kGroupTestMin) {
+      const Eigen::Vector3d c = palm.position + r * g.centre;
+      if (!object_.contains(c) && !object_.nearSurface(c, g.radius)) continue;
+    }
+    for (const Eigen::Vector3d& p : g.points)
+      if (object_.contains(palm.position + r * p)) return false;
+  }
   if (clearance > 0.0)
     for (const Eigen::Vector3d& p : clearance_points_)
       if (object_.nearSurface(palm.position + r * p, clearance)) return false;

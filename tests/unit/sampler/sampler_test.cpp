@@ -3,12 +3,14 @@
 #include "taskmap/sampler/sampler.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/core/random.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {
@@ -156,6 +158,56 @@ TEST(SamplerTest, AlignAxisMapsTheAxisEvenWhenAntiparallel) {
     const Eigen::Vector3d b = alignAxis(axis, dir, 0.7) * perp;
     EXPECT_NEAR(std::atan2(a.cross(b).dot(dir), a.dot(b)), 0.7, 1e-9);
   }
+}
+
+}  // namespace
+}  // namespace taskmap
+
+namespace taskmap {
+namespace {
+
+// The enclose sampler's finger check (the finger points grouped by 1 cm cube, a group skipped
+// when its bounding ball lies outside the object) accepts exactly the poses the brute force
+// does, every point tested: the oracle replays each trial's attempts (a surface point, a roll,
+// the palm on the point) and the sampler's pose is the first attempt the oracle accepts. The
+// block of 1377 finger points beside the palm, on the YCB banana.
+TEST(SamplerTest, GroupedFingerCheckAcceptsWhatTheBruteForceAccepts) {
+  const ObjectModel banana =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  SamplerOptions o;
+  o.kind = SamplerKind::kEnclose;
+  // A finger as dense as a hull's points: a 2 x 2 x 4 cm block beside the palm, reaching
+  // along the approach, points 2.5 mm apart (64 or more in a 1 cm cube).
+  for (int i = 0; i <= 8; ++i)
+    for (int j = 0; j <= 8; ++j)
+      for (int k = 0; k <= 16; ++k)
+        o.finger_points.emplace_back(0.02 + 0.0025 * i, -0.01 + 0.0025 * j, 0.0025 * k);
+  const Sampler s(banana, o);
+  int accepted = 0, refused = 0;
+  for (std::uint64_t t = 0; t < 120; ++t) {
+    Rng rng(3, t);
+    for (int k = 0; k < o.attempts; ++k) {
+      const SurfaceSample q = banana.sampleSurface(rng);
+      Pose pose;
+      pose.orientation = alignAxis(o.approach_axis, -q.normal, rng.uniform(0.0, 2.0 * M_PI));
+      pose.position = q.point;
+      bool outside = true;
+      for (const Eigen::Vector3d& p : o.finger_points)
+        outside = outside && !banana.contains(pose.position + pose.orientation * p);
+      if (!outside) {
+        ++refused;
+        continue;
+      }
+      ++accepted;
+      const Pose got = s.sample(3, t);
+      EXPECT_EQ(got.position, pose.position) << "trial " << t;
+      EXPECT_EQ(got.orientation.coeffs(), pose.orientation.coeffs()) << "trial " << t;
+      break;
+    }
+  }
+  std::printf("accepted %d, refused attempts %d\n", accepted, refused);
+  EXPECT_GT(accepted, 30);
+  EXPECT_GT(refused, 30);
 }
 
 }  // namespace

@@ -214,6 +214,7 @@ class Sampler {
                                                                  double through, double roll,
                                                                  double min_w, double max_w) const;
   bool fingersOutside(const Pose& palm, double clearance = 0.0) const;
+  void groupFingerPoints();  ///< fills finger_groups_ from options_.finger_points
   bool palmFaceClear(const Pose& pose, const Eigen::Vector3d& face) const;
   Pose jawPose(const AntipodalPair& pair, double spin) const;
 
@@ -224,6 +225,17 @@ class Sampler {
   /// kClearanceCell cube (a Robotiq's 45,652 finger points, mostly hull midpoints, become a few
   /// thousand), in finger_points' order.
   std::vector<Eigen::Vector3d> clearance_points_;
+  /// The finger points by 1 cm cube of the palm frame, in finger_points' order of first
+  /// appearance, with the centre and radius of a ball holding each cube's points: where that
+  /// ball lies outside the object (centre outside, no surface within the radius), none of its
+  /// points is inside, and fingersOutside() skips them (the same verdicts; a Robotiq's 45,652
+  /// points, mostly hull midpoints, fill a few hundred cubes).
+  struct FingerGroup {
+    Eigen::Vector3d centre;
+    double radius = 0.0;
+    std::vector<Eigen::Vector3d> points;
+  };
+  std::vector<FingerGroup> finger_groups_;
 };
 
 /// Orientation whose rotation maps the palm-frame axis onto `direction` (both unit), followed
