@@ -6,14 +6,10 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <utility>
 
 namespace taskmap::detail {
-namespace {
 
-constexpr int kLeafSize = 4;
-constexpr double kBaryTol = 1e-9;  ///< barycentric band around edges treated as ambiguous
-
-/// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
 Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                   const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
@@ -52,15 +48,23 @@ Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3
   return a + ab * v + ac * w;
 }
 
+namespace {
+
+constexpr int kLeafSize = 4;
+constexpr double kBaryTol = 1e-9;  ///< barycentric band around edges treated as ambiguous
+
 double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
                     const Eigen::Vector3d& hi) {
   const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
   return d.squaredNorm();
 }
 
+/// True when the ray p + t d (inv = 1 / d componentwise) meets the box for some t in
+/// [0, t_end]; *t_enter receives the entry parameter when given.
 bool rayHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& inv, const Eigen::Vector3d& lo,
-                const Eigen::Vector3d& hi) {
-  double t0 = 0, t1 = std::numeric_limits<double>::infinity();
+                const Eigen::Vector3d& hi, double t_end = std::numeric_limits<double>::infinity(),
+                double* t_enter = nullptr) {
+  double t0 = 0, t1 = t_end;
   for (int k = 0; k < 3; ++k) {
     double a = (lo[k] - p[k]) * inv[k], b = (hi[k] - p[k]) * inv[k];
     if (std::isnan(a) || std::isnan(b)) {
@@ -73,6 +77,7 @@ bool rayHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& inv, const Eige
     t1 = std::min(t1, b);
     if (t0 > t1) return false;
   }
+  if (t_enter != nullptr) *t_enter = t0;
   return true;
 }
 
@@ -110,12 +115,20 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
     a_.resize(n);
     b_.resize(n);
     c_.resize(n);
+    e1_.resize(n);
+    e2_.resize(n);
+    n1_.resize(n);
+    n2_.resize(n);
     build(0, static_cast<int>(n), centroids);
     for (std::size_t i = 0; i < n; ++i) {
       const auto& f = mesh.faces[static_cast<std::size_t>(order_[i])];
       a_[i] = mesh.vertices[f[0]];
       b_[i] = mesh.vertices[f[1]];
       c_[i] = mesh.vertices[f[2]];
+      e1_[i] = b_[i] - a_[i];
+      e2_[i] = c_[i] - a_[i];
+      n1_[i] = e1_[i].norm();
+      n2_[i] = e2_[i].norm();
     }
     // Node boxes from the final corners, grown by eps_.
     for (int k = static_cast<int>(nodes_.size()) - 1; k >= 0; --k) {
@@ -139,6 +152,7 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
         node.hi = nodes_[node.left].hi.cwiseMax(nodes_[node.right].hi);
       }
     }
+    buildInsideGrid();
   }
 }
 
@@ -186,11 +200,12 @@ MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector
       continue;
     }
     for (int i = node.begin; i < node.end; ++i) {
-      const Eigen::Vector3d e1 = b_[i] - a_[i], e2 = c_[i] - a_[i];
+      const Eigen::Vector3d& e1 = e1_[i];
+      const Eigen::Vector3d& e2 = e2_[i];
       const Eigen::Vector3d pvec = d.cross(e2);
       const double det = e1.dot(pvec);
       const Eigen::Vector3d s = p - a_[i];
-      const double scale = e1.norm() * e2.norm();
+      const double scale = n1_[i] * n2_[i];
       if (std::abs(det) <= 1e-12 * scale) {
         // Ray parallel to the triangle's plane: only matters if it runs inside the plane.
         const Eigen::Vector3d normal = e1.cross(e2);
@@ -220,6 +235,16 @@ MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector
 }
 
 bool MeshBvh::contains(const Eigen::Vector3d& p) const {
+  if (nodes_.empty() || !p.allFinite()) return false;
+  const Node& root = nodes_[0];
+  if ((p.array() < root.lo.array()).any() || (p.array() > root.hi.array()).any()) return false;
+  const InsideGrid::Label label = gridLabel(p);
+  if (label == InsideGrid::kInside) return true;
+  if (label == InsideGrid::kOutside) return false;
+  return containsByRays(p);
+}
+
+bool MeshBvh::containsByRays(const Eigen::Vector3d& p) const {
   if (nodes_.empty() || !p.allFinite()) return false;
   const Node& root = nodes_[0];
   if ((p.array() < root.lo.array()).any() || (p.array() > root.hi.array()).any()) return false;
@@ -304,38 +329,58 @@ double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, dou
                          double t_max, int* face) const {
   double best = std::numeric_limits<double>::infinity();
   int best_face = -1;
-  if (!nodes_.empty()) {
-    const Eigen::Vector3d inv = d.cwiseInverse();
-    int stack[128];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      if (!rayHitsBox(p, inv, node.lo, node.hi)) continue;
-      if (node.left >= 0) {
-        stack[top++] = node.left;
-        stack[top++] = node.right;
-        continue;
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  // Boxes are searched nearest entry first, and a box entered past the range's end or the
+  // best hit so far is skipped: a triangle in a box is crossed no earlier than the box is
+  // entered (boxes are grown by eps_; the bound has a relative slack of 1e-9 besides, so
+  // rounding never drops the hit the full search would return, ties by face index included).
+  const auto bound = [&] { return std::min(t_max, best) * (1.0 + 1e-9) + eps_; };
+  double t_root = 0.0;
+  if (nodes_.empty() || !rayHitsBox(p, inv, nodes_[0].lo, nodes_[0].hi, bound(), &t_root)) {
+    if (face != nullptr) *face = -1;
+    return best;
+  }
+  std::pair<int, double> stack[128];
+  int top = 0;
+  stack[top++] = {0, t_root};
+  while (top > 0) {
+    const auto [index, t_enter] = stack[--top];
+    if (t_enter > bound()) continue;
+    const Node& node = nodes_[index];
+    if (node.left >= 0) {
+      double tl = 0.0, tr = 0.0;
+      const bool hl = rayHitsBox(p, inv, nodes_[node.left].lo, nodes_[node.left].hi, bound(), &tl);
+      const bool hr =
+          rayHitsBox(p, inv, nodes_[node.right].lo, nodes_[node.right].hi, bound(), &tr);
+      // The farther child is pushed first, so the nearer one is searched first.
+      if (hl && hr && tl <= tr) {
+        stack[top++] = {node.right, tr};
+        stack[top++] = {node.left, tl};
+      } else {
+        if (hl) stack[top++] = {node.left, tl};
+        if (hr) stack[top++] = {node.right, tr};
       }
-      for (int i = node.begin; i < node.end; ++i) {
-        // Moller-Trumbore; parallel rays (det ~ 0) do not cross the triangle.
-        const Eigen::Vector3d e1 = b_[i] - a_[i], e2 = c_[i] - a_[i];
-        const Eigen::Vector3d pvec = d.cross(e2);
-        const double det = e1.dot(pvec);
-        if (std::abs(det) <= 1e-12 * e1.norm() * e2.norm()) continue;
-        const double inv_det = 1.0 / det;
-        const Eigen::Vector3d s = p - a_[i];
-        const double u = s.dot(pvec) * inv_det;
-        if (u < -kBaryTol || u > 1 + kBaryTol) continue;
-        const Eigen::Vector3d qvec = s.cross(e1);
-        const double v = d.dot(qvec) * inv_det;
-        if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
-        const double t = e2.dot(qvec) * inv_det;
-        if (t <= t_min || t > t_max) continue;
-        if (t < best || (t == best && order_[i] < best_face)) {
-          best = t;
-          best_face = order_[i];
-        }
+      continue;
+    }
+    for (int i = node.begin; i < node.end; ++i) {
+      // Moller-Trumbore; parallel rays (det ~ 0) do not cross the triangle.
+      const Eigen::Vector3d& e1 = e1_[i];
+      const Eigen::Vector3d& e2 = e2_[i];
+      const Eigen::Vector3d pvec = d.cross(e2);
+      const double det = e1.dot(pvec);
+      if (std::abs(det) <= 1e-12 * n1_[i] * n2_[i]) continue;
+      const double inv_det = 1.0 / det;
+      const Eigen::Vector3d s = p - a_[i];
+      const double u = s.dot(pvec) * inv_det;
+      if (u < -kBaryTol || u > 1 + kBaryTol) continue;
+      const Eigen::Vector3d qvec = s.cross(e1);
+      const double v = d.dot(qvec) * inv_det;
+      if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
+      const double t = e2.dot(qvec) * inv_det;
+      if (t <= t_min || t > t_max) continue;
+      if (t < best || (t == best && order_[i] < best_face)) {
+        best = t;
+        best_face = order_[i];
       }
     }
   }

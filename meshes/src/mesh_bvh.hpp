@@ -13,6 +13,10 @@
 
 namespace taskmap::detail {
 
+/// Closest point to p on triangle abc (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
 /// Axis-aligned box tree with up to 4 triangles per leaf (median split of centroids).
 class MeshBvh {
  public:
@@ -28,9 +32,14 @@ class MeshBvh {
   /// ray grazes an edge or a vertex within a tolerance; kOnSurface when p lies on a triangle.
   Parity rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const;
 
-  /// True when p is strictly inside the closed mesh (ray winding over several fixed
-  /// directions, generalized winding number as the fallback when all rays are ambiguous).
+  /// True when p is strictly inside the closed mesh: the inside grid's label where p's cell
+  /// holds no surface, else containsByRays(p). The same answer as containsByRays wherever
+  /// that is the winding number (docs/METHOD.md §2, "Inside tests").
   bool contains(const Eigen::Vector3d& p) const;
+
+  /// contains() by rays alone: ray winding over several fixed directions, the generalized
+  /// winding number as the fallback when all rays are ambiguous.
+  bool containsByRays(const Eigen::Vector3d& p) const;
 
   /// Distance from p to the closest surface point (metres); closest point and face on request.
   double closestPoint(const Eigen::Vector3d& p, Eigen::Vector3d* closest = nullptr,
@@ -58,10 +67,30 @@ class MeshBvh {
   };
   int build(int begin, int end, std::vector<Eigen::Vector3d>& centroids);
 
+  /// A regular grid over the root box (inside_grid.cpp): a cell whose bounding ball meets no
+  /// triangle holds no surface point, so every point of it has the winding number of its
+  /// centre, and 6-neighbouring such cells share it; one containsByRays() call labels each
+  /// connected group of them. Cells the surface may cross are labelled kSurface.
+  struct InsideGrid {
+    enum Label : unsigned char { kUnknown = 0, kSurface = 1, kInside = 2, kOutside = 3 };
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< corner of cell (0, 0, 0), metres
+    double cell = 0.0;                                 ///< cell edge, metres
+    Eigen::Vector3i n = Eigen::Vector3i::Zero();       ///< cells per axis
+    std::vector<unsigned char> label;                  ///< x fastest; empty: no grid
+  };
+  void buildInsideGrid();
+  void markSurfaceCells();
+  void labelFreeCells();
+  /// The grid's label of p's cell, kUnknown when p is outside the grid.
+  InsideGrid::Label gridLabel(const Eigen::Vector3d& p) const;
+
   std::vector<Eigen::Vector3d> a_, b_, c_;  ///< triangle corners, in order_
+  std::vector<Eigen::Vector3d> e1_, e2_;    ///< edges b - a and c - a, in order_
+  std::vector<double> n1_, n2_;             ///< their lengths, metres
   std::vector<int> order_;                  ///< original face index for each slot
   std::vector<Node> nodes_;
   double eps_ = 0;  ///< length tolerance: 1e-12 times the bounding box diagonal
+  InsideGrid grid_;
 };
 
 }  // namespace taskmap::detail
