@@ -351,6 +351,7 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
   s.info.hand_geoms = scene.hand_geoms;
   s.info.actuators = scene.actuators;
   s.info.mimic_constraints = scene.mimic_constraints;
+  s.info.gripper_torque = scene.gripper_torque;
 }
 
 HoldTester::~HoldTester() = default;

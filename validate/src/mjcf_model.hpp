@@ -25,6 +25,7 @@ struct MjcfScene {
   int hand_geoms = 0;
   int actuators = 0;
   int mimic_constraints = 0;
+  double gripper_torque = 0.0;  ///< N m, 0 unless the hand is a revolute gripper
 };
 
 /// Writes the scene: hand links as bodies (their convex shapes as geoms), one position

@@ -31,6 +31,13 @@ std::string summaryText(const ValidationSummary& s, const std::string& written_t
   std::snprintf(line, sizeof line, "\n  object: %d convex piece(s), volume error %+.1f %%\n",
                 s.model.object_pieces, 100.0 * s.model.object_volume_error);
   os << line;
+  if (s.model.gripper_torque > 0.0) {
+    std::snprintf(line, sizeof line,
+                  "  hand: a gripper driven by one revolute joint, its drive limited to %.2f N m "
+                  "(the jaw force at each fingertip)\n",
+                  s.model.gripper_torque);
+    os << line;
+  }
   if (std::abs(s.model.object_volume_error) > 0.1)
     os << "  warning: the object's convex pieces differ from it by "
        << static_cast<int>(std::lround(100.0 * s.model.object_volume_error)) << " % in volume ("

@@ -142,6 +142,7 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["link_density"] = o.link_density;
   j["jaw_force"] = o.jaw_force;
   j["kp_prismatic"] = o.kp_prismatic;
+  j["revolute_gripper_force"] = o.revolute_gripper_force;
   j["prismatic_damping"] = o.prismatic_damping;
   j["prismatic_armature"] = o.prismatic_armature;
   j["revolute_armature"] = o.revolute_armature;

@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
 #include <string>
 
 #include "build_fixtures.hpp"
 #include "error_matchers.hpp"
+#include "gripper_drive.hpp"
 #include "taskmap/core/error.hpp"
 #include "test_meshes.hpp"
 
@@ -89,6 +92,50 @@ TEST(HoldTest, SameGraspSameResult) {
   EXPECT_EQ(a.steps, b.steps);
 }
 
+std::string knuckleJaw() {
+  return std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf";
+}
+
+/// The number after `key="-` in the MJCF actuator of a one-joint hand, or -1.
+double actuatorForceLimit(const std::string& mjcf) {
+  const std::size_t at = mjcf.find("forcerange=\"-");
+  if (at == std::string::npos) return -1.0;
+  return std::stod(mjcf.substr(at + 13));
+}
+
+TEST(HoldTest, ARevoluteGripperPressesItsTipsWithTheJawForce) {
+  // The knuckle jaw (tests/data/hands/knuckle_jaw): each pad rides on a 0.04 m knuckle leaning
+  // 20 degrees outward at q = 0 and stays parallel, so at mid-range (q = 0.4 rad) a pad closes at
+  // 0.04 cos(0.4 rad - 20 deg) m/rad toward the other; the drive's torque limit presses each with
+  // jaw_force, its gain is the jaws' kp_prismatic mapped through the two pads.
+  const HandModel hand = HandModel::load(knuckleJaw());
+  const double speed = 0.04 * std::cos(0.4 - 20.0 * M_PI / 180.0);
+  const std::optional<detail::GripperDrive> drive =
+      detail::revoluteGripperDrive(hand, 70.0, 20000.0);
+  ASSERT_TRUE(drive.has_value());
+  // Relative 1e-5: the URDF gives the lean and the knuckle to 7 digits.
+  EXPECT_NEAR(drive->lever, 2.0 * speed, 1e-5 * speed);
+  EXPECT_NEAR(drive->torque, 70.0 * 2.0 * speed, 1e-5 * 70.0 * speed);
+  EXPECT_NEAR(drive->kp, 20000.0 * 2.0 * speed * speed, 1e-5 * 20000.0 * speed * speed);
+  HoldTestOptions o;
+  EXPECT_NEAR(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, drive->torque,
+              1e-12);
+  EXPECT_NEAR(actuatorForceLimit(HoldTester(hand, testing::boxObject(), o).mjcf()),
+              o.jaw_force * 2.0 * speed, 1e-5 * o.jaw_force * speed);
+  // Off: the protocol's revolute gain, no force limit.
+  o.revolute_gripper_force = false;
+  const std::string plain = HoldTester(hand, testing::boxObject(), o).mjcf();
+  EXPECT_EQ(actuatorForceLimit(plain), -1.0);
+  EXPECT_EQ(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, 0.0);
+  EXPECT_NE(plain.find("kp=\"5\""), std::string::npos);
+  // Hands with more than one actuated joint or a prismatic one are not revolute grippers.
+  EXPECT_FALSE(detail::revoluteGripperDrive(testing::pandaHand(), 70.0, 20000.0).has_value());
+  EXPECT_FALSE(
+      detail::revoluteGripperDrive(
+          HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"), 70.0, 20000.0)
+          .has_value());
+}
+
 TEST(HoldTest, RefusesWrongJointCountAndBadOptions) {
   EXPECT_TRUE(
       testing::throwsError([] { pandaOnBox().test(topGrasp(0.061), Eigen::Vector3d(0, 0, 0)); },
@@ -150,6 +197,7 @@ INSTANTIATE_TEST_SUITE_P(
         HandCase{std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf", 1},
         HandCase{std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf", 5},
         HandCase{std::string(TEST_DATA_DIR) + "/real/hands/franka_hand/franka_hand.urdf", 1},
+        HandCase{std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf", 3},
         HandCase{std::string(TEST_DATA_DIR) +
                      "/real/hands/allegro_right/allegro_hand_description_right.urdf",
                  0}));

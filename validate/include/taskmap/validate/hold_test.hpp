@@ -36,7 +36,12 @@ struct HoldTestOptions {
   /// Parallel jaws (prismatic joints, outside DexGraspBench): the force each jaw presses with,
   /// N (Franka Hand: 70 N continuous; Robotiq 2F-85: 20 to 235 N).
   double jaw_force = 70.0;
-  double kp_prismatic = 20000.0;     ///< N / m, position gain of prismatic joints
+  double kp_prismatic = 20000.0;  ///< N / m, position gain of prismatic joints
+  /// A gripper whose only actuated joint is revolute (a Robotiq 2F-85's linkage) is a parallel
+  /// jaw too: its drive presses each finger's tip with jaw_force (force limit jaw_force x the
+  /// tips' summed closing speed per radian, gain kp_prismatic x their squares; at the middle of
+  /// the joint's range). false: kp_revolute, as for dexterous hands (DexGraspBench).
+  bool revolute_gripper_force = true;
   double prismatic_damping = 100.0;  ///< N s / m, damping of prismatic joints
   /// kg, reflected inertia of a jaw's drive (keeps light jaws stable against stiff contacts).
   double prismatic_armature = 0.1;
@@ -108,6 +113,9 @@ struct HoldModelInfo {
   int hand_geoms = 0;         ///< collision geoms of the hand
   int actuators = 0;          ///< position actuators (one per actuated joint)
   int mimic_constraints = 0;  ///< joint equality constraints (URDF mimic)
+  /// N m: the force limit of a revolute gripper's drive (HoldTestOptions::revolute_gripper_force),
+  /// 0 for other hands.
+  double gripper_torque = 0.0;
 };
 
 /// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text
