@@ -23,6 +23,7 @@
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <CGAL/convex_decomposition_3.h>
@@ -102,8 +103,17 @@ ConvexPieces decomposeClosedMesh(const MeshSoup& soup, const DecompositionLimits
     namespace SMS = CGAL::Surface_mesh_simplification;
     // A closed triangle mesh has 3/2 edges per face.
     SMS::Count_stop_predicate<Mesh> stop(static_cast<std::size_t>(limits.max_faces) * 3 / 2);
+    const Mesh original = mesh;
     SMS::edge_collapse(mesh, stop);
     mesh.collect_garbage();
+    if (PMP::does_self_intersect(mesh)) {
+      // Thin parts (a scissors' blade, a mug's wall) fold through each other when collapsed
+      // freely; again from the original, refusing collapses that flip a face's normal.
+      mesh = original;
+      SMS::edge_collapse(mesh, stop,
+                         CGAL::parameters::filter(SMS::Bounded_normal_change_filter<>()));
+      mesh.collect_garbage();
+    }
   }
   if (PMP::does_self_intersect(mesh))
     throw Error(
