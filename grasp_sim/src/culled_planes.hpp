@@ -62,8 +62,9 @@ struct ShapePlanes {
   static constexpr int kBoxPlanes = 6;
   using BoxBlock = Eigen::Array<double, kBoxPlanes, 1>;
   static_assert(kPlaneBlock >= kBoxPlanes, "a box's faces fill its first block");
-  Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
-  Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
+  Eigen::ArrayXd nx, ny, nz, h;          // object-frame normals and offsets, ShapeEntry's layout
+  Eigen::ArrayXd ax, ay, az;             // |n| per component, node planes only
+  mutable Eigen::ArrayXd fd0, fd1, fd2;  // faceGap: n . v_k of the last triangle, per corner
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
   int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
@@ -86,7 +87,8 @@ struct ShapePlanes {
     box = e.is_box && count == kPlaneBlock;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
     if (nx.size() < count) {
-      for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az}) a->resize(count);
+      for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az, &fd0, &fd1, &fd2})
+        a->resize(count);
     }
     nx.head(count) = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
     ny.head(count) = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
@@ -163,37 +165,55 @@ struct ShapePlanes {
     return lb;
   }
   double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
-  /// A hull's penetration of triangle `v` from its face planes [facet_begin, count), when they
-  /// prove it: F the face of largest gap g (< -min_depth), p the triangle's corners deepest
-  /// below F (within 1e-9 m of each other); if every such corner lies at least -g inside every
-  /// face, the ball of radius -g about it lies in the hull, so no translation shorter than -g
-  /// separates the pair, and moving -g along F's normal does: the penetration depth is -g, along
-  /// F's normal, witness the corners' mean. False where that does not hold (near the hull's
-  /// edges): EPA decides there.
-  bool faceContact(const std::array<Eigen::Vector3d, 3>& v, double min_depth, double* depth,
-                   Eigen::Vector3d* normal, Eigen::Vector3d* point) const {
+  /// The largest gap of triangle `v` over a hull's face planes [facet_begin, count),
+  /// max_i (min_k n_i . v_k - h_i), and in *face the first plane reaching it; some value above
+  /// `limit` (and *face -1) as soon as a block of faces puts the triangle beyond it. Keeps every
+  /// n_i . v_k it computed: faceContact and insideFaces of the same triangle read them (the same
+  /// arithmetic as computing them again, so the same numbers).
+  double faceGap(const std::array<Eigen::Vector3d, 3>& v, double limit, int* face) const {
     double g = -std::numeric_limits<double>::infinity();
-    int face = -1;
+    *face = -1;
     for (int b = facet_begin; b < count; b += kPlaneBlock) {
-      const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
-                       h.segment<kPlaneBlock>(b);
+      const Block a0 = alongBlock(b, v[0]), a1 = alongBlock(b, v[1]), a2 = alongBlock(b, v[2]);
+      fd0.segment<kPlaneBlock>(b) = a0;
+      fd1.segment<kPlaneBlock>(b) = a1;
+      fd2.segment<kPlaneBlock>(b) = a2;
+      const Block gb = a0.min(a1).min(a2) - h.segment<kPlaneBlock>(b);
       Eigen::Index i = 0;
       const double m = gb.maxCoeff(&i);
       if (m > g) {
         g = m;
-        face = b + static_cast<int>(i);
+        *face = b + static_cast<int>(i);
+      }
+      if (g > limit) {
+        *face = -1;
+        return g;
       }
     }
+    return g;
+  }
+  /// After faceGap(v, ...) returned g <= its limit with face F: a hull's penetration of
+  /// triangle `v` from its face planes, when they prove it: g < -min_depth, p the triangle's
+  /// corners deepest below F (within 1e-9 m of each other); if every such corner lies at least
+  /// -g inside every face, the ball of radius -g about it lies in the hull, so no translation
+  /// shorter than -g separates the pair, and moving -g along F's normal does: the penetration
+  /// depth is -g, along F's normal, witness the corners' mean. False where that does not hold
+  /// (near the hull's edges): EPA decides there.
+  bool faceContact(const std::array<Eigen::Vector3d, 3>& v, double g, int face, double min_depth,
+                   double* depth, Eigen::Vector3d* normal, Eigen::Vector3d* point) const {
     if (face < 0 || !(g < -min_depth)) return false;
     const Eigen::Vector3d n(nx[face], ny[face], nz[face]);
     const double lo = std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])});
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int tied = 0;
-    for (const auto& p : v) {
+    const Eigen::ArrayXd* dots[3] = {&fd0, &fd1, &fd2};
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = v[static_cast<std::size_t>(k)];
       if (n.dot(p) > lo + 1e-9) continue;
       double inside = std::numeric_limits<double>::infinity();  // distance to the boundary
       for (int b = facet_begin; b < count; b += kPlaneBlock)
-        inside = std::min(inside, (h.segment<kPlaneBlock>(b) - alongBlock(b, p)).minCoeff());
+        inside = std::min(
+            inside, (h.segment<kPlaneBlock>(b) - dots[k]->segment<kPlaneBlock>(b)).minCoeff());
       if (inside < -g - 1e-12) return false;
       sum += p;
       ++tied;
@@ -201,6 +221,15 @@ struct ShapePlanes {
     *depth = -g;
     *normal = -n;
     *point = sum / static_cast<double>(tied);
+    return true;
+  }
+  /// After faceGap(v, ...) computed every block: inside(v[corner], facet_begin) from its
+  /// products.
+  bool insideFaces(int corner) const {
+    const Eigen::ArrayXd& a = corner == 0 ? fd0 : corner == 1 ? fd1 : fd2;
+    for (int b = facet_begin; b < count; b += kPlaneBlock)
+      if ((a.segment<kPlaneBlock>(b) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack)
+        return false;
     return true;
   }
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.

@@ -196,10 +196,15 @@ void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery
       d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        if (pl.bound(v, pl.cut, q->exact) > pl.cut) return true;
+        // Hull contacts: the planes before the faces, then the faces (the tight bound's
+        // decision), whose products the face contact reads.
+        if (pl.bound(v, pl.cut, q->exact && !hull_faces) > pl.cut) return true;
+        int face = -1;
+        const double g = hull_faces ? pl.faceGap(v, pl.cut, &face) : 0.0;
+        if (hull_faces && g > pl.cut) return true;
         TriangleHit h;
         double depth = 0.0;
-        if (hull_faces && pl.faceContact(v, kSatDepthMin, &depth, &h.normal, &h.point)) {
+        if (hull_faces && pl.faceContact(v, g, face, kSatDepthMin, &depth, &h.normal, &h.point)) {
           h.distance = -depth;
           h.triangle = tri;
           q->min_distance = std::min(q->min_distance, h.distance);
@@ -245,8 +250,12 @@ void hullOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Tria
       d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
       [&](int tri, double lb, int) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        if (lb <= 0.0 && (pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
-                          pl.inside(v[2], pl.facet_begin))) {
+        // The face planes before GJK: a triangle they put beyond the walk's limit has no corner
+        // inside and a GJK distance above the limit (no answer changes).
+        const double limit = std::min(pl.cut, q->min_distance + kCullSlack);
+        int face = -1;
+        if (pl.faceGap(v, limit, &face) > limit) return;
+        if (lb <= 0.0 && (pl.insideFaces(0) || pl.insideFaces(1) || pl.insideFaces(2))) {
           q->overlap_found = true;
           q->min_distance = kOverlapping;
           return;
