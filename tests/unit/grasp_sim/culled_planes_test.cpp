@@ -221,7 +221,8 @@ TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
       }
       if (gap > limit) continue;
       for (int c3 = 0; c3 < 3; ++c3)
-        EXPECT_EQ(pl.insideFaces(c3), pl.inside(v[static_cast<std::size_t>(c3)], pl.facet_begin));
+        EXPECT_EQ(pl.insideFaces(v, c3),
+                  pl.inside(v[static_cast<std::size_t>(c3)], pl.facet_begin));
       // The face contact by scan: the corners deepest below the gap's face, each at least -gap
       // inside every face.
       const double min_depth = 1e-9;
