@@ -95,6 +95,14 @@ struct ShapeEntry {
   /// face planes (exact-hit walks and the inside test).
   int facet_begin = 0;
   bool is_hull = false;
+  /// Hulls: the face planes come in blocks of kPlaneBlock with close normals (addCullingData
+  /// groups them); per block, in the shape frame, a unit axis (bx, by, bz), the largest |n - axis|
+  /// over its normals (bchord) and its smallest reach (bmin), so that for any point p (shape
+  /// frame) and face i of the block n_i . p - pr_i <= axis . p + |p| chord - bmin.
+  Eigen::ArrayXd bx, by, bz, bchord, bmin;
+  /// Per face plane from facet_begin: its place in the hull computation's face order (ties
+  /// between faces go to the earlier there, as before the grouping); padding: INT_MAX.
+  std::vector<int> face_rank;
 };
 
 struct CollisionScene::Data {

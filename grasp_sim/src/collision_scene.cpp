@@ -303,9 +303,10 @@ double linkReach(const std::vector<ShapeEntry>& entries, const Eigen::Isometry3d
 
 double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b,
                                         const Eigen::Isometry3d& tb, double threshold,
-                                        Eigen::Vector3d* axis) const {
+                                        Eigen::Vector3d* axis, bool* apart) const {
   const Data& d = *d_;
   const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+  if (apart) *apart = true;
   if ((ta * d.link_centre[ua] - tb * d.link_centre[ub]).norm() >
       d.link_radius[ua] + d.link_radius[ub] + threshold)
     return kInf;
@@ -321,6 +322,7 @@ double CollisionScene::linkLinkDistance(int a, const Eigen::Isometry3d& ta, int 
     const Eigen::Vector3d n = ta.linear() * *axis;
     if (-linkReach(lb, tb, -n) - linkReach(la, ta, n) > threshold + kAxisSlack) return kInf;
   }
+  if (apart) *apart = false;
   double best = kInf, nearest_separated = kInf;
   for (const ShapeEntry& ea : la) {
     const Eigen::Isometry3d sa = ta * ea.origin;

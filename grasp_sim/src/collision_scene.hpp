@@ -138,9 +138,12 @@ class CollisionScene {
   /// leave a gap above threshold + 1e-9 m, +infinity without GJK (the same answer: the gap is a
   /// lower bound of the distance); otherwise GJK/EPA as without it, and *axis becomes the
   /// direction from a's witness to b's of the nearest separated shape pair (unchanged when every
-  /// pair overlaps). A caller keeps one per link pair across poses.
+  /// pair overlaps). A caller keeps one per link pair across poses. With `apart`: set true when
+  /// the answer (+infinity) came from the bounding spheres or the axis's gap, without GJK (then
+  /// the same call with a and b swapped answers +infinity too), false otherwise.
   double linkLinkDistance(int a, const Eigen::Isometry3d& ta, int b, const Eigen::Isometry3d& tb,
-                          double threshold, Eigen::Vector3d* axis = nullptr) const;
+                          double threshold, Eigen::Vector3d* axis = nullptr,
+                          bool* apart = nullptr) const;
   /// Outward unit normal of triangle `tri`.
   const Eigen::Vector3d& faceNormal(int tri) const;
   /// Centre and radius of a sphere enclosing the object, metres.

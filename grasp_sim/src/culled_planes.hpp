@@ -62,8 +62,14 @@ struct ShapePlanes {
   static constexpr int kBoxPlanes = 6;
   using BoxBlock = Eigen::Array<double, kBoxPlanes, 1>;
   static_assert(kPlaneBlock >= kBoxPlanes, "a box's faces fill its first block");
-  Eigen::ArrayXd nx, ny, nz, h;  // object-frame normals and offsets, ShapeEntry's layout
-  Eigen::ArrayXd ax, ay, az;     // |n| per component, node planes only
+  Eigen::ArrayXd nx, ny, nz, h;          // object-frame normals and offsets, ShapeEntry's layout
+  Eigen::ArrayXd ax, ay, az;             // |n| per component, node planes only
+  mutable Eigen::ArrayXd fd0, fd1, fd2;  // faceGap: n . v_k of the last triangle, per corner
+  mutable Eigen::ArrayXd fub[3];         // faceGap: per face block, its bound for corner k
+  mutable std::vector<char> fread;       // faceGap: per face block, whether it was computed
+  const ShapeEntry* fe = nullptr;        // the shape (its face blocks)
+  Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();  // shape frame -> object frame
+  Eigen::Vector3d org = Eigen::Vector3d::Zero();
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
   int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
@@ -80,13 +86,19 @@ struct ShapePlanes {
            const btVector3& amax, double threshold) {
     const Eigen::Matrix3d& r = ts.linear();
     const Eigen::Vector3d c = ts.translation();
+    fe = &e;
+    rot = r;
+    org = c;
+    for (auto& u : fub)
+      if (u.size() < e.bx.size()) u.resize(e.bx.size());
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
     facet_begin = e.facet_begin;
     box = e.is_box && count == kPlaneBlock;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
     if (nx.size() < count) {
-      for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az}) a->resize(count);
+      for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az, &fd0, &fd1, &fd2})
+        a->resize(count);
     }
     nx.head(count) = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
     ny.head(count) = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
@@ -163,37 +175,75 @@ struct ShapePlanes {
     return lb;
   }
   double bound(const std::array<Eigen::Vector3d, 3>& v) const { return bound(v, cut); }
-  /// A hull's penetration of triangle `v` from its face planes [facet_begin, count), when they
-  /// prove it: F the face of largest gap g (< -min_depth), p the triangle's corners deepest
-  /// below F (within 1e-9 m of each other); if every such corner lies at least -g inside every
-  /// face, the ball of radius -g about it lies in the hull, so no translation shorter than -g
-  /// separates the pair, and moving -g along F's normal does: the penetration depth is -g, along
-  /// F's normal, witness the corners' mean. False where that does not hold (near the hull's
-  /// edges): EPA decides there.
-  bool faceContact(const std::array<Eigen::Vector3d, 3>& v, double min_depth, double* depth,
-                   Eigen::Vector3d* normal, Eigen::Vector3d* point) const {
+  /// The largest gap of triangle `v` over a hull's face planes [facet_begin, count),
+  /// max_i (min_k n_i . v_k - h_i), and in *face a plane reaching it (the first in the hull
+  /// computation's order among equals); some value above `limit` (and *face -1) as soon as a
+  /// block of faces puts the triangle beyond it. Blocks are read from the one with the largest
+  /// upper bound (ShapeEntry::bx...: for each corner axis . p + |p| chord - bmin, p the corner in
+  /// the shape frame; the smallest of the three) on, and a block whose bound is below the gap
+  /// found by more than kCullSlack (far above the rounding) is skipped: it holds no face as high.
+  /// Keeps every n_i . v_k it computed and the bounds: faceContact and insideFaces of the same
+  /// triangle read them (the same arithmetic as computing them again, so the same numbers).
+  double faceGap(const std::array<Eigen::Vector3d, 3>& v, double limit, int* face) const {
+    const int nb = (count - facet_begin) / kPlaneBlock;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d p = rot.transpose() * (v[static_cast<std::size_t>(k)] - org);
+      fub[k].head(nb) =
+          fe->bx * p.x() + fe->by * p.y() + fe->bz * p.z() + p.norm() * fe->bchord - fe->bmin;
+    }
+    fread.assign(static_cast<std::size_t>(nb), 0);
+    Eigen::Index top = 0;
+    const Eigen::ArrayXd ub = fub[0].head(nb).min(fub[1].head(nb)).min(fub[2].head(nb));
+    ub.maxCoeff(&top);
     double g = -std::numeric_limits<double>::infinity();
-    int face = -1;
-    for (int b = facet_begin; b < count; b += kPlaneBlock) {
-      const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
-                       h.segment<kPlaneBlock>(b);
-      Eigen::Index i = 0;
-      const double m = gb.maxCoeff(&i);
-      if (m > g) {
-        g = m;
-        face = b + static_cast<int>(i);
+    int rank = std::numeric_limits<int>::max();
+    *face = -1;
+    for (int j = -1; j < nb; ++j) {
+      const int blk = j < 0 ? static_cast<int>(top) : j;
+      if (j == top || (j >= 0 && ub[j] + kCullSlack < g)) continue;
+      const int b = facet_begin + blk * kPlaneBlock;
+      const Block a0 = alongBlock(b, v[0]), a1 = alongBlock(b, v[1]), a2 = alongBlock(b, v[2]);
+      fd0.segment<kPlaneBlock>(b) = a0;
+      fd1.segment<kPlaneBlock>(b) = a1;
+      fd2.segment<kPlaneBlock>(b) = a2;
+      fread[static_cast<std::size_t>(blk)] = 1;
+      const Block gb = a0.min(a1).min(a2) - h.segment<kPlaneBlock>(b);
+      const double m = gb.maxCoeff();
+      if (m >= g)
+        for (int i = 0; i < kPlaneBlock; ++i) {
+          const int r = fe->face_rank[static_cast<std::size_t>(b + i - facet_begin)];
+          if (gb(i) > g || (gb(i) == g && r < rank)) {
+            g = gb(i);
+            rank = r;
+            *face = b + i;
+          }
+        }
+      if (g > limit) {
+        *face = -1;
+        return g;
       }
     }
+    return g;
+  }
+  /// After faceGap(v, ...) returned g <= its limit with face F: a hull's penetration of
+  /// triangle `v` from its face planes, when they prove it: g < -min_depth, p the triangle's
+  /// corners deepest below F (within 1e-9 m of each other); if every such corner lies at least
+  /// -g inside every face, the ball of radius -g about it lies in the hull, so no translation
+  /// shorter than -g separates the pair, and moving -g along F's normal does: the penetration
+  /// depth is -g, along F's normal, witness the corners' mean. False where that does not hold
+  /// (near the hull's edges): EPA decides there. A block faceGap skipped is read only where its
+  /// bound for the corner does not put every face of it more than kCullSlack below g.
+  bool faceContact(const std::array<Eigen::Vector3d, 3>& v, double g, int face, double min_depth,
+                   double* depth, Eigen::Vector3d* normal, Eigen::Vector3d* point) const {
     if (face < 0 || !(g < -min_depth)) return false;
     const Eigen::Vector3d n(nx[face], ny[face], nz[face]);
     const double lo = std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])});
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     int tied = 0;
-    for (const auto& p : v) {
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = v[static_cast<std::size_t>(k)];
       if (n.dot(p) > lo + 1e-9) continue;
-      double inside = std::numeric_limits<double>::infinity();  // distance to the boundary
-      for (int b = facet_begin; b < count; b += kPlaneBlock)
-        inside = std::min(inside, (h.segment<kPlaneBlock>(b) - alongBlock(b, p)).minCoeff());
+      const double inside = faceClearance(p, k, g);  // distance to the boundary (where needed)
       if (inside < -g - 1e-12) return false;
       sum += p;
       ++tied;
@@ -201,6 +251,25 @@ struct ShapePlanes {
     *depth = -g;
     *normal = -n;
     *point = sum / static_cast<double>(tied);
+    return true;
+  }
+  /// After faceGap(v, ...) computed every block up to its limit: inside(v[corner], facet_begin),
+  /// from its products, reading a skipped block only where its bound for the corner does not
+  /// put it more than kCullSlack below -kInsideSlack.
+  bool insideFaces(const std::array<Eigen::Vector3d, 3>& v, int corner) const {
+    const Eigen::ArrayXd& a = corner == 0 ? fd0 : corner == 1 ? fd1 : fd2;
+    const int nb = (count - facet_begin) / kPlaneBlock;
+    for (int j = 0; j < nb; ++j) {
+      const int b = facet_begin + j * kPlaneBlock;
+      if (fread[static_cast<std::size_t>(j)]) {
+        if ((a.segment<kPlaneBlock>(b) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack)
+          return false;
+      } else if (fub[corner][j] + kCullSlack >= -kInsideSlack &&
+                 (alongBlock(b, v[static_cast<std::size_t>(corner)]) - h.segment<kPlaneBlock>(b))
+                         .maxCoeff() >= -kInsideSlack) {
+        return false;
+      }
+    }
     return true;
   }
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
@@ -211,6 +280,23 @@ struct ShapePlanes {
   }
 
  private:
+  /// min over the face planes of h_i - n_i . p, p = corner k of faceGap's triangle, except
+  /// blocks faceGap skipped whose bound for p puts every face more than kCullSlack below g
+  /// (those faces' h_i - n_i . p exceed -g: they cannot decide faceContact's test).
+  double faceClearance(const Eigen::Vector3d& p, int k, double g) const {
+    const Eigen::ArrayXd& a = k == 0 ? fd0 : k == 1 ? fd1 : fd2;
+    const int nb = (count - facet_begin) / kPlaneBlock;
+    double inside = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < nb; ++j) {
+      const int b = facet_begin + j * kPlaneBlock;
+      if (fread[static_cast<std::size_t>(j)])
+        inside =
+            std::min(inside, (h.segment<kPlaneBlock>(b) - a.segment<kPlaneBlock>(b)).minCoeff());
+      else if (!(fub[k][j] + kCullSlack < g))
+        inside = std::min(inside, (h.segment<kPlaneBlock>(b) - alongBlock(b, p)).minCoeff());
+    }
+    return inside;
+  }
   /// n . p for the planes [b, b + kPlaneBlock).
   Block alongBlock(int b, const Eigen::Vector3d& p) const {
     return nx.segment<kPlaneBlock>(b) * p.x() + ny.segment<kPlaneBlock>(b) * p.y() +

@@ -73,6 +73,59 @@ std::vector<Eigen::Vector3d> hullFaceNormals(const std::vector<Eigen::Vector3d>&
   return normals;
 }
 
+/// An order of the face normals in which each run of kPlaneBlock holds close normals: a seed
+/// (the first face not yet placed), then the kPlaneBlock - 1 unplaced normals nearest to it.
+std::vector<int> groupFaceNormals(const std::vector<Eigen::Vector3d>& normals) {
+  const int n = static_cast<int>(normals.size());
+  std::vector<int> order;
+  std::vector<char> placed(normals.size(), 0);
+  std::vector<std::pair<double, int>> near;
+  for (int seed = 0; seed < n; ++seed) {
+    if (placed[static_cast<std::size_t>(seed)]) continue;
+    near.clear();
+    for (int i = 0; i < n; ++i)
+      if (!placed[static_cast<std::size_t>(i)])
+        near.emplace_back(
+            -normals[static_cast<std::size_t>(i)].dot(normals[static_cast<std::size_t>(seed)]), i);
+    const auto take = std::min<std::size_t>(kPlaneBlock, near.size());
+    std::partial_sort(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(take), near.end());
+    for (std::size_t k = 0; k < take; ++k) {
+      order.push_back(near[k].second);
+      placed[static_cast<std::size_t>(near[k].second)] = 1;
+    }
+  }
+  return order;
+}
+
+/// The per-block axis, chord and smallest reach of the face planes (ShapeEntry::bx...), and
+/// their ranks: `order` maps each face slot to its index in the hull computation's order.
+void addFaceBlocks(const std::vector<int>& order, ShapeEntry* e) {
+  const int total = static_cast<int>(e->pr.size());
+  const int blocks = (total - e->facet_begin) / kPlaneBlock;
+  for (Eigen::ArrayXd* a : {&e->bx, &e->by, &e->bz, &e->bchord, &e->bmin}) a->setZero(blocks);
+  e->face_rank.assign(static_cast<std::size_t>(total - e->facet_begin),
+                      std::numeric_limits<int>::max());
+  for (std::size_t i = 0; i < order.size(); ++i) e->face_rank[i] = order[i];
+  for (int b = 0; b < blocks; ++b) {
+    const int first = e->facet_begin + b * kPlaneBlock;
+    const int real = std::min(kPlaneBlock, static_cast<int>(order.size()) - b * kPlaneBlock);
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    for (int i = first; i < first + real; ++i)
+      axis += Eigen::Vector3d(e->px[i], e->py[i], e->pz[i]);
+    axis = axis.norm() > 1e-12 ? axis.normalized() : Eigen::Vector3d::UnitZ();
+    double chord = 0.0, reach = std::numeric_limits<double>::infinity();
+    for (int i = first; i < first + real; ++i) {
+      chord = std::max(chord, (Eigen::Vector3d(e->px[i], e->py[i], e->pz[i]) - axis).norm());
+      reach = std::min(reach, e->pr[i]);
+    }
+    e->bx[b] = axis.x();
+    e->by[b] = axis.y();
+    e->bz[b] = axis.z();
+    e->bchord[b] = chord;
+    e->bmin[b] = reach;
+  }
+}
+
 }  // namespace
 
 void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry* e) {
@@ -116,8 +169,10 @@ void addCullingData(const std::vector<Eigen::Vector3d>& hull_points, ShapeEntry*
   for (std::size_t i = 0; i < axes.size(); ++i) put(static_cast<int>(i), axes[i]);
   for (std::size_t i = 0; i < spread.size(); ++i)
     put(e->node_planes + static_cast<int>(i), spread[i]);
+  const std::vector<int> order = groupFaceNormals(faces);
   for (std::size_t i = 0; i < faces.size(); ++i)
-    put(e->facet_begin + static_cast<int>(i), faces[i]);
+    put(e->facet_begin + static_cast<int>(i), faces[static_cast<std::size_t>(order[i])]);
+  addFaceBlocks(order, e);
 }
 
 void buildCulling(const std::vector<Eigen::Vector3d>& vertices,
@@ -196,10 +251,15 @@ void walkAll(const CollisionScene::Data& d, const ShapePlanes& pl, TriangleQuery
       d, [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) { return pl.node(lo, hi); },
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        if (pl.bound(v, pl.cut, q->exact) > pl.cut) return true;
+        // Hull contacts: the planes before the faces, then the faces (the tight bound's
+        // decision), whose products the face contact reads.
+        if (pl.bound(v, pl.cut, q->exact && !hull_faces) > pl.cut) return true;
+        int face = -1;
+        const double g = hull_faces ? pl.faceGap(v, pl.cut, &face) : 0.0;
+        if (hull_faces && g > pl.cut) return true;
         TriangleHit h;
         double depth = 0.0;
-        if (hull_faces && pl.faceContact(v, kSatDepthMin, &depth, &h.normal, &h.point)) {
+        if (hull_faces && pl.faceContact(v, g, face, kSatDepthMin, &depth, &h.normal, &h.point)) {
           h.distance = -depth;
           h.triangle = tri;
           q->min_distance = std::min(q->min_distance, h.distance);
@@ -245,8 +305,12 @@ void hullOverlapQuery(const CollisionScene::Data& d, const ShapePlanes& pl, Tria
       d, pl, [q] { return q->min_distance; }, [q] { return q->overlap_found; },
       [&](int tri, double lb, int) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
-        if (lb <= 0.0 && (pl.inside(v[0], pl.facet_begin) || pl.inside(v[1], pl.facet_begin) ||
-                          pl.inside(v[2], pl.facet_begin))) {
+        // The face planes before GJK: a triangle they put beyond the walk's limit has no corner
+        // inside and a GJK distance above the limit (no answer changes).
+        const double limit = std::min(pl.cut, q->min_distance + kCullSlack);
+        int face = -1;
+        if (pl.faceGap(v, limit, &face) > limit) return;
+        if (lb <= 0.0 && (pl.insideFaces(v, 0) || pl.insideFaces(v, 1) || pl.insideFaces(v, 2))) {
           q->overlap_found = true;
           q->min_distance = kOverlapping;
           return;

@@ -132,6 +132,13 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
     partners[static_cast<std::size_t>(pr.first)].push_back(pr.second);
     partners[static_cast<std::size_t>(pr.second)].push_back(pr.first);
   }
+  partner_slot.assign(links.size(), {});
+  for (std::size_t u = 0; u < partners.size(); ++u)
+    for (int partner : partners[u]) {
+      const auto& back = partners[static_cast<std::size_t>(partner)];
+      partner_slot[u].push_back(static_cast<int>(
+          std::find(back.begin(), back.end(), static_cast<int>(u)) - back.begin()));
+    }
   grasp_mode = opt.grasp_mode ? *opt.grasp_mode : hand.graspMode();
   standoff = resolveStandoff(hand, opt);
   group_of.assign(hand.closing().size(), -1);

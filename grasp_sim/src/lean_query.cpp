@@ -3,6 +3,7 @@
 //   CollisionScene::linkPressesDeeper  is some facing triangle penetrated deeper than a depth?
 //   CollisionScene::linkNearest        the smallest signed distance over the hits that pass a
 //                                      facing filter (or over all hits).
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -114,6 +115,11 @@ void nearestOfShape(const CollisionScene::Data& d, const ShapeEntry& e, const Ei
           const double limit = best->distance + kCullSlack;
           if (boxTriangleSeparation(q.box_centre, q.box_axes, q.box_half, corners, limit) > limit)
             return;
+        } else if (e.is_hull) {
+          // The hull's face planes before GJK/EPA (their gap is a lower bound of its distance).
+          const double limit = std::min(pl.cut, best->distance + kCullSlack);
+          int face = -1;
+          if (pl.faceGap(v, limit, &face) > limit) return;
         }
         hits.clear();
         runTriangle(d, tri, &q);

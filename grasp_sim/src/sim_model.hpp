@@ -31,8 +31,10 @@ struct SimModel {
   std::vector<int> closing_of;    ///< actuated joint -> index in hand.closing(), or -1
   std::vector<std::pair<int, int>> self_pairs;  ///< link pairs checked for self-collision
   std::vector<std::vector<int>> partners;       ///< per link: its self-collision partners
-  GraspMode grasp_mode = GraspMode::kPalm;      ///< palm or fingertip grasps in force
-  double standoff = 0.0;                        ///< fingertip standoff in force, metres
+  /// Per link and partner (partners' layout): the link's index in its partner's list.
+  std::vector<std::vector<int>> partner_slot;
+  GraspMode grasp_mode = GraspMode::kPalm;  ///< palm or fingertip grasps in force
+  double standoff = 0.0;                    ///< fingertip standoff in force, metres
   /// Coupled mechanisms that centre (closing indices per group): a closing joint, or a sidecar
   /// "coupled" group, whose links lie on two or more fingers; empty unless opt.centre_coupled.
   std::vector<std::vector<int>> groups;

@@ -290,11 +290,21 @@ void Trial::linkContacts(int l, std::vector<char>* finger_touch) {
   }
 }
 
+// With the closing's carried separating axes (a copy: the test leaves them as they are): a pair
+// whose gap along its axis exceeds tol_ is answered +inf without GJK, as GJK would answer.
 bool Trial::selfPenetrating() const {
+  const bool axes = m_.diag.self_collision_axes && pair_axis_.size() == m_.partners.size();
   for (const auto& pr : m_.self_pairs) {
     const auto ua = static_cast<std::size_t>(pr.first), ub = static_cast<std::size_t>(pr.second);
-    if (m_.scene->linkLinkDistance(pr.first, palm_ * lp_[ua], pr.second, palm_ * lp_[ub], tol_) <
-        -tol_)
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    if (axes) {
+      const auto& mine = m_.partners[ua];
+      const auto k =
+          static_cast<std::size_t>(std::find(mine.begin(), mine.end(), pr.second) - mine.begin());
+      if (k < mine.size()) axis = pair_axis_[ua][k];
+    }
+    if (m_.scene->linkLinkDistance(pr.first, palm_ * lp_[ua], pr.second, palm_ * lp_[ub], tol_,
+                                   axes ? &axis : nullptr) < -tol_)
       return true;
   }
   return false;

@@ -61,6 +61,7 @@ class Trial {
   bool moving(int link) const;
   Eigen::VectorXd advance(const Eigen::VectorXd& from, double dt) const;
   double evalMoving(const Eigen::VectorXd& qq, double dt = 0.0);
+  double pairSelfDistance(int link, std::size_t k);
   void stopTouching(const std::vector<int>& touching);
   void refreshMoving();
   void closingStep();
@@ -114,6 +115,11 @@ class Trial {
   // evalMoving: per link and self-collision partner (m_.partners' layout), the last separating
   // axis of the pair in the link's frame (CollisionScene::linkLinkDistance; zero: none yet).
   std::vector<std::vector<Eigen::Vector3d>> pair_axis_;
+  // evalMoving: per link and partner, the last evaluation that asked the pair from this link
+  // and whether that call proved the pair apart without GJK (pairSelfDistance).
+  std::vector<std::vector<char>> pair_apart_;
+  std::vector<std::vector<long>> pair_eval_;
+  long eval_id_ = 0;
   // Lean queries: per link, what its last kSeen closing evaluations saw (a ring; the squeeze's
   // contacts read the one at the pose where the link stopped) and the next slot.
   static constexpr std::size_t kSeen = 8;

@@ -52,7 +52,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
     if (m_.opt.check_self_collision) centre_[u] = m_.scene->linkCentre(l, world_[u]);
   }
   double mn = kInf;
-  const bool axes = m_.diag.self_collision_axes;
+  ++eval_id_;
   for (int l : mov_) {
     if (shifting && heldLink(l)) continue;
     const auto u = static_cast<std::size_t>(l);
@@ -70,8 +70,7 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
         const int o = m_.partners[u][k];
         const auto uo = static_cast<std::size_t>(o);
         if ((centre_[u] - centre_[uo]).norm() > m_.radius[u] + m_.radius[uo] + tol_) continue;
-        d = std::min(d, m_.scene->linkLinkDistance(l, tl, o, world_[uo], tol_,
-                                                   axes ? &pair_axis_[u][k] : nullptr));
+        d = std::min(d, pairSelfDistance(l, k));
       }
     dist_[u] = d;
     mn = std::min(mn, d);
@@ -79,6 +78,27 @@ double Trial::evalMoving(const Eigen::VectorXd& qq, double dt) {
   if (shifting) mn = std::min(mn, evalStill());
   ++st_.closing_steps;
   return mn;
+}
+
+// The distance of link `link` and its k-th self-collision partner at this evaluation's poses
+// (world_), linkLinkDistance with the pair's carried axis. When the partner's own call in this
+// evaluation proved the pair apart without GJK (its separating axis left a gap above tol_ +
+// 1e-9 m, a lower bound of the distance whichever link is asked first), the answer is +inf
+// without a second test: GJK in either order is accurate to ~1e-12 m, so it would report no
+// distance within tol_ either.
+double Trial::pairSelfDistance(int link, std::size_t k) {
+  const auto u = static_cast<std::size_t>(link);
+  const int o = m_.partners[u][k];
+  const auto uo = static_cast<std::size_t>(o);
+  const auto back = static_cast<std::size_t>(m_.partner_slot[u][k]);
+  if (pair_eval_[uo][back] == eval_id_ && pair_apart_[uo][back]) return kInf;
+  bool apart = false;
+  const double d =
+      m_.scene->linkLinkDistance(link, world_[u], o, world_[uo], tol_,
+                                 m_.diag.self_collision_axes ? &pair_axis_[u][k] : nullptr, &apart);
+  pair_eval_[u][k] = eval_id_;
+  pair_apart_[u][k] = apart;
+  return d;
 }
 
 // A touching link stops every closing joint that moves it (autoGrasp), except the joints of a
@@ -119,8 +139,13 @@ void Trial::close() {
   world_.assign(m_.hand.links().size(), Eigen::Isometry3d());
   centre_.assign(m_.hand.links().size(), Eigen::Vector3d::Zero());
   pair_axis_.resize(m_.partners.size());
-  for (std::size_t u = 0; u < m_.partners.size(); ++u)
+  pair_apart_.resize(m_.partners.size());
+  pair_eval_.resize(m_.partners.size());
+  for (std::size_t u = 0; u < m_.partners.size(); ++u) {
     pair_axis_[u].assign(m_.partners[u].size(), Eigen::Vector3d::Zero());
+    pair_apart_[u].assign(m_.partners[u].size(), 0);
+    pair_eval_[u].assign(m_.partners[u].size(), -1);
+  }
   // The rings live per thread (their vectors keep their capacity from trial to trial).
   thread_local std::vector<std::array<SeenTriangles, kSeen>> seen;
   seen.resize(std::max(seen.size(), m_.hand.links().size()));

@@ -292,16 +292,27 @@ int expectAxisGivesSameDistances(const HandModel& hand) {
         for (double threshold : {1e-3, 0.01}) {
           const double plain = scene.linkLinkDistance(a, ta, b, tb, threshold);
           const V before = axis;
-          const double with_axis = scene.linkLinkDistance(a, ta, b, tb, threshold, &axis);
+          bool apart = false;
+          const double with_axis = scene.linkLinkDistance(a, ta, b, tb, threshold, &axis, &apart);
+          // Proven apart without GJK: +inf, and +inf with the links swapped (what the closing's
+          // second link of a pair reads without asking again).
+          if (apart) {
+            EXPECT_EQ(with_axis, kInf);
+            EXPECT_EQ(scene.linkLinkDistance(b, tb, a, ta, threshold), kInf);
+          }
           const double with_wrong = scene.linkLinkDistance(a, ta, b, tb, threshold, &wrong);
           EXPECT_EQ(std::memcmp(&plain, &with_axis, sizeof plain), 0)
               << a << " " << b << " " << i << ": " << plain << " vs " << with_axis;
           EXPECT_EQ(std::memcmp(&plain, &with_wrong, sizeof plain), 0)
               << plain << " " << with_wrong;
           // Spheres within reach, no distance and the axis unchanged: the axis decided.
-          skipped +=
+          const bool by_axis =
               !before.isZero() && before == axis && plain == kInf &&
               (scene.linkCentre(a, ta) - scene.linkCentre(b, tb)).norm() <= radius + threshold;
+          skipped += by_axis;
+          if (by_axis) {
+            EXPECT_TRUE(apart);
+          }
           near += plain < kInf;
           ++compared;
         }

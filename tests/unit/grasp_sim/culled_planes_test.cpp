@@ -172,6 +172,96 @@ TEST(CulledPlanes, HullBlocksMatchThePlaneScan) {
   checkShape(e, shape_points, 7);
 }
 
+// The hull face planes' gap of a triangle (faceGap), the face contact proven from it and the
+// inside test of its corners (insideFaces) against plane-by-plane scans: the same gap and first
+// face at or below the limit, a value above it otherwise; the same proof, depth, normal and
+// witness as the scan's; the same inside verdict as ShapePlanes::inside.
+TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
+  std::mt19937 rng(11);
+  const std::vector<Eigen::Vector3d> pts = ellipsoidPoints(300, &rng);
+  const ShapeEntry e = hullEntry(pts);
+  ASSERT_TRUE(e.is_hull);
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  ShapePlanes pl;
+  int proven = 0, culled = 0, unproven = 0;
+  for (int pose = 0; pose < 20; ++pose) {
+    const Eigen::Isometry3d ts = randomPose(&rng);
+    btVector3 amin, amax;
+    e.shape->getAabb(bt(ts), amin, amax);
+    pl.set(e, ts, amin, amax, 0.0);
+    for (int k = 0; k < 300; ++k) {
+      // A small triangle about a point inside the hull (scaled ellipsoid point) or near it.
+      const Eigen::Vector3d c =
+          ts * (pts[static_cast<std::size_t>(k) % pts.size()] * (0.3 + 0.9 * u(rng)));
+      std::array<Eigen::Vector3d, 3> v;
+      for (auto& x : v) x = c + 0.002 * Eigen::Vector3d(g(rng), g(rng), g(rng));
+      double scan = -kInf;
+      int scan_face = -1;
+      for (int i = pl.facet_begin; i < pl.count; ++i) {
+        const Eigen::Vector3d n = plane(pl, i);
+        const double gi = std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])}) - pl.h[i];
+        if (gi > scan) {
+          scan = gi;
+          scan_face = i;
+        }
+      }
+      const double limit = 0.002 * g(rng);
+      int face = -2;
+      const double gap = pl.faceGap(v, limit, &face);
+      if (scan > limit + 1e-15) {
+        EXPECT_GT(gap, limit);
+        EXPECT_EQ(face, -1);
+        ++culled;
+        continue;
+      }
+      if (scan < limit - 1e-15) {
+        EXPECT_NEAR(gap, scan, 1e-15);
+        EXPECT_EQ(face, scan_face);
+      }
+      if (gap > limit) continue;
+      for (int c3 = 0; c3 < 3; ++c3)
+        EXPECT_EQ(pl.insideFaces(v, c3),
+                  pl.inside(v[static_cast<std::size_t>(c3)], pl.facet_begin));
+      // The face contact by scan: the corners deepest below the gap's face, each at least -gap
+      // inside every face.
+      const double min_depth = 1e-9;
+      bool scan_proven = face >= 0 && gap < -min_depth;
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int tied = 0;
+      if (scan_proven) {
+        const Eigen::Vector3d n = plane(pl, face);
+        const double lo = std::min({n.dot(v[0]), n.dot(v[1]), n.dot(v[2])});
+        for (const auto& p : v) {
+          if (n.dot(p) > lo + 1e-9) continue;
+          double inside = kInf;
+          for (int i = pl.facet_begin; i < pl.count; ++i)
+            inside = std::min(inside, pl.h[i] - plane(pl, i).dot(p));
+          scan_proven = scan_proven && inside >= -gap - 1e-12;
+          sum += p;
+          ++tied;
+        }
+      }
+      double depth = 0.0;
+      Eigen::Vector3d normal = Eigen::Vector3d::Zero(), point = Eigen::Vector3d::Zero();
+      const bool ok = pl.faceContact(v, gap, face, min_depth, &depth, &normal, &point);
+      EXPECT_EQ(ok, scan_proven);
+      if (ok && scan_proven) {
+        EXPECT_EQ(depth, -gap);
+        EXPECT_EQ(normal, -plane(pl, face));
+        EXPECT_LT((point - sum / tied).norm(), 1e-15);
+        ++proven;
+      } else {
+        ++unproven;
+      }
+    }
+  }
+  // Every branch was exercised.
+  EXPECT_GT(proven, 100);
+  EXPECT_GT(culled, 100);
+  EXPECT_GT(unproven, 10);
+}
+
 // One ShapePlanes serves shapes of different sizes (its columns only grow): a box after a hull
 // gives the bounds of a fresh one.
 TEST(CulledPlanes, ReusedForAShorterShape) {
