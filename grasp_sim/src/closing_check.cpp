@@ -2,6 +2,8 @@
 // and closing_world.cpp).
 #include "taskmap/grasp_sim/closing_check.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -92,6 +94,15 @@ void ClosingCheckOptions::validate() const {
   if (!(rest_speed >= 0.0 && std::isfinite(rest_speed)))
     throw Error("closing check option rest_speed must be >= 0 (m/s; 0: no early end), got " +
                 std::to_string(rest_speed));
+  std::array<int, 6> sorted = push_order;
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted != std::array<int, 6>{0, 1, 2, 3, 4, 5})
+    throw Error(
+        "closing check option push_order must name each push direction 0..5 (-x, +x, -y, +y, "
+        "-z, +z) once");
+  if (!(push_bound_creep >= 0.0 && std::isfinite(push_bound_creep)))
+    throw Error("closing check option push_bound_creep must be >= 0 (m/s; 0: no condition), got " +
+                std::to_string(push_bound_creep));
   if (rest_steps < 1)
     throw Error("closing check option rest_steps must be >= 1, got " + std::to_string(rest_steps));
   if (max_settle_steps < 0)

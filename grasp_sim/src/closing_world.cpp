@@ -254,6 +254,7 @@ void settle(const Eigen::VectorXd& target, double h, const ClosingCheckOptions& 
     w->object->setLinearVelocity(btVector3(0, 0, 0));
     w->object->setAngularVelocity(btVector3(0, 0, 0));
     ++r->steps;
+    ++r->settle_steps;
   }
   w->world.getSolverInfo().m_erp2 = o.contact_erp;
 }
@@ -279,6 +280,20 @@ bool atRest(const btRigidBody& object, double rest_speed) {
          object.getAngularVelocity().length() * 0.05 < rest_speed;
 }
 
+/// Whether the object, were the hand to let go now, would still stay within both thresholds
+/// until the push ends `remaining` seconds (steps of h) later: its origin (`arm` metres from the
+/// centre of mass) moving on with the current velocities and the push's acceleration a = F / m
+/// as Bullet integrates it (v += a h, then x += v h: a T (T + h) / 2 over T), its rotation with
+/// the current spin (docs/METHOD.md §4d, "Free-body bound").
+bool staysWithin(const btRigidBody& object, double arm, double remaining, double h,
+                 const ClosingCheckOptions& o, const ClosingCheckResult& r) {
+  const double v = object.getLinearVelocity().length();
+  const double w = object.getAngularVelocity().length();
+  const double reach = r.translation + (v + w * arm) * remaining +
+                       0.5 * (o.push_force / o.object_mass) * remaining * (remaining + h);
+  return reach < o.max_translation && r.rotation + w * remaining < o.max_rotation;
+}
+
 }  // namespace
 
 void ClosingChecker::Model::push(const Eigen::VectorXd& squeeze, double h, ClosingWorld* w,
@@ -286,20 +301,29 @@ void ClosingChecker::Model::push(const Eigen::VectorXd& squeeze, double h, Closi
   const Eigen::VectorXd target = jointTargets(hand, squeeze);
   const int steps = std::max(1, static_cast<int>(std::lround(options.push_duration / h)));
   const bool early = options.rest_speed > 0.0;  // verdict after every step, rest ends a push
-  for (int dir = 0; dir < 6; ++dir) {
+  for (const int dir : options.push_order) {
     btVector3 f(0, 0, 0);
     f[dir / 2] = dir % 2 == 0 ? -options.push_force : options.push_force;
     int resting = 0;
+    const Eigen::Vector3d from = r->displacement;  // where this push starts
     for (int s = 0; s < steps; ++s) {
       setDrives(target, h, w);
       w->object->applyCentralForce(f);  // cleared by every step
       w->world.stepSimulation(h, 0, h);
       ++r->steps;
+      ++r->push_steps[static_cast<std::size_t>(dir)];
       if (!early) continue;
       measure(*w->object, object_principal, options, r);
       if (!r->holds) break;
       resting = atRest(*w->object, options.rest_speed) ? resting + 1 : 0;
       if (resting >= options.rest_steps) break;
+      const bool creeping =
+          options.push_bound_creep > 0.0 &&
+          (r->displacement - from).norm() >= options.push_bound_creep * (s + 1) * h;
+      if (options.push_free_bound && !creeping &&
+          staysWithin(*w->object, object_principal.translation().norm(), (steps - 1 - s) * h, h,
+                      options, *r))
+        break;
     }
     measure(*w->object, object_principal, options, r);
     if (!r->holds) {
@@ -346,6 +370,7 @@ ClosingCheckResult ClosingChecker::Model::run(const Pose& palm_pose,
         setDrives(target, h, &w);
         w.world.stepSimulation(h, 0, h);
         ++r.steps;
+        ++r.closing_steps;
       }
       measure(*w.object, object_principal, o, &r);
       if (!r.holds) return r;  // already moved too far (or diverged): no need to go on

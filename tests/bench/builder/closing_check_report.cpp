@@ -2,10 +2,12 @@
 // grasp_sim/closing_check.hpp) predicts the physics hold test. For maps labelled by `taskmap
 // validate`, runs one or more variants of the check (different ClosingCheckOptions) on every
 // labelled grasp, interleaved grasp by grasp in one process, and prints one CSV row per grasp
-// and variant (the object's motion in the check, its verdict, the validator's label and
-// status), then per map and variant the confusion matrix and the check's cost per grasp against
-// the quality stage's (evaluateGrasp) on the same grasps, and at the end per hand and variant
-// precision, recall and ms per grasp. Not a unit test.
+// and variant (row, map, variant, grasp, hold label, validator status, translation, rotation,
+// initial penetration, verdict, validator translation, epsilon, failed push, steps, settle
+// steps, closing steps, check CPU ms, then the steps of each push -x .. +z), then per map and
+// variant the confusion matrix and the check's cost per grasp against the quality stage's
+// (evaluateGrasp) on the same grasps, and at the end per hand and variant precision, recall and ms
+// per grasp. Not a unit test.
 //
 //   closing_check_report [--mode closing|pushes] [--grasps N] [--variant NAME:KEY=V,KEY=V ...]
 //                        [--translation M] [--rotation RAD] [--substeps N] [--erp E]
@@ -14,7 +16,8 @@
 // construction), mode=closing leaves out the pushes: the breakdown of the check's cost.
 // Variant keys: timestep, substeps, iterations, closing_time, stages, push_duration, settle,
 // pieces, erp, settle_erp, translation, rotation, rest_speed, rest_steps, penetration, torsional,
-// jaw_force, warm_drives, two_friction, jaw_iterations, mode. Without --variant one variant,
+// jaw_force, warm_drives, two_friction, jaw_iterations, order (six digits: the push order),
+// bound (push_free_bound 0/1), mode. Without --variant one variant,
 // "default", of the options given; a variant whose name starts with "early" starts from
 // ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N checks the first N
 // labelled grasps of each map. --perturb M moves every palm by M metres along x of the object
@@ -111,6 +114,12 @@ void setKey(taskmap::ClosingCheckOptions* o, const std::string& key, const std::
     o->warm_start_drives = x != 0.0;
   else if (key == "jaw_force")
     o->jaw_force = x;
+  else if (key == "creep")
+    o->push_bound_creep = x;
+  else if (key == "bound")
+    o->push_free_bound = x != 0.0;
+  else if (key == "order")  // the push order as six digits, e.g. 543210
+    for (std::size_t k = 0; k < 6 && k < v.size(); ++k) o->push_order[k] = v[k] - '0';
   else if (key == "mode")
     o->mode = taskmap::closingCheckModeFromString(v);
   else
@@ -189,18 +198,22 @@ std::vector<Tally> report(const std::string& path, const std::vector<Variant>& v
       taskmap::Pose palm = map.grasps.poseAt(i);
       palm.position.x() += perturb;
       const taskmap::ClosingCheckResult r = checkers[v]->check(palm, q);
+      const double cpu_s = threadCpu() - c0;
       Tally& t = tally[v];
-      t.check_cpu_s += threadCpu() - c0;
+      t.check_cpu_s += cpu_s;
       t.check_s += std::chrono::duration<double>(Clock::now() - t0).count();
       t.quality_s += quality_s;
       t.quality_cpu_s += quality_cpu_s;
       t.steps += r.steps;
       const bool pass = r.holds;
       (hold ? (pass ? t.tp : t.fn) : (pass ? t.fp : t.tn))++;
-      std::printf("row,%s,%s,%zu,%d,%d,%.5f,%.4f,%.5f,%d,%.5f,%.5f,%d,%d\n", path.c_str(),
-                  variants[v].name.c_str(), i, int(hold), int(map.validation->status[i]),
-                  r.translation, r.rotation, r.initial_penetration, int(pass),
-                  map.validation->translation[i], map.grasps.epsilon[i], r.failed_push, r.steps);
+      std::printf(
+          "row,%s,%s,%zu,%d,%d,%.5f,%.4f,%.5f,%d,%.5f,%.5f,%d,%d,%d,%d,%.3f,%d,%d,%d,%d,%d,%d\n",
+          path.c_str(), variants[v].name.c_str(), i, int(hold), int(map.validation->status[i]),
+          r.translation, r.rotation, r.initial_penetration, int(pass),
+          map.validation->translation[i], map.grasps.epsilon[i], r.failed_push, r.steps,
+          r.settle_steps, r.closing_steps, 1e3 * cpu_s, r.push_steps[0], r.push_steps[1],
+          r.push_steps[2], r.push_steps[3], r.push_steps[4], r.push_steps[5]);
     }
   }
   for (std::size_t v = 0; v < variants.size(); ++v)

@@ -16,10 +16,11 @@
 // (default ../extra_real) adds issue 33's own pairs where their inputs exist there (the real
 // Robotiq 2F-85 URDF and sidecar, YCB soup can, mustard bottle, cracker box, scissors).
 // --closing-check KIND (off, closing, pushes, pushes_early: what `taskmap build --closing-check`
-// takes) adds a third build per round, the new sampler with the closing check, and prints its
-// stored grasps per CPU-second, its ratios to mixed and to the new sampler alone, its hold rate,
-// the check's CPU per checked grasp and the share of checked grasps it passes; --trials N caps
-// every build's trials (default: BuildOptions' 200000).
+// takes; pushes_early_bound: pushes_early with ClosingCheckOptions::push_free_bound and
+// push_bound_creep 2.5 cm/s) adds a third build per round, the new sampler with the closing
+// check, and prints its stored grasps per CPU-second, its ratios to mixed and to the new sampler
+// alone, its hold rate, the check's CPU per checked grasp and the share of checked grasps it
+// passes; --trials N caps every build's trials (default: BuildOptions' 200000).
 // --previous 1 adds a build per round with palm_enclose as it was before the minimum part depth
 // (EncloseGeometry::min_depth 0: no test) and prints its rate, the new sampler's ratio to it,
 // its trials per stored grasp, hold rate and outcome shares (palm_enclose pairs only).
@@ -63,6 +64,12 @@ struct Run {
 /// The closing check of `taskmap build --closing-check KIND` (off: none).
 ClosingCheckOptions closingCheck(const std::string& kind) {
   if (kind == "pushes_early") return ClosingCheckOptions::earlyVerdict();
+  if (kind == "pushes_early_bound") {  // the early verdict with the free-body bound (off in it)
+    ClosingCheckOptions c = ClosingCheckOptions::earlyVerdict();
+    c.push_free_bound = true;
+    c.push_bound_creep = 0.025;  // the hold test's 5 cm over its 2 s push
+    return c;
+  }
   ClosingCheckOptions c;
   c.mode = closingCheckModeFromString(kind);
   return c;

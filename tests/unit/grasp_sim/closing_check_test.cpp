@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <thread>
 #include <vector>
@@ -62,6 +63,12 @@ TEST(ClosingCheck, ModeNamesAndOptionErrors) {
   o = ClosingCheckOptions();
   o.rest_steps = 0;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"rest_steps", ">= 1"}));
+  o = ClosingCheckOptions();
+  o.push_order = {0, 1, 2, 3, 4, 4};
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"push_order", "0..5", "once"}));
+  o = ClosingCheckOptions();
+  o.push_bound_creep = -1.0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"push_bound_creep", ">= 0", "m/s"}));
   o = ClosingCheckOptions();
   o.torsional_friction = -0.01;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"torsional_friction", ">= 0", "m"}));
@@ -222,6 +229,67 @@ TEST(ClosingCheck, EarlyVerdictEndsPushesAtRestOrAtTheThreshold) {
   EXPECT_TRUE(d.translation >= early.max_translation || d.rotation >= early.max_rotation);
   EXPECT_LE(d.translation, c.translation + 1e-3);
   EXPECT_LT(d.steps, c.steps);
+}
+
+// A box the hand never touches (the palm 0.5 m above it): the closing leaves it in place and
+// each push moves it freely. Bullet's integrator (v += a h, then x += v h) gives after n steps
+// of a push x = a h^2 n (n + 1) / 2 with a = F / m = 10 m/s^2 and h = 8 ms: 6 steps (0.05 s)
+// move it 21 a h^2 = 13.44 mm. With the 1 cm threshold the first push (-x) fails at its sixth
+// step, with and without the free-body bound (what the bound predicts is exactly that motion,
+// never below the threshold before it is crossed), bit for bit; in another push order the first
+// push fails the same way along its own axis. With a 5 cm threshold every push passes: without
+// the bound each runs its 6 steps (the next push starting with the velocity the last one left:
+// -x then +x ends at 21 + 15 = 36 a h^2 along x, and so on; 36 a h^2 sqrt(3) in all), with it
+// each push ends after one step, once the prediction stays below 5 cm (a h^2 along each axis).
+TEST(ClosingCheck, FreeBodyBoundEndsOnlyPushesThatCannotFail) {
+  const ObjectModel box = ObjectModel::fromMesh(testing::makeBox(0.04, 0.04, 0.04), "box");
+  const HandModel hand = testing::referenceHand("barrett");
+  ClosingCheckOptions plain = ClosingCheckOptions::earlyVerdict();
+  plain.push_free_bound = false;
+  ClosingCheckOptions bound = plain;
+  bound.push_free_bound = true;
+  const Pose far = fromAbove(Eigen::Vector3d(0.0, 0.0, 0.5));
+  const Eigen::VectorXd q = hand.preshape();
+  const double ah2 = 10.0 * 0.008 * 0.008;  // m: a h^2
+  const ClosingCheckResult a = ClosingChecker(box, hand, plain).check(far, q);
+  const ClosingCheckResult b = ClosingChecker(box, hand, bound).check(far, q);
+  for (const ClosingCheckResult& r : {a, b}) {
+    EXPECT_FALSE(r.holds);
+    EXPECT_EQ(r.failed_push, 0);
+    EXPECT_EQ(r.push_steps[0], 6);
+    EXPECT_EQ(r.steps, r.settle_steps + r.closing_steps + 6);
+    EXPECT_NEAR(r.displacement.x(), -21.0 * ah2, 1e-9);
+    EXPECT_NEAR(r.displacement.tail<2>().norm(), 0.0, 1e-9);
+  }
+  EXPECT_EQ(a.translation, b.translation);
+  EXPECT_EQ(a.steps, b.steps);
+  ClosingCheckOptions reversed = bound;
+  reversed.push_order = {5, 4, 3, 2, 1, 0};
+  const ClosingCheckResult c = ClosingChecker(box, hand, reversed).check(far, q);
+  EXPECT_EQ(c.failed_push, 5);
+  EXPECT_EQ(c.push_steps[5], 6);
+  EXPECT_EQ(c.push_steps[0], 0);
+  EXPECT_NEAR(c.displacement.z(), 21.0 * ah2, 1e-9);
+
+  plain.max_translation = bound.max_translation = 0.05;
+  const ClosingCheckResult d = ClosingChecker(box, hand, plain).check(far, q);
+  const ClosingCheckResult e = ClosingChecker(box, hand, bound).check(far, q);
+  EXPECT_TRUE(d.holds);
+  EXPECT_TRUE(e.holds);
+  EXPECT_EQ(d.push_steps, (std::array<int, 6>{6, 6, 6, 6, 6, 6}));
+  EXPECT_EQ(e.push_steps, (std::array<int, 6>{1, 1, 1, 1, 1, 1}));
+  EXPECT_NEAR((d.displacement + Eigen::Vector3d::Constant(36.0 * ah2)).norm(), 0.0, 1e-9);
+  EXPECT_NEAR((e.displacement + Eigen::Vector3d::Constant(ah2)).norm(), 0.0, 1e-9);
+  // With the creep condition (push_bound_creep 2.5 cm/s) the bound waits for an object that
+  // moves slower than that since its push began: the free box moves a h^2 = 0.64 mm in its first
+  // 8 ms step (8 cm/s) and faster after, so every push runs to its end, bit for bit as without
+  // the bound.
+  bound.push_bound_creep = 0.025;
+  const ClosingCheckResult g = ClosingChecker(box, hand, bound).check(far, q);
+  EXPECT_TRUE(g.holds);
+  EXPECT_EQ(g.push_steps, d.push_steps);
+  EXPECT_EQ(g.displacement, d.displacement);
+  EXPECT_EQ(g.steps, d.steps);
 }
 
 // The jaws' settings of the early verdict (ClosingCheckOptions::jaws: 20 solver iterations,

@@ -11,6 +11,7 @@
 /// that touch first and push the object away before the stored contacts form fail it.
 /// Units: metres, radians, kilograms, newtons, seconds.
 
+#include <array>
 #include <memory>
 #include <string>
 
@@ -84,11 +85,22 @@ struct ClosingCheckOptions {
   double settle_erp = 0.2;
   double push_force = 1.0;     ///< N, kPushes: the hold test's push (10 x 0.1 kg)
   double push_duration = 0.2;  ///< s per direction (at most, with rest_speed > 0), kPushes
+  /// kPushes: the order of the pushes, a permutation of the directions 0..5 (-x, +x, -y, +y,
+  /// -z, +z of the object frame); each push starts where the one before it left the object
+  std::array<int, 6> push_order{0, 1, 2, 3, 4, 5};
   /// m/s: a push ends early once the object's centre of mass moves slower than this (and it
   /// turns slower than rest_speed / 0.05 m, rad/s) for rest_steps steps in a row: the hand
   /// holds the push in equilibrium (0: every push lasts push_duration)
   double rest_speed = 0.0;
   int rest_steps = 2;  ///< steps (of timestep / substeps) at rest that end a push early (>= 1)
+  /// With rest_speed > 0: a push also ends (passed) once the object, were the hand to let go,
+  /// could not leave a threshold before the push's end: its origin moving on at the current
+  /// velocity plus the push's acceleration push_force / object_mass, its rotation at the
+  /// current spin (docs/METHOD.md §4d, "Free-body bound")
+  bool push_free_bound = false;
+  /// m/s, with push_free_bound: the bound ends a push only while the object's origin has moved
+  /// slower than this on average since the push began (0: always)
+  double push_bound_creep = 0.0;
   /// m: the grasp fails when the object's origin moves this far from its start (closing and
   /// pushes)
   double max_translation = 0.01;
@@ -118,8 +130,12 @@ struct ClosingCheckResult {
   /// Largest distance between a link origin placed by Bullet and by HandModel::linkPoses at
   /// the pregrasp (m; a consistency check of the multibody's kinematics).
   double placement_error = 0.0;
-  int failed_push = -1;  ///< kPushes: index (-x, +x, -y, +y, -z, +z) of the push that failed
-  int steps = 0;         ///< Bullet steps taken (the check stops once the object left a threshold)
+  int failed_push = -1;   ///< kPushes: index (-x, +x, -y, +y, -z, +z) of the push that failed
+  int steps = 0;          ///< Bullet steps taken (the check stops once the object left a threshold)
+  int settle_steps = 0;   ///< of steps: the quasi-static start
+  int closing_steps = 0;  ///< of steps: the closing
+  /// kPushes: of steps, those of each push (-x, +x, -y, +y, -z, +z; 0 for pushes not run)
+  std::array<int, 6> push_steps{};
 };
 
 /// Runs the check for one hand and one object. Construction builds what every trial shares (the
