@@ -221,6 +221,9 @@ void visitClosingCheck(Io& io, P& p) {
   io("closing_max_penetration", c.max_penetration);
   io("closing_object_max_pieces", c.object_max_pieces);
   io("closing_margin", c.margin);
+  io("closing_push_order", c.push_order);
+  io("closing_push_free_bound", c.push_free_bound);
+  io("closing_push_bound_creep", c.push_bound_creep);
 }
 
 // The antipodal and enclosing samplers' parameters: present only for those samplers (maps of
