@@ -103,13 +103,12 @@ ConvexPieces decomposeClosedMesh(const MeshSoup& soup, const DecompositionLimits
     namespace SMS = CGAL::Surface_mesh_simplification;
     // A closed triangle mesh has 3/2 edges per face.
     SMS::Count_stop_predicate<Mesh> stop(static_cast<std::size_t>(limits.max_faces) * 3 / 2);
-    const Mesh original = mesh;
     SMS::edge_collapse(mesh, stop);
     mesh.collect_garbage();
     if (PMP::does_self_intersect(mesh)) {
       // Thin parts (a scissors' blade, a mug's wall) fold through each other when collapsed
       // freely; again from the original, refusing collapses that flip a face's normal.
-      mesh = original;
+      mesh = closedMesh(soup, what);
       SMS::edge_collapse(mesh, stop,
                          CGAL::parameters::filter(SMS::Bounded_normal_change_filter<>()));
       mesh.collect_garbage();

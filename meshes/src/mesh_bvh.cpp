@@ -235,9 +235,8 @@ MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector
 }
 
 bool MeshBvh::contains(const Eigen::Vector3d& p) const {
-  if (nodes_.empty() || !p.allFinite()) return false;
-  const Node& root = nodes_[0];
-  if ((p.array() < root.lo.array()).any() || (p.array() > root.hi.array()).any()) return false;
+  if (!p.allFinite()) return false;  // gridLabel needs a cell index
+  // Outside the root box a cell is free and outside, or the rays' own guard answers false.
   const InsideGrid::Label label = gridLabel(p);
   if (label == InsideGrid::kInside) return true;
   if (label == InsideGrid::kOutside) return false;

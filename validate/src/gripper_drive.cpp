@@ -39,16 +39,15 @@ std::vector<int> tipLinks(const HandModel& hand) {
 
 }  // namespace
 
-std::optional<GripperDrive> revoluteGripperDrive(const HandModel& hand, double jaw_force,
-                                                 double kp_prismatic) {
+GripperDrive revoluteGripperDrive(const HandModel& hand, double jaw_force, double kp_prismatic) {
   const std::vector<std::string> names = hand.jointNames();
-  if (names.size() != 1) return std::nullopt;
+  if (names.size() != 1) return {};
   const HandJoint* joint = nullptr;
   for (const HandJoint& j : hand.joints())
     if (j.name == names[0]) joint = &j;
-  if (joint == nullptr || joint->type != JointType::kRevolute) return std::nullopt;
+  if (joint == nullptr || joint->type != JointType::kRevolute) return {};
   const std::vector<int> tips = tipLinks(hand);
-  if (tips.size() < 2) return std::nullopt;
+  if (tips.size() < 2) return {};
   const double lo = hand.lowerLimits()(0), hi = hand.upperLimits()(0);
   const double mid = 0.5 * (lo + hi), h = 1e-5 * std::max(hi - lo, 1e-3);
   const auto tipsAt = [&](double q) {
@@ -70,7 +69,7 @@ std::optional<GripperDrive> revoluteGripperDrive(const HandModel& hand, double j
     drive.lever += std::abs(speed);
     squares += speed * speed;
   }
-  if (!(drive.lever > 0.0)) return std::nullopt;
+  if (!(drive.lever > 0.0)) return {};  // no tip closes: not a gripper
   drive.torque = jaw_force * drive.lever;
   drive.kp = kp_prismatic * squares;
   return drive;

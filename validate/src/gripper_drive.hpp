@@ -4,8 +4,6 @@
 /// (a Robotiq 2F-85's linkage), as a force-limited drive like the parallel jaws'
 /// (docs/VALIDATION.md, "Grippers driven by a revolute joint").
 
-#include <optional>
-
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::detail {
@@ -20,10 +18,9 @@ struct GripperDrive {
 };
 
 /// The drive when `hand` has exactly one actuated joint, revolute, and at least two fingers;
-/// empty otherwise. A finger's tip is the origin of its deepest link; its closing speed is the
-/// component of the tip's velocity (central difference) toward the tips' centroid. jaw_force in
-/// N per finger, kp_prismatic in N / m.
-std::optional<GripperDrive> revoluteGripperDrive(const HandModel& hand, double jaw_force,
-                                                 double kp_prismatic);
+/// otherwise a drive of lever 0 (not a revolute gripper). A finger's tip is the origin of its
+/// deepest link; its closing speed is the component of the tip's velocity (central difference)
+/// toward the tips' centroid. jaw_force in N per finger, kp_prismatic in N / m.
+GripperDrive revoluteGripperDrive(const HandModel& hand, double jaw_force, double kp_prismatic);
 
 }  // namespace taskmap::detail

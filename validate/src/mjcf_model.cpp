@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -228,13 +227,11 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
                 << "\" polycoef=\"" << num(j.offset) << " " << num(j.multiplier) << " 0 0 0\"/>\n";
     ++scene->mimic_constraints;
   }
-  GripperDrive drive;  // drive.lever > 0: the hand is a revolute gripper
-  if (o.revolute_gripper_force) {
-    const std::optional<GripperDrive> g = revoluteGripperDrive(hand, o.jaw_force, o.kp_prismatic);
-    if (g) drive = *g;
-  }
-  const GripperDrive* const gripper = drive.lever > 0.0 ? &drive : nullptr;
-  scene->gripper_torque = drive.torque;
+  // lever > 0: the hand is a revolute gripper.
+  const GripperDrive gripper = o.revolute_gripper_force
+                                   ? revoluteGripperDrive(hand, o.jaw_force, o.kp_prismatic)
+                                   : GripperDrive{};
+  scene->gripper_torque = gripper.torque;
   for (std::size_t a = 0; a < actuated.size(); ++a) {
     const HandJoint* j = nullptr;
     for (const auto& c : joints)
@@ -247,9 +244,9 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
       const double f = o.jaw_force * jawShare(hand, static_cast<int>(a));
       *actuators << "kp=\"" << num(o.kp_prismatic) << "\" forcelimited=\"true\" forcerange=\""
                  << num(-f) << " " << num(f) << "\"/>\n";
-    } else if (gripper) {
-      *actuators << "kp=\"" << num(gripper->kp) << "\" forcelimited=\"true\" forcerange=\""
-                 << num(-gripper->torque) << " " << num(gripper->torque) << "\"/>\n";
+    } else if (gripper.lever > 0.0) {
+      *actuators << "kp=\"" << num(gripper.kp) << "\" forcelimited=\"true\" forcerange=\""
+                 << num(-gripper.torque) << " " << num(gripper.torque) << "\"/>\n";
     } else {
       *actuators << "kp=\"" << num(o.kp_revolute) << "\"/>\n";
     }

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <optional>
 #include <string>
 
 #include "build_fixtures.hpp"
@@ -110,16 +109,14 @@ TEST(HoldTest, ARevoluteGripperPressesItsTipsWithTheJawForce) {
   // jaw_force, its gain is the jaws' kp_prismatic mapped through the two pads.
   const HandModel hand = HandModel::load(knuckleJaw());
   const double speed = 0.04 * std::cos(0.4 - 20.0 * M_PI / 180.0);
-  const std::optional<detail::GripperDrive> drive =
-      detail::revoluteGripperDrive(hand, 70.0, 20000.0);
-  ASSERT_TRUE(drive.has_value());
+  const detail::GripperDrive drive = detail::revoluteGripperDrive(hand, 70.0, 20000.0);
+  ASSERT_GT(drive.lever, 0.0);
   // Relative 1e-5: the URDF gives the lean and the knuckle to 7 digits.
-  EXPECT_NEAR(drive->lever, 2.0 * speed, 1e-5 * speed);
-  EXPECT_NEAR(drive->torque, 70.0 * 2.0 * speed, 1e-5 * 70.0 * speed);
-  EXPECT_NEAR(drive->kp, 20000.0 * 2.0 * speed * speed, 1e-5 * 20000.0 * speed * speed);
+  EXPECT_NEAR(drive.lever, 2.0 * speed, 1e-5 * speed);
+  EXPECT_NEAR(drive.torque, 70.0 * 2.0 * speed, 1e-5 * 70.0 * speed);
+  EXPECT_NEAR(drive.kp, 20000.0 * 2.0 * speed * speed, 1e-5 * 20000.0 * speed * speed);
   HoldTestOptions o;
-  EXPECT_NEAR(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, drive->torque,
-              1e-12);
+  EXPECT_NEAR(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, drive.torque, 1e-12);
   EXPECT_NEAR(actuatorForceLimit(HoldTester(hand, testing::boxObject(), o).mjcf()),
               o.jaw_force * 2.0 * speed, 1e-5 * o.jaw_force * speed);
   // Off: the protocol's revolute gain, no force limit.
@@ -129,11 +126,12 @@ TEST(HoldTest, ARevoluteGripperPressesItsTipsWithTheJawForce) {
   EXPECT_EQ(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, 0.0);
   EXPECT_NE(plain.find("kp=\"5\""), std::string::npos);
   // Hands with more than one actuated joint or a prismatic one are not revolute grippers.
-  EXPECT_FALSE(detail::revoluteGripperDrive(testing::pandaHand(), 70.0, 20000.0).has_value());
-  EXPECT_FALSE(
+  EXPECT_EQ(detail::revoluteGripperDrive(testing::pandaHand(), 70.0, 20000.0).lever, 0.0);
+  EXPECT_EQ(
       detail::revoluteGripperDrive(
           HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"), 70.0, 20000.0)
-          .has_value());
+          .lever,
+      0.0);
 }
 
 TEST(HoldTest, RefusesWrongJointCountAndBadOptions) {
