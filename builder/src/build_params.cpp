@@ -160,6 +160,7 @@ void visitHoldFilter(Io& io, P& p) {
   io("hold_filter_kp_revolute", h.kp_revolute);
   io("hold_filter_kp_prismatic", h.kp_prismatic);
   io("hold_filter_jaw_force", h.jaw_force);
+  io("hold_filter_revolute_gripper_force", h.revolute_gripper_force);
   io("hold_filter_squeeze_fraction", h.squeeze_fraction);
   io("hold_filter_friction", h.balance.friction);
   io("hold_filter_cone_edges", h.balance.cone_edges);
@@ -196,6 +197,10 @@ void visitClosingCheck(Io& io, P& p) {
   io("closing_kp_prismatic", c.kp_prismatic);
   io("closing_damping_prismatic", c.damping_prismatic);
   io("closing_jaw_force", c.jaw_force);
+  // Maps from before the key: revolute grippers were driven with kp_revolute.
+  if constexpr (!Io::kWriting)
+    if (!io.j.contains("closing_revolute_gripper_force")) c.revolute_gripper_force = false;
+  io("closing_revolute_gripper_force", c.revolute_gripper_force);
   io("closing_link_density", c.link_density);
   io("closing_pregrasp_fraction", c.pregrasp_fraction);
   io("closing_squeeze_fraction", c.squeeze_fraction);

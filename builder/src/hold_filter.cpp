@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/hand_drive.hpp"
 
 namespace taskmap {
 namespace {
@@ -26,18 +27,11 @@ std::vector<const HandJoint*> actuatedJoints(const HandModel& hand) {
   return out;
 }
 
-/// 1 + |multiplier| of the prismatic joints that actuated joint `a` drags along (mimic jaws).
-double jawShare(const HandModel& hand, int a, const std::string& name) {
-  double share = 1.0;
-  for (const HandJoint& j : hand.joints())
-    if (j.driver == a && j.name != name && j.type == JointType::kPrismatic)
-      share += std::abs(j.multiplier);
-  return share;
-}
-
 Eigen::VectorXd efforts(const HandModel& hand, const Eigen::VectorXd& q,
                         const HoldFilterOptions& o) {
   const std::vector<const HandJoint*> act = actuatedJoints(hand);
+  const std::vector<JointDrive> drives =
+      actuatorDrives(hand, {o.kp_revolute, o.kp_prismatic, o.jaw_force, o.revolute_gripper_force});
   const Eigen::VectorXd q0 = hand.preshape();
   Eigen::VectorXd e = Eigen::VectorXd::Zero(q.size());
   for (Eigen::Index a = 0; a < q.size(); ++a) {
@@ -45,12 +39,8 @@ Eigen::VectorXd efforts(const HandModel& hand, const Eigen::VectorXd& q,
     if (j == nullptr) continue;
     const double target =
         std::clamp(q0(a) + o.squeeze_fraction * (q(a) - q0(a)), j->lower, j->upper);
-    if (j->type == JointType::kPrismatic) {
-      const double limit = o.jaw_force * jawShare(hand, static_cast<int>(a), j->name);
-      e(a) = std::clamp(o.kp_prismatic * (target - q(a)), -limit, limit);
-    } else {
-      e(a) = o.kp_revolute * (target - q(a));
-    }
+    const JointDrive& d = drives[static_cast<std::size_t>(a)];
+    e(a) = std::clamp(d.kp * (target - q(a)), -d.limit, d.limit);
   }
   return e;
 }

@@ -184,6 +184,11 @@ ClosingChecker::Model::Model(const ObjectModel& o, const HandModel& h,
       queue.push_back(child);
     }
   }
+  const DriveOptions drive{options.kp_revolute, options.kp_prismatic, options.jaw_force,
+                           options.revolute_gripper_force};
+  drives = jointDrives(hand, drive);
+  // Parallel grippers: driven prismatic jaws, or one revolute joint pressing with jaw_force.
+  jaws = revoluteGripper(hand, drive).lever > 0.0;
   for (const HandJoint& j : hj)
     if (j.type == JointType::kPrismatic && j.driver >= 0) jaws = true;
   makeObject(o);

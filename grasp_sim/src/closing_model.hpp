@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/grasp_sim/closing_check.hpp"
+#include "taskmap/meshes/hand_drive.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
@@ -64,8 +65,11 @@ struct ClosingChecker::Model {
   Eigen::Isometry3d object_principal;                  ///< principal frame in the object frame
   Eigen::Vector3d object_inertia = Eigen::Vector3d::Zero();  ///< principal moments, kg m^2
   int object_pieces = 0;
-  bool jaws = false;  ///< a driven prismatic joint (parallel jaws): ClosingCheckOptions::jaws apply
-  std::vector<int> multibody_of;  ///< per hand link: multibody index (-1 base, -2 none)
+  /// A parallel gripper (a driven prismatic joint, or a revolute gripper pressing with
+  /// jaw_force): ClosingCheckOptions::jaws apply
+  bool jaws = false;
+  std::vector<int> multibody_of;   ///< per hand link: multibody index (-1 base, -2 none)
+  std::vector<JointDrive> drives;  ///< per URDF joint: its motor's gain and force limit
 
   Model(const ObjectModel& object, const HandModel& h, const ClosingCheckOptions& o);
   /// Runs one check (closing_world.cpp).

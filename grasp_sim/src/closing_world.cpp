@@ -172,9 +172,9 @@ void addDrives(const ClosingChecker::Model& m, ClosingWorld* w) {
     ClosingDrive d;
     d.link = i;
     d.joint = ji;
-    d.kp = slide ? o.kp_prismatic : o.kp_revolute;
+    d.kp = m.drives[static_cast<std::size_t>(ji)].kp;
     d.damping = slide ? o.damping_prismatic : o.damping_revolute;
-    d.force_limit = slide ? o.jaw_force : std::numeric_limits<double>::infinity();
+    d.force_limit = m.drives[static_cast<std::size_t>(ji)].limit;
     d.motor = motor.get();
     w->world.addMultiBodyConstraint(motor.get());
     w->world.addMultiBodyConstraint(limit.get());

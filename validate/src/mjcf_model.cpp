@@ -2,8 +2,6 @@
 // object's convex pieces. Frames: world = palm frame; URDF link frames become body frames.
 #include "mjcf_model.hpp"
 
-#include "gripper_drive.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +12,7 @@
 
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/hand_drive.hpp"
 #include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap::detail {
@@ -158,17 +157,6 @@ bool jawLink(const HandModel& hand, int l) {
   return false;
 }
 
-/// Extra force of a driver that drags mimic jaws along: 1 + sum of |multiplier| of the prismatic
-/// joints it drives besides its own.
-double jawShare(const HandModel& hand, int actuated) {
-  const std::string name = hand.jointNames()[static_cast<std::size_t>(actuated)];
-  double share = 1.0;
-  for (const auto& j : hand.joints())
-    if (j.driver == actuated && j.name != name && j.type == JointType::kPrismatic)
-      share += std::abs(j.multiplier);
-  return share;
-}
-
 /// The hand's body tree (iterative: any depth), its actuators and its mimic equalities.
 void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstream* assets,
               std::ostringstream* bodies, std::ostringstream* actuators,
@@ -183,6 +171,12 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
   for (std::size_t l = 0; l < links.size(); ++l)
     if (links[l].parent_joint < 0) root = static_cast<int>(l);
   if (root < 0) throw Error("hold test: hand '" + hand.name() + "' has no root link");
+  const DriveOptions drive_options{o.kp_revolute, o.kp_prismatic, o.jaw_force,
+                                   o.revolute_gripper_force};
+  const RevoluteGripper gripper = revoluteGripper(hand, drive_options);
+  // The gripper's linkage: the jaws' damping and armature mapped through it (its drive train),
+  // its mimic constraints stiff (> 0: a revolute gripper with revolute_gripper_linkage).
+  const double train = o.revolute_gripper_linkage ? gripper.squares : 0.0;
   // Stack of (link, next child); a link's body opens when pushed and closes when popped.
   std::vector<std::pair<int, std::size_t>> stack;
   auto open = [&](int l, const Eigen::Isometry3d& t) {
@@ -193,16 +187,22 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
       const HandJoint& j = joints[static_cast<std::size_t>(link.parent_joint)];
       if (j.type != JointType::kFixed) {
         const bool slide = j.type == JointType::kPrismatic;
+        const double geared = !actuated.empty() && j.name == actuated[0] ? train : 0.0;
         *bodies << "<joint name=\"" << xmlName(j.name) << "\" type=\""
                 << (slide ? "slide" : "hinge") << "\" axis=\"" << vec(j.axis)
                 << "\" limited=\"true\" range=\"" << num(j.lower) << " " << num(j.upper)
-                << "\" damping=\"" << num(slide ? o.prismatic_damping : o.joint_damping)
-                << "\" armature=\"" << num(slide ? o.prismatic_armature : o.revolute_armature)
+                << "\" damping=\""
+                << num(slide ? o.prismatic_damping : o.joint_damping + geared * o.prismatic_damping)
+                << "\" armature=\""
+                << num(slide ? o.prismatic_armature
+                             : o.revolute_armature + geared * o.prismatic_armature)
                 << "\"/>\n";
       }
     }
     int geoms = 0;
-    linkGeoms(link, l, jawLink(hand, l) ? o.contact_patch : 0.0, assets, bodies, &geoms);
+    // Jaw pads touch with patches: prismatic jaws, and a revolute gripper's finger links.
+    const bool pad = jawLink(hand, l) || (train > 0.0 && link.finger >= 0);
+    linkGeoms(link, l, pad ? o.contact_patch : 0.0, assets, bodies, &geoms);
     scene->hand_geoms += geoms;
     ++scene->hand_bodies;
     stack.emplace_back(l, 0);
@@ -224,14 +224,16 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
     const std::string& driver = actuated[static_cast<std::size_t>(j.driver)];
     if (j.name == driver) continue;
     *equalities << "<joint joint1=\"" << xmlName(j.name) << "\" joint2=\"" << xmlName(driver)
-                << "\" polycoef=\"" << num(j.offset) << " " << num(j.multiplier) << " 0 0 0\"/>\n";
+                << "\" polycoef=\"" << num(j.offset) << " " << num(j.multiplier) << " 0 0 0\"";
+    // A revolute gripper's four-bar is rigid: its constraints as stiff as MuJoCo allows (time
+    // constant two steps) with MuJoCo Menagerie's 2F-85 impedance.
+    if (train > 0.0)
+      *equalities << " solref=\"" << num(2.0 * o.timestep) << " 1\" solimp=\"0.95 0.99 0.001\"";
+    *equalities << "/>\n";
     ++scene->mimic_constraints;
   }
-  // lever > 0: the hand is a revolute gripper.
-  const GripperDrive gripper = o.revolute_gripper_force
-                                   ? revoluteGripperDrive(hand, o.jaw_force, o.kp_prismatic)
-                                   : GripperDrive{};
   scene->gripper_torque = gripper.torque;
+  const std::vector<JointDrive> drives = actuatorDrives(hand, drive_options);
   for (std::size_t a = 0; a < actuated.size(); ++a) {
     const HandJoint* j = nullptr;
     for (const auto& c : joints)
@@ -239,17 +241,11 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
     if (!j) throw Error("hold test: actuated joint '" + actuated[a] + "' is not a URDF joint");
     *actuators << "<position name=\"act_" << a << "\" joint=\"" << xmlName(j->name)
                << "\" ctrllimited=\"true\" ctrlrange=\"" << num(j->lower) << " " << num(j->upper)
-               << "\" ";
-    if (j->type == JointType::kPrismatic) {
-      const double f = o.jaw_force * jawShare(hand, static_cast<int>(a));
-      *actuators << "kp=\"" << num(o.kp_prismatic) << "\" forcelimited=\"true\" forcerange=\""
-                 << num(-f) << " " << num(f) << "\"/>\n";
-    } else if (gripper.lever > 0.0) {
-      *actuators << "kp=\"" << num(gripper.kp) << "\" forcelimited=\"true\" forcerange=\""
-                 << num(-gripper.torque) << " " << num(gripper.torque) << "\"/>\n";
-    } else {
-      *actuators << "kp=\"" << num(o.kp_revolute) << "\"/>\n";
-    }
+               << "\" kp=\"" << num(drives[a].kp) << "\"";
+    if (std::isfinite(drives[a].limit))
+      *actuators << " forcelimited=\"true\" forcerange=\"" << num(-drives[a].limit) << " "
+                 << num(drives[a].limit) << "\"";
+    *actuators << "/>\n";
     ++scene->actuators;
   }
 }

@@ -143,6 +143,7 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["jaw_force"] = o.jaw_force;
   j["kp_prismatic"] = o.kp_prismatic;
   j["revolute_gripper_force"] = o.revolute_gripper_force;
+  j["revolute_gripper_linkage"] = o.revolute_gripper_linkage;
   j["prismatic_damping"] = o.prismatic_damping;
   j["prismatic_armature"] = o.prismatic_armature;
   j["revolute_armature"] = o.revolute_armature;

@@ -17,9 +17,9 @@
 // Variant keys: timestep, substeps, iterations, closing_time, stages, push_duration, settle,
 // pieces, erp, settle_erp, translation, rotation, rest_speed, rest_steps, penetration, torsional,
 // jaw_force, warm_drives, two_friction, jaw_iterations, order (six digits: the push order),
-// bound (push_free_bound 0/1), mode. Without --variant one variant,
-// "default", of the options given; a variant whose name starts with "early" starts from
-// ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N checks the first N
+// bound (push_free_bound 0/1), gripper_force (revolute_gripper_force 0/1), mode. Without --variant
+// one variant, "default", of the options given; a variant whose name starts with "early" starts
+// from ClosingCheckOptions::earlyVerdict() (the mode from --mode). --grasps N checks the first N
 // labelled grasps of each map. --perturb M moves every palm by M metres along x of the object
 // frame before the check (the check's sensitivity: how many verdicts a perturbation far below
 // any physical tolerance changes; docs/VALIDATION.md, third round).
@@ -118,6 +118,8 @@ void setKey(taskmap::ClosingCheckOptions* o, const std::string& key, const std::
     o->push_bound_creep = x;
   else if (key == "bound")
     o->push_free_bound = x != 0.0;
+  else if (key == "gripper_force")  // ClosingCheckOptions::revolute_gripper_force 0/1
+    o->revolute_gripper_force = x != 0.0;
   else if (key == "order")  // the push order as six digits, e.g. 543210
     for (std::size_t k = 0; k < 6 && k < v.size(); ++k) o->push_order[k] = v[k] - '0';
   else if (key == "mode")

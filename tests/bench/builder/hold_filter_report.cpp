@@ -5,7 +5,9 @@
 // on the same contacts, in the same process. Not a unit test.
 //
 //   hold_filter_report [--tolerance T] [--push-tolerance T] [--joint-weight W] [--no-push]
-//                      MAP.h5 ...
+//                      [--kp-gripper] MAP.h5 ...
+// --kp-gripper drives a one-joint revolute gripper with kp_revolute, as before 2026-11-27
+// (HoldFilterOptions::revolute_gripper_force false).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -78,6 +80,8 @@ int main(int argc, char** argv) {
       options.balance.squeeze_joint_weight = std::atof(argv[++a]);
     } else if (arg == "--no-push") {
       options.balance.push_force = 0.0;
+    } else if (arg == "--kp-gripper") {
+      options.revolute_gripper_force = false;
     } else {
       maps.push_back(arg);
     }

@@ -43,6 +43,7 @@ void expectSameParams(const BuildParams& a, const BuildParams& b) {
   EXPECT_EQ(h.kp_revolute, k.kp_revolute);
   EXPECT_EQ(h.kp_prismatic, k.kp_prismatic);
   EXPECT_EQ(h.jaw_force, k.jaw_force);
+  EXPECT_EQ(h.revolute_gripper_force, k.revolute_gripper_force);
   EXPECT_EQ(h.squeeze_fraction, k.squeeze_fraction);
   EXPECT_EQ(h.balance.friction, k.balance.friction);
   EXPECT_EQ(h.balance.cone_edges, k.balance.cone_edges);
@@ -60,6 +61,10 @@ void expectSameParams(const BuildParams& a, const BuildParams& b) {
   EXPECT_EQ(cc.kp_prismatic, cd.kp_prismatic);
   EXPECT_EQ(cc.damping_prismatic, cd.damping_prismatic);
   EXPECT_EQ(cc.jaw_force, cd.jaw_force);
+  EXPECT_EQ(cc.revolute_gripper_force, cd.revolute_gripper_force);
+  EXPECT_EQ(cc.push_order, cd.push_order);
+  EXPECT_EQ(cc.push_free_bound, cd.push_free_bound);
+  EXPECT_EQ(cc.push_bound_creep, cd.push_bound_creep);
   EXPECT_EQ(cc.link_density, cd.link_density);
   EXPECT_EQ(cc.pregrasp_fraction, cd.pregrasp_fraction);
   EXPECT_EQ(cc.squeeze_fraction, cd.squeeze_fraction);
@@ -121,6 +126,7 @@ BuildOptions allChanged() {
   h.kp_revolute = 6.5;
   h.kp_prismatic = 21000.0;
   h.jaw_force = 65.0;
+  h.revolute_gripper_force = true;
   h.squeeze_fraction = 1.2;
   h.balance.friction = 0.55;
   h.balance.cone_edges = 9;
@@ -137,6 +143,7 @@ BuildOptions allChanged() {
   cc.kp_prismatic = 15000.0;
   cc.damping_prismatic = 90.0;
   cc.jaw_force = 60.0;
+  cc.revolute_gripper_force = false;
   cc.link_density = 700.0;
   cc.pregrasp_fraction = 0.8;
   cc.squeeze_fraction = 1.2;
@@ -154,6 +161,9 @@ BuildOptions allChanged() {
   cc.max_penetration = 0.005;
   cc.object_max_pieces = 32;
   cc.margin = 4e-4;
+  cc.push_order = {5, 4, 3, 2, 1, 0};
+  cc.push_free_bound = true;
+  cc.push_bound_creep = 0.025;
   GraspSimOptions& s = o.simulation;
   s.contact_tolerance = 7e-4;
   s.max_retraction = 0.05;
@@ -208,6 +218,29 @@ TEST(BuildParamsTest, EveryFieldRoundTrips) {
   EXPECT_EQ(buildParamsFromJson(buildParamsJson(off)).options.closing_check.mode,
             ClosingCheckMode::kOff);
   expectSameParams(q, buildParamsFromJson(buildParamsJson(q)));
+}
+
+/// `text` without the JSON member `"key":value` (compact JSON, the member not the last).
+std::string withoutKey(std::string text, const std::string& key) {
+  const std::size_t at = text.find("\"" + key + "\":");
+  EXPECT_NE(at, std::string::npos) << key;
+  if (at == std::string::npos) return text;
+  return text.erase(at, text.find(',', at) + 1 - at);
+}
+
+// The closing check's revolute gripper drive (on by default) reads back off from a map written
+// before the key existed; the hold filter's (off by default) round-trips in EveryFieldRoundTrips.
+TEST(BuildParamsTest, TheRevoluteGripperDriveIsRecordedAndOffForOlderMaps) {
+  BuildOptions o = allChanged();
+  o.closing_check.revolute_gripper_force = true;
+  const std::string text = buildParamsJson(buildParamsOf(o, testing::pandaHand()));
+  const BuildParams now = buildParamsFromJson(text);
+  EXPECT_TRUE(now.options.closing_check.revolute_gripper_force);
+  // A map written before the keys existed was built with kp_revolute for every revolute joint.
+  const BuildParams before =
+      buildParamsFromJson(withoutKey(text, "closing_revolute_gripper_force"));
+  EXPECT_FALSE(before.options.closing_check.revolute_gripper_force);
+  EXPECT_EQ(before.options.closing_check.jaw_force, o.closing_check.jaw_force);
 }
 
 TEST(BuildParamsTest, ABuiltMapReadsBackIntoItsOptions) {

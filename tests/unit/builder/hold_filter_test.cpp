@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -15,6 +16,7 @@
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/mapstore/grasp_contacts.hpp"
+#include "taskmap/meshes/hand_drive.hpp"
 
 namespace taskmap {
 namespace {
@@ -81,6 +83,34 @@ TEST(HoldFilter, EffortsPushTowardsTheClampedSqueezeTarget) {
                            {"2 joint values", "actuated joints"}));
   o.squeeze_fraction = 0.5;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"squeeze_fraction", "[1, 2]"}));
+}
+
+// With revolute_gripper_force, a one-joint revolute gripper (tests/data/hands/knuckle_jaw)
+// presses with the validator's drive of it (meshes' actuatorDrives): gain kp_prismatic x the
+// tips' squared speeds, at most the jaw force at each tip; off (the default), kp_revolute
+// without a limit.
+TEST(HoldFilter, ARevoluteGripperPressesWithItsDrive) {
+  const HandModel hand =
+      HandModel::load(std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf");
+  HoldFilterOptions o;
+  EXPECT_FALSE(o.revolute_gripper_force);
+  o.revolute_gripper_force = true;
+  const RevoluteGripper g =
+      revoluteGripper(hand, {o.kp_revolute, o.kp_prismatic, o.jaw_force, true});
+  ASSERT_GT(g.lever, 0.0);
+  o.squeeze_fraction = 1.5;  // far enough past the grasp to reach the drive's limit
+  for (const double closed : {0.002, 0.5}) {  // a small squeeze below the limit, a large one at it
+    SCOPED_TRACE(closed);
+    const Eigen::VectorXd q = Eigen::VectorXd::Constant(1, closed);
+    const double squeeze = 0.5 * closed;  // q0 = 0: target 1.5 q, within the 0.8 rad limit
+    const double expected = std::min(g.kp * squeeze, g.torque);
+    EXPECT_NEAR(squeezeDrive(hand, Pose{}, q, {}, o).effort(0), expected, 1e-9 * g.torque);
+    o.revolute_gripper_force = false;
+    EXPECT_NEAR(squeezeDrive(hand, Pose{}, q, {}, o).effort(0), o.kp_revolute * squeeze, 1e-12);
+    o.revolute_gripper_force = true;
+  }
+  EXPECT_LT(g.kp * 0.5 * 0.002, g.torque);
+  EXPECT_GT(g.kp * 0.5 * 0.5, g.torque);
 }
 
 TEST(HoldFilter, ABuildStoresOnlyGraspsThatPassAndCountsTheOthers) {

@@ -320,6 +320,35 @@ TEST(ClosingCheck, JawSettingsLeaveOtherHandsAlone) {
   }
 }
 
+// A gripper driven by one revolute joint (tests/data/hands/knuckle_jaw, as a Robotiq 2F-85's
+// linkage) presses each tip with the jaw force, as in the hold test (meshes' jointDrives): its
+// centred grasp of a box, which the hold test holds, passes the early check (the object moves
+// under 5 mm). With the option off its joints servo with kp_revolute = 5 N m/rad: the squeeze
+// past the grasp (a tenth of its 0.6 rad closing) presses each tip with under 2 N over the
+// 0.04 m knuckle, and a 1 N push moves the box out (measured: the fifth push, 1.1 cm).
+TEST(ClosingCheck, ARevoluteGripperPressesWithTheJawForce) {
+  const TriangleMesh mesh = testing::makeBox(0.04, 0.03, 0.10);
+  const ObjectModel box = ObjectModel::fromMesh(mesh, "box");
+  const HandModel hand = HandModel::load(testing::testHandPath("knuckle_jaw"));
+  const GraspResult g =
+      GraspSimulator(mesh, hand).simulate(fromAbove(Eigen::Vector3d(0.0, 0.0, -0.01)));
+  ASSERT_EQ(g.status, GraspStatus::kOk) << g.message;
+  ASSERT_EQ(g.fingers_in_contact.size(), 2u);
+  // The oracle: the physics hold test (MuJoCo, the validator's drive) holds this grasp.
+  const HoldResult physics = HoldTester(hand, box).test(g.pose, g.joints);
+  ASSERT_TRUE(physics.holds) << physics.max_translation << " m, " << physics.max_rotation << " rad";
+  const ClosingCheckOptions o = ClosingCheckOptions::earlyVerdict();
+  ASSERT_TRUE(o.revolute_gripper_force);
+  const ClosingCheckResult pressed = ClosingChecker(box, hand, o).check(g.pose, g.joints);
+  EXPECT_TRUE(pressed.holds) << pressed.translation << " m, " << pressed.rotation << " rad";
+  EXPECT_LT(pressed.translation, 0.005);
+  ClosingCheckOptions off = o;
+  off.revolute_gripper_force = false;
+  const ClosingCheckResult plain = ClosingChecker(box, hand, off).check(g.pose, g.joints);
+  EXPECT_FALSE(plain.holds);
+  EXPECT_GE(plain.failed_push, 0) << "the light grip fails under a push, not while closing";
+}
+
 // Each check builds its own world: the same grasp gives the same numbers, bit for bit, repeated
 // and from several threads at once (also in the push mode).
 TEST(ClosingCheck, VerdictIsAPureFunctionOfTheGrasp) {

@@ -10,8 +10,8 @@
 
 #include "build_fixtures.hpp"
 #include "error_matchers.hpp"
-#include "gripper_drive.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/meshes/hand_drive.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {
@@ -109,7 +109,7 @@ TEST(HoldTest, ARevoluteGripperPressesItsTipsWithTheJawForce) {
   // jaw_force, its gain is the jaws' kp_prismatic mapped through the two pads.
   const HandModel hand = HandModel::load(knuckleJaw());
   const double speed = 0.04 * std::cos(0.4 - 20.0 * M_PI / 180.0);
-  const detail::GripperDrive drive = detail::revoluteGripperDrive(hand, 70.0, 20000.0);
+  const RevoluteGripper drive = revoluteGripper(hand, DriveOptions{});
   ASSERT_GT(drive.lever, 0.0);
   // Relative 1e-5: the URDF gives the lean and the knuckle to 7 digits.
   EXPECT_NEAR(drive.lever, 2.0 * speed, 1e-5 * speed);
@@ -119,17 +119,44 @@ TEST(HoldTest, ARevoluteGripperPressesItsTipsWithTheJawForce) {
   EXPECT_NEAR(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, drive.torque, 1e-12);
   EXPECT_NEAR(actuatorForceLimit(HoldTester(hand, testing::boxObject(), o).mjcf()),
               o.jaw_force * 2.0 * speed, 1e-5 * o.jaw_force * speed);
+  // The linkage (revolute_gripper_linkage): the jaws' armature and damping through the tips'
+  // squared speeds on the driver, stiff mimic constraints (time constant two steps).
+  const std::string mjcf = HoldTester(hand, testing::boxObject(), o).mjcf();
+  const std::size_t driver = mjcf.find("<joint name=\"finger_joint\"");
+  ASSERT_NE(driver, std::string::npos);
+  const std::string line = mjcf.substr(driver, mjcf.find('>', driver) - driver);
+  const double squares = 2.0 * speed * speed;
+  const auto attribute = [&](const std::string& key) {
+    return std::stod(line.substr(line.find(key + "=\"") + key.size() + 2));
+  };
+  EXPECT_NEAR(attribute("armature"), o.revolute_armature + o.prismatic_armature * squares,
+              1e-5 * o.prismatic_armature * squares);
+  EXPECT_NEAR(attribute("damping"), o.joint_damping + o.prismatic_damping * squares,
+              1e-5 * o.prismatic_damping * squares);
+  const auto equalities = [](const std::string& text) {
+    const std::size_t at = text.find("<equality>");
+    return at == std::string::npos ? std::string() : text.substr(at, text.find("</equality>") - at);
+  };
+  EXPECT_NE(equalities(mjcf).find("<joint joint1=\"right_knuckle_joint\""), std::string::npos);
+  EXPECT_NE(equalities(mjcf).find(" 1\" solimp=\"0.95 0.99 0.001\""), std::string::npos);
+  EXPECT_NEAR(std::stod(equalities(mjcf).substr(equalities(mjcf).find("solref=\"") + 8)),
+              2.0 * o.timestep, 1e-15);
+  o.revolute_gripper_linkage = false;
+  const std::string loose = HoldTester(hand, testing::boxObject(), o).mjcf();
+  EXPECT_EQ(equalities(loose).find("solref="), std::string::npos);
+  o.revolute_gripper_linkage = true;
   // Off: the protocol's revolute gain, no force limit.
   o.revolute_gripper_force = false;
   const std::string plain = HoldTester(hand, testing::boxObject(), o).mjcf();
   EXPECT_EQ(actuatorForceLimit(plain), -1.0);
   EXPECT_EQ(HoldTester(hand, testing::boxObject(), o).info().gripper_torque, 0.0);
   EXPECT_NE(plain.find("kp=\"5\""), std::string::npos);
+  EXPECT_EQ(equalities(plain).find("solref="), std::string::npos);
   // Hands with more than one actuated joint or a prismatic one are not revolute grippers.
-  EXPECT_EQ(detail::revoluteGripperDrive(testing::pandaHand(), 70.0, 20000.0).lever, 0.0);
+  EXPECT_EQ(revoluteGripper(testing::pandaHand(), DriveOptions{}).lever, 0.0);
   EXPECT_EQ(
-      detail::revoluteGripperDrive(
-          HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"), 70.0, 20000.0)
+      revoluteGripper(HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"),
+                      DriveOptions{})
           .lever,
       0.0);
 }

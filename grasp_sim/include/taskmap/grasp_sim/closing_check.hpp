@@ -51,20 +51,25 @@ struct ClosingCheckOptions {
   double kp_prismatic = 20000.0;     ///< N / m, position gain of prismatic joints
   double damping_prismatic = 100.0;  ///< N s / m, prismatic joint damping
   double jaw_force = 70.0;           ///< N, force limit of each prismatic joint (parallel jaw)
-  double link_density = 800.0;       ///< kg / m^3, hand links' mass from their shapes
-  double pregrasp_fraction = 0.9;    ///< start: this far from the preshape to the grasp
-  double squeeze_fraction = 1.1;     ///< end target: this far from the preshape past the grasp
-  double closing_time = 0.8;         ///< s, pregrasp to grasp and grasp to squeeze, half each
-  int interpolation_stages = 10;     ///< control targets per half (linear steps)
-  double timestep = 0.004;           ///< s, control period
-  int substeps = 4;                  ///< Bullet steps per control period (>= 1)
-  int solver_iterations = 10;        ///< Bullet constraint solver iterations per step (>= 1)
+  /// A gripper whose only actuated joint is revolute (a Robotiq 2F-85's linkage) presses each
+  /// finger tip with jaw_force, as in the hold test (meshes' jointDrives); false: kp_revolute
+  /// without a force limit on every revolute joint (maps built before 2026-11-27)
+  bool revolute_gripper_force = true;
+  double link_density = 800.0;     ///< kg / m^3, hand links' mass from their shapes
+  double pregrasp_fraction = 0.9;  ///< start: this far from the preshape to the grasp
+  double squeeze_fraction = 1.1;   ///< end target: this far from the preshape past the grasp
+  double closing_time = 0.8;       ///< s, pregrasp to grasp and grasp to squeeze, half each
+  int interpolation_stages = 10;   ///< control targets per half (linear steps)
+  double timestep = 0.004;         ///< s, control period
+  int substeps = 4;                ///< Bullet steps per control period (>= 1)
+  int solver_iterations = 10;      ///< Bullet constraint solver iterations per step (>= 1)
   /// Start each step's solve of the joint drives and limits from their previous impulses
   /// (Bullet's SOLVER_USE_ARTICULATED_WARMSTARTING): a grip that a chain of drive, contact,
   /// object, contact, drive transmits builds up over the steps instead of within one step's
   /// iterations
   bool warm_start_drives = false;
-  /// Overrides for hands with a driven prismatic joint (parallel jaws). Their grip is a chain
+  /// Overrides for parallel grippers: hands with a driven prismatic joint (parallel jaws), and
+  /// one-joint revolute grippers with revolute_gripper_force. Their grip is a chain
   /// (drive, contact, object, contact, drive) that the solver's Gauss-Seidel iterations resolve
   /// slowly, and two opposed pads leave an axis that only torsional friction holds: with few
   /// iterations and none, the jaws press too lightly and a 1 N push slides or turns the object

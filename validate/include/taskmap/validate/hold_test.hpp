@@ -42,6 +42,16 @@ struct HoldTestOptions {
   /// tips' summed closing speed per radian, gain kp_prismatic x their squares; at the middle of
   /// the joint's range). false: kp_revolute, as for dexterous hands (DexGraspBench).
   bool revolute_gripper_force = true;
+  /// With revolute_gripper_force, the gripper's linkage as the field's MuJoCo model of the
+  /// Robotiq 2F-85 builds it (MuJoCo Menagerie: armature on the driver, stiff linkage
+  /// constraints): the jaws' damping and armature (prismatic_damping, prismatic_armature) mapped
+  /// through the tips' squared speeds and added to the actuated joint (its drive train), the
+  /// mimic constraints as stiff as MuJoCo allows (time constant 2 x timestep; impedance 0.95
+  /// 0.99 0.001), and its finger links' boxes and cylinders touching with contact patches as
+  /// jaw pads do (contact_patch). Without them a light linkage chatters and its pads turn under
+  /// a push (test ClosingCheck.ARevoluteGripperPressesWithTheJawForce). false: labels made
+  /// before 2026-11-27.
+  bool revolute_gripper_linkage = true;
   double prismatic_damping = 100.0;  ///< N s / m, damping of prismatic joints
   /// kg, reflected inertia of a jaw's drive (keeps light jaws stable against stiff contacts).
   double prismatic_armature = 0.1;
