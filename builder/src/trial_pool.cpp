@@ -61,7 +61,10 @@ std::unique_ptr<const ClosingChecker> makeClosingChecker(const ObjectModel& obje
 
 // A block is simulated, then scored: each stage then runs on caches its previous trial left
 // warm (the quality of a many-contact grasp touches megabytes, which would evict the object's
-// tree between two simulations). Outcomes do not depend on the order.
+// tree between two simulations). Outcomes do not depend on the order. Once every earlier block
+// has finished, a block is simulated in parts of at most the force-closure grasps still missing
+// (trialsWanted) and ends at the trial that completes valid_target: the build stores nothing
+// past it (takePrefix stops there), so the trials after it are not simulated.
 void Worker::run() {
   std::uint64_t b = 0;
   std::vector<GraspResult> simulated;
@@ -71,23 +74,40 @@ void Worker::run() {
     const std::uint64_t last = scheduler.blockLast(b);
     block->first = first;
     block->trials.reserve(std::min<std::uint64_t>(last - first, 4096));  // grows past that
-    simulated.clear();
-    for (std::uint64_t i = first; i < last; ++i) {
-      // An incomplete block is dropped.
-      if ((stop != nullptr && stop->load()) || scheduler.aborted()) return;
-      simulated.push_back(simulateTrial(i));
+    for (std::uint64_t i = first; i < last;) {
+      const std::uint64_t end = i + trialsWanted(b, *block, last - i);
+      if (end == i) break;  // the target is complete
+      simulated.clear();
+      for (; i < end; ++i) {
+        // An incomplete block is dropped.
+        if ((stop != nullptr && stop->load()) || scheduler.aborted()) return;
+        simulated.push_back(simulateTrial(i));
+      }
+      scoreBlock(b, simulated, *block);
     }
-    scoreBlock(b, simulated, *block);
     scheduler.finish(b, std::move(block));
   }
 }
 
-// Scores the block's trials in order. When every earlier block has finished, the trials past
-// the one that completes valid_target force-closure grasps are not scored: the build stores
-// none of them (takePrefix stops at that trial), so they keep their simulation status only.
+// How many of the `left` trials still to run in block b to simulate before scoring: all of them
+// while an earlier block is unfinished; then at most the force-closure grasps still missing
+// (a trial adds at most one), none once valid_target is complete.
+std::uint64_t Worker::trialsWanted(std::uint64_t b, const TrialBlock& block, std::uint64_t left) {
+  std::uint64_t valid = 0;
+  if (!scheduler.validBefore(b, &valid)) return left;
+  valid += block.valid();
+  const std::uint64_t target = scheduler.validTarget();
+  return valid >= target ? 0 : std::min(left, target - valid);
+}
+
+// Scores the simulated trials, appending them to the block in order. When every earlier block
+// has finished, the trials past the one that completes valid_target force-closure grasps are
+// not scored: the build stores none of them (takePrefix stops at that trial), so they keep
+// their simulation status only.
 void Worker::scoreBlock(std::uint64_t b, std::vector<GraspResult>& simulated, TrialBlock& block) {
   std::uint64_t valid = 0;
   const bool known = scheduler.validBefore(b, &valid);
+  valid += block.valid();
   for (GraspResult& g : simulated) {
     if (known && valid >= scheduler.validTarget()) {
       TrialOutcome t;
@@ -104,7 +124,7 @@ GraspResult Worker::simulateTrial(std::uint64_t index) {
   const double t0 = threadCpuSeconds();
   const Pose initial = sampler.sample(options.seed, index);
   const double t1 = threadCpuSeconds();
-  GraspResult g = simulator.simulate(initial);
+  GraspResult g = simulator.simulate(initial, FailureDetail::kStatus);  // a failure: its status
   times.sampling += t1 - t0;
   times.simulation += threadCpuSeconds() - t1;
   ++times.trials;

@@ -98,7 +98,8 @@ class Scheduler {
     // trials costs nothing until its blocks run.
     if (b >= blocks_.size()) blocks_.resize(b + 1);
     blocks_[b] = std::move(block);
-    while (prefix_ < blocks_.size() && blocks_[prefix_]) {
+    // The prefix ends at the block that completes the target (it may end at that trial).
+    while (prefix_ < blocks_.size() && blocks_[prefix_] && prefix_valid_ < valid_target_) {
       prefix_valid_ += blocks_[prefix_]->valid();
       ++prefix_;
     }
@@ -164,6 +165,9 @@ struct Worker {
   StageTimes times;
 
   void run();
+  /// How many of the `left` trials still to run in block b to simulate before scoring (0: the
+  /// valid target is complete).
+  std::uint64_t trialsWanted(std::uint64_t b, const TrialBlock& block, std::uint64_t left);
   /// Scores the simulated trials of block b into `block` (none past the valid target).
   void scoreBlock(std::uint64_t b, std::vector<GraspResult>& simulated, TrialBlock& block);
   /// Samples and simulates trial `index`.

@@ -116,6 +116,9 @@ struct CollisionScene::Data {
   std::vector<std::vector<ShapeEntry>> links;
   std::vector<Eigen::Vector3d> link_centre;  // bounding sphere of each link, link frame
   std::vector<double> link_radius;
+  // Per link: a box in the link frame holding all its shapes (margins included): centre, half
+  // extents (zero for a link without shapes). CollisionScene::linkSweepClear.
+  std::vector<std::array<Eigen::Vector3d, 2>> link_box;
   // Culled queries (CollisionScene::Mode::kCulled) walk Bullet's tree with their own node test
   // and read the triangle corners from here.
   bool culled = false;

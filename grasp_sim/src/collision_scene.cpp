@@ -71,6 +71,25 @@ struct CrossingCounter : btTriangleRaycastCallback {
   }
 };
 
+/// A box in the link frame holding every shape of a link (its support along the six axis
+/// directions, margins included): centre and half extents; zero without shapes.
+std::array<Eigen::Vector3d, 2> linkBox(const std::vector<ShapeEntry>& entries) {
+  if (entries.empty()) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(kInf), hi = -lo;
+  for (const ShapeEntry& e : entries)
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d axis = Eigen::Vector3d::Unit(k);
+      const Eigen::Vector3d in_shape = e.origin.linear().transpose() * axis;
+      const double at = e.origin.translation()[k];
+      // max and min over the shape of axis . x: the support along +-in_shape (shape frame).
+      const btVector3 up = e.shape->localGetSupportingVertex(bt(in_shape));
+      const btVector3 down = e.shape->localGetSupportingVertex(bt(Eigen::Vector3d(-in_shape)));
+      hi[k] = std::max(hi[k], at + in_shape.dot(eig(up)));
+      lo[k] = std::min(lo[k], at + in_shape.dot(eig(down)));
+    }
+  return {0.5 * (lo + hi), 0.5 * (hi - lo)};
+}
+
 }  // namespace
 
 void buildObjectTree(const TriangleMesh& mesh, CollisionScene::Data* out) {
@@ -170,6 +189,7 @@ CollisionScene::CollisionScene(const TriangleMesh& mesh, const HandModel& hand, 
       radius = std::max(radius, (e.origin.translation() - centre).norm() + e.bounding_radius);
     d.link_centre.push_back(centre);
     d.link_radius.push_back(radius);
+    d.link_box.push_back(linkBox(entries));
     d.links.push_back(std::move(entries));
   }
 }

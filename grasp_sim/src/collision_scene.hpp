@@ -130,6 +130,13 @@ class CollisionScene {
   /// linkRadius(link). linkLinkDistance returns +infinity when two links' spheres are farther
   /// apart than their radii plus the threshold (the same arithmetic: a caller may test it first).
   Eigen::Vector3d linkCentre(int link, const Eigen::Isometry3d& t) const;
+  /// True when link `link` at pose `t` (object frame), moved along the unit direction `dir` by
+  /// any distance u >= 0, stays farther than `gap` metres from the object: the line of its link
+  /// box's centre (a box holding every shape of the link) misses the object's box, or every
+  /// box of the object's tree down to the triangles, each grown on every axis by the link box's
+  /// extent along it plus `gap`. False when it cannot tell.
+  bool linkSweepClear(int link, const Eigen::Isometry3d& t, const Eigen::Vector3d& dir,
+                      double gap) const;
   /// Radius of the sphere enclosing link `link` (pose independent), metres.
   double linkRadius(int link) const;
   /// Minimum signed distance between two links at their poses, within `threshold`

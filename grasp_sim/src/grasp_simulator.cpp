@@ -177,7 +177,11 @@ void SimModel::findCoupledGroups() {
 // The driver: one trial as a sequence of named steps (trial.hpp); a step that ends the trial
 // early returns false with the status set.
 GraspResult GraspSimulator::simulate(const Pose& initial_palm_pose) const {
-  Trial trial(impl_->model, initial_palm_pose);
+  return simulate(initial_palm_pose, FailureDetail::kFull);
+}
+
+GraspResult GraspSimulator::simulate(const Pose& initial_palm_pose, FailureDetail detail) const {
+  Trial trial(impl_->model, initial_palm_pose, detail == FailureDetail::kStatus);
   if (trial.retract() && trial.placePalm()) {
     trial.close();
     trial.squeeze();

@@ -3,6 +3,8 @@
 //   CollisionScene::linkPressesDeeper  is some facing triangle penetrated deeper than a depth?
 //   CollisionScene::linkNearest        the smallest signed distance over the hits that pass a
 //                                      facing filter (or over all hits).
+// and, on the same tree walk, CollisionScene::linkSweepClear: does a link moved along a line
+// provably stay beyond a gap (a conservative yes/no, no distance)?
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,6 +18,25 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// True when the points c + u dir, u >= 0, meet the box [lo, hi] (slabs; a component of dir that
+/// is zero keeps c's coordinate).
+bool rayMeetsBox(const Eigen::Vector3d& c, const Eigen::Vector3d& dir, const Eigen::Vector3d& lo,
+                 const Eigen::Vector3d& hi) {
+  double u0 = 0.0, u1 = kInf;
+  for (int i = 0; i < 3; ++i) {
+    if (dir[i] == 0.0) {
+      if (c[i] < lo[i] || c[i] > hi[i]) return false;
+      continue;
+    }
+    double ua = (lo[i] - c[i]) / dir[i], ub = (hi[i] - c[i]) / dir[i];
+    if (ua > ub) std::swap(ua, ub);
+    u0 = std::max(u0, ua);
+    u1 = std::min(u1, ub);
+    if (u0 > u1) return false;
+  }
+  return true;
+}
 
 /// True when a triangle hit penetrates deeper than `depth` on a face the link presses
 /// (separation direction within acos(min_agreement) of the face normal).
@@ -190,6 +211,33 @@ bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry
     }
   }
   return false;
+}
+
+// The link box's extent along each object axis, plus the gap, grows every box the centre's line
+// is tested on (the link box lies within its centre plus that extent; the object within its
+// box, each triangle within its node's and its own box).
+bool CollisionScene::linkSweepClear(int link, const Eigen::Isometry3d& t,
+                                    const Eigen::Vector3d& dir, double gap) const {
+  const Data& d = *d_;
+  const auto& box = d.link_box[static_cast<std::size_t>(link)];
+  const Eigen::Vector3d c = t * box[0];
+  const Eigen::Vector3d r = t.linear().cwiseAbs() * box[1] + Eigen::Vector3d::Constant(gap);
+  if (!rayMeetsBox(c, dir, d.lo - r, d.hi + r)) return true;
+  if (!d.culled) return false;
+  bool meets = false;
+  walkInBulletOrder(
+      d,
+      [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+        return rayMeetsBox(c, dir, lo - r, hi + r);
+      },
+      [&](int tri) {
+        const auto& v = d.corners[static_cast<std::size_t>(tri)];
+        const Eigen::Vector3d lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
+        const Eigen::Vector3d hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
+        meets = rayMeetsBox(c, dir, lo - r, hi + r);
+        return !meets;
+      });
+  return !meets;
 }
 
 }  // namespace taskmap

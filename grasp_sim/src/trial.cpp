@@ -32,11 +32,21 @@ constexpr double kBoundSlack = 1e-9;
 constexpr int kMaxStandoffSteps = 20;
 /// Fingertip grasps: farthest palm gap GraspStats::palm_gap measures, metres.
 constexpr double kPalmGapRange = 0.1;
+/// palmStaysClear proves the palm farther than the tolerance plus this, metres (far above the
+/// rounding of the queries' distances, ~1e-12 m).
+constexpr double kSweepSlack = 1e-6;
 
 }  // namespace
 
-Trial::Trial(const SimModel& model, const Pose& initial)
-    : m_(model), tol_(model.opt.contact_tolerance), st_(res_.stats) {
+Trial::Trial(const SimModel& model, const Pose& initial, bool status_only)
+    : m_(model),
+      tol_(model.opt.contact_tolerance),
+      status_only_(status_only),
+      // placePalm then ends a palm-less retraction with no_palm_contact, and the automatic
+      // retraction limit leaves the hand 1 cm beyond the object (retract): never not_retractable.
+      early_no_palm_(status_only && model.grasp_mode == GraspMode::kPalm &&
+                     model.opt.require_palm_contact && model.opt.max_retraction == 0.0),
+      st_(res_.stats) {
   if (m_.diag.profile) t0_ = Clock::now();
   palm_ = initial.toIsometry();
   p0_ = palm_.translation();
@@ -135,11 +145,34 @@ bool Trial::retract() {
   return true;
 }
 
+// True when every palm-rigid link, at palm pose at(s) and at every pose moved on from it along
+// `dir` (-a_ out of the object, a_ onto it), stays farther than tol_ from the object. Wherever
+// the hand then stops touching, the palm is beyond tol_: placePalm's no_palm_contact (or, for
+// an approach, no touch at all: no_palm_contact too).
+bool Trial::palmStaysClear(double s, const Eigen::Vector3d& dir) const {
+  const Eigen::Isometry3d pm = at(s);
+  for (int l : m_.shaped) {
+    const auto u = static_cast<std::size_t>(l);
+    if (m_.hand.links()[u].palm &&
+        !m_.scene->linkSweepClear(l, pm * lp_[u], dir, tol_ + kSweepSlack))
+      return false;
+  }
+  return true;
+}
+
 // The hand penetrates at s = 0: coarse steps out along -a, then bisection until the free side
-// touches within the tolerance.
+// touches within the tolerance. With early_no_palm_ the trial ends as soon as the palm provably
+// stays clear of the object from the last penetrating pose on (palmStaysClear).
 bool Trial::leaveObject(double m, double s_max, double* s) {
   double lo = 0.0, hi = 0.0;
   while (true) {
+    if (early_no_palm_ && palmStaysClear(lo, -a_)) {
+      palm_ = at(lo);
+      st_.retraction = lo;
+      finish(GraspStatus::kNoPalmContact,
+             "a finger touches the object before the palm when the hand leaves it");
+      return false;
+    }
     const double step = std::max(m_.retract_step, std::isfinite(m) ? -m : 0.0);
     hi = std::min(lo + step, s_max);
     m = evalAll(at(hi), tol_, true);
@@ -174,6 +207,10 @@ bool Trial::leaveObject(double m, double s_max, double* s) {
 
 // The hand is free at s = 0: advance along +a (conservative advancement) until touching.
 bool Trial::approachObject(double s_max, double* s) {
+  if (early_no_palm_ && palmStaysClear(0.0, a_)) {
+    finish(GraspStatus::kNoPalmContact, "the palm cannot touch the object on its approach axis");
+    return false;
+  }
   const double far = std::max(4.0 * m_.retract_step, 0.02);
   while (true) {
     const double m = evalNearest(at(*s), far);
@@ -311,11 +348,18 @@ bool Trial::selfPenetrating() const {
 }
 
 void Trial::collectContacts() {
+  if (status_only_) {  // judge: the step limit, then self-collision, whatever the contacts
+    if (!step_limit_) self_ = m_.opt.check_self_collision && selfPenetrating();
+    if (step_limit_ || self_) {
+      if (m_.diag.profile) st_.contacts_seconds = lap();
+      return;
+    }
+  }
   std::vector<char> finger_touch(m_.hand.fingerNames().size(), 0);
   for (int l : m_.shaped) linkContacts(l, &finger_touch);
   for (std::size_t f = 0; f < finger_touch.size(); ++f)
     if (finger_touch[f]) res_.fingers_in_contact.push_back(m_.hand.fingerNames()[f]);
-  self_ = m_.opt.check_self_collision && selfPenetrating();
+  if (!status_only_) self_ = m_.opt.check_self_collision && selfPenetrating();
   if (m_.grasp_mode == GraspMode::kFingertip) st_.palm_gap = palmGap(palm_, kPalmGapRange);
   if (m_.diag.profile) st_.contacts_seconds = lap();
 }

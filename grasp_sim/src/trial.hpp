@@ -22,8 +22,9 @@ namespace taskmap {
 /// State of one trial: palm pose, joint values, link poses and the closing bookkeeping.
 class Trial {
  public:
-  /// Starts a trial at `initial` (palm pose, object frame) with the open preshape.
-  Trial(const SimModel& model, const Pose& initial);
+  /// Starts a trial at `initial` (palm pose, object frame) with the open preshape. With
+  /// `status_only` a failing trial may end once its status is certain (FailureDetail::kStatus).
+  Trial(const SimModel& model, const Pose& initial, bool status_only = false);
 
   /// Moves the hand along -approach out of the object (or along +approach onto it) to the
   /// first touching pose. False (status set) when not retractable or nothing is touched.
@@ -54,6 +55,7 @@ class Trial {
   double evalNearest(const Eigen::Isometry3d& pm, double far);
   Eigen::Isometry3d at(double s) const;
   bool leaveObject(double m, double s_max, double* s);
+  bool palmStaysClear(double s, const Eigen::Vector3d& dir) const;
   bool approachObject(double s_max, double* s);
   double palmGap(const Eigen::Isometry3d& pm, double threshold);
   void placeFingertips();
@@ -92,6 +94,10 @@ class Trial {
 
   const SimModel& m_;
   const double tol_;
+  // FailureDetail::kStatus: no_palm_contact may be decided during the retraction (palm grasps
+  // that require the palm, automatic retraction limit); the judge's status before contacts.
+  const bool status_only_;
+  const bool early_no_palm_;
   GraspResult res_;
   GraspStats& st_;
   Clock::time_point t0_;

@@ -171,6 +171,49 @@ TEST(CollisionScene, BoxLinkDistancesMatchBruteForce) {
   EXPECT_GT(far, 50);
 }
 
+// linkSweepClear against the link's own distance query along the ray: wherever it answers
+// clear, the link moved by any of 60 distances up to 0.5 m along the direction has nothing within
+// the gap (linkDistance +inf); the pose set has both answers. Box links (barrett palm and
+// finger) and a hull link (hull_palm), on the reference mug and a coarse cylinder.
+TEST(CollisionScene, LinkSweepClearHoldsAlongTheWholeRay) {
+  const ObjectModel mug = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/mug.obj");
+  for (const TriangleMesh& mesh : {mug.mesh(), testing::makeCylinder(0.03, 0.08, 12, 2)}) {
+    for (const auto& [path, link_name] :
+         {std::pair<std::string, std::string>{
+              std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf", "bh_palm"},
+          {std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf", "f1_distal"},
+          {std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf", "palm"}}) {
+      SCOPED_TRACE(path + " " + link_name + " " + std::to_string(mesh.faces.size()) + " faces");
+      const HandModel hand = HandModel::load(path);
+      const int link = hand.linkIndex(link_name);
+      ASSERT_GE(link, 0);
+      const CollisionScene scene(mesh, hand);
+      const double gap = 0.002;
+      int clear = 0, unsure = 0;
+      for (int i = 0; i < 300; ++i) {
+        Rng rng(9, static_cast<std::uint64_t>(i));
+        Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+        t.linear() = rng.rotation().toRotationMatrix();
+        t.translation() =
+            V(rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15), rng.uniform(-0.15, 0.15));
+        const V dir = rng.rotation() * V::UnitX();
+        if (!scene.linkSweepClear(link, t, dir, gap)) {
+          ++unsure;
+          continue;
+        }
+        ++clear;
+        for (int k = 0; k <= 60; ++k) {
+          Eigen::Isometry3d moved = t;
+          moved.translation() += (0.5 * k / 60.0) * dir;
+          EXPECT_EQ(scene.linkDistance(link, moved, gap), kInf) << "pose " << i << " step " << k;
+        }
+      }
+      EXPECT_GT(clear, 20);
+      EXPECT_GT(unsure, 20);
+    }
+  }
+}
+
 TEST(CollisionScene, InsideTestAndFaceNormals) {
   const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/panda/panda.urdf");
   const int link = hand.linkIndex("panda_leftfinger");

@@ -316,6 +316,46 @@ TEST(GraspSimulator, SelfCollisionAxesGiveTheSameTrials) {
   }
 }
 
+// FailureDetail::kStatus (what a build asks) against kFull on the same trials: the same status
+// on every trial, successful trials the same bit for bit; failures may end early, and on these
+// sets no_palm_contact trials do (fewer queries in all), for box hands and a hull palm, on the
+// reference mug and basket (palms starting inside the objects' boxes, retracted).
+TEST(GraspSimulator, StatusDetailKeepsEveryStatusAndEndsFailuresEarly) {
+  for (const char* object_name : {"mug", "basket"}) {
+    const ObjectModel object =
+        ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/" + object_name + ".obj");
+    const Eigen::Vector3d lo = object.massProperties().bounds_min;
+    const Eigen::Vector3d hi = object.massProperties().bounds_max;
+    for (const std::string& hand_path : {std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf",
+                                         std::string(TASKMAP_HANDS_DIR) + "/humanoid/humanoid.urdf",
+                                         std::string(TEST_DATA_DIR) + "/hands/hull_palm.urdf"}) {
+      SCOPED_TRACE(std::string(object_name) + " " + hand_path);
+      const GraspSimulator sim(object, HandModel::load(hand_path));
+      int ok = 0, no_palm = 0, shorter = 0;
+      long full_queries = 0, status_queries = 0;
+      for (const Pose& p : randomPoses(60, lo, hi)) {
+        const GraspResult full = sim.simulate(p);
+        const GraspResult status = sim.simulate(p, FailureDetail::kStatus);
+        ASSERT_EQ(full.status, status.status);
+        full_queries += full.stats.queries;
+        status_queries += status.stats.queries;
+        if (full.status == GraspStatus::kOk) {
+          ++ok;
+          expectSame(full, status);
+        } else if (full.status == GraspStatus::kNoPalmContact) {
+          ++no_palm;
+          EXPECT_LE(status.stats.queries, full.stats.queries);
+          shorter += status.stats.queries < full.stats.queries;
+        }
+      }
+      EXPECT_GT(ok, 0);
+      EXPECT_GT(no_palm, 0);
+      EXPECT_GT(shorter, 0);
+      EXPECT_LT(status_queries, full_queries);
+    }
+  }
+}
+
 TEST(GraspSimulator, ReferenceBasketTrialsKeepTheirInvariants) {
   const ObjectModel basket = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj");
   for (const char* name : {"panda", "barrett", "humanoid"}) {

@@ -160,6 +160,19 @@ constexpr double kDefaultStandoffShare = 0.1;
 /// leaves nine tenths of the fingers to reach it. Throws Error for invalid options.
 double resolveStandoff(const HandModel& hand, const GraspSimOptions& options);
 
+/// What GraspSimulator::simulate computes of a trial that fails.
+enum class FailureDetail {
+  /// The trial runs to where it fails: pose, joints, contacts, stats and message are those.
+  kFull,
+  /// The trial may end as soon as its status is certain (what a build keeps of a failed
+  /// trial): the status is kFull's, bit for bit; pose, joints, contacts and stats are where it
+  /// ended. Ends early: no_palm_contact once the palm, moving on out of the object, provably
+  /// stays beyond the contact tolerance (CollisionScene::linkSweepClear; palm grasps that
+  /// require the palm, automatic max_retraction); step_limit without contacts;
+  /// self_collision before the contacts. Successful trials are kFull's.
+  kStatus,
+};
+
 /// Simulates grasp trials of one hand on one object. Construction builds the object's
 /// bounding-volume hierarchy once; simulate() is const, thread-safe and lock-free (each thread
 /// lazily gets its own Bullet dispatcher), and deterministic.
@@ -178,6 +191,8 @@ class GraspSimulator {
 
   /// Runs one trial from the initial palm pose (object frame). Thread-safe, deterministic.
   GraspResult simulate(const Pose& initial_palm_pose) const;
+  /// The same trial; with FailureDetail::kStatus a failed trial may end early (same status).
+  GraspResult simulate(const Pose& initial_palm_pose, FailureDetail detail) const;
   /// The hand simulated.
   const HandModel& hand() const;
   /// The options in force.
