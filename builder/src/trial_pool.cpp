@@ -225,13 +225,15 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
     }
   };
   {
+    // At least one report, the last one after every worker finished: a build that ends before
+    // the first interval still reports its final state (and a throwing callback still throws).
     std::unique_lock<std::mutex> lock(finished_mutex);
-    while (running > 0) {
+    do {
       finished_cv.wait_for(lock, interval, [&] { return running == 0; });
       lock.unlock();
       report();
       lock.lock();
-    }
+    } while (running > 0);
   }
   for (auto& t : pool) t.join();
   if (scheduler.error()) std::rethrow_exception(scheduler.error());
