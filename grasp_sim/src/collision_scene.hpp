@@ -131,12 +131,20 @@ class CollisionScene {
   /// apart than their radii plus the threshold (the same arithmetic: a caller may test it first).
   Eigen::Vector3d linkCentre(int link, const Eigen::Isometry3d& t) const;
   /// True when link `link` at pose `t` (object frame), moved along the unit direction `dir` by
-  /// any distance u >= 0, stays farther than `gap` metres from the object: the line of its link
-  /// box's centre (a box holding every shape of the link) misses the object's box, or every
-  /// box of the object's tree down to the triangles, each grown on every axis by the link box's
-  /// extent along it plus `gap`. False when it cannot tell.
+  /// any distance u >= 0, stays farther than `gap` metres from the object: for the object's box,
+  /// or every box of the object's tree down to the triangles, either the line of its link box's
+  /// centre (a box holding every shape of the link) misses it grown on every axis by the link
+  /// box's extent along it plus `gap`, or one of 6 axes separates it from the link box itself
+  /// swept along the line and grown by `gap` (the box's axes and each crossed with `dir`; for a
+  /// triangle also its normal). False when it cannot tell.
   bool linkSweepClear(int link, const Eigen::Isometry3d& t, const Eigen::Vector3d& dir,
                       double gap) const;
+  /// The same bound as a distance: a u beyond which link `link`, moved from pose `t` along
+  /// `dir` by any further distance, stays farther than `gap` metres from the object; negative
+  /// when it does for every u >= 0 (linkSweepClear). With `first` any u >= 0 once it cannot
+  /// tell (cheaper: what linkSweepClear asks).
+  double linkSweepLast(int link, const Eigen::Isometry3d& t, const Eigen::Vector3d& dir, double gap,
+                       bool first = false) const;
   /// Radius of the sphere enclosing link `link` (pose independent), metres.
   double linkRadius(int link) const;
   /// Minimum signed distance between two links at their poses, within `threshold`

@@ -3,9 +3,10 @@
 //   CollisionScene::linkPressesDeeper  is some facing triangle penetrated deeper than a depth?
 //   CollisionScene::linkNearest        the smallest signed distance over the hits that pass a
 //                                      facing filter (or over all hits).
-// and, on the same tree walk, CollisionScene::linkSweepClear: does a link moved along a line
-// provably stay beyond a gap (a conservative yes/no, no distance)?
+// and, on the same tree walk, CollisionScene::linkSweepLast and linkSweepClear: from where on
+// does a link moved along a line provably stay beyond a gap (a conservative bound)?
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -18,25 +19,101 @@ namespace taskmap {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// linkSweepLast: the swept length beyond the reach of the object's sphere, metres (far above
+/// rounding; beyond that length the link box is farther than the gap from the object's box).
+constexpr double kSweepBeyond = 0.01;
 
-/// True when the points c + u dir, u >= 0, meet the box [lo, hi] (slabs; a component of dir that
-/// is zero keeps c's coordinate).
-bool rayMeetsBox(const Eigen::Vector3d& c, const Eigen::Vector3d& dir, const Eigen::Vector3d& lo,
-                 const Eigen::Vector3d& hi) {
-  double u0 = 0.0, u1 = kInf;
+/// The points c + u dir, u in [0, len], that meet the box [lo, hi] (slabs; a component of dir
+/// that is zero keeps c's coordinate): the largest such u, or -1 when none does.
+double rayLastInBox(const Eigen::Vector3d& c, const Eigen::Vector3d& dir, double len,
+                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  double u0 = 0.0, u1 = len;
   for (int i = 0; i < 3; ++i) {
     if (dir[i] == 0.0) {
-      if (c[i] < lo[i] || c[i] > hi[i]) return false;
+      if (c[i] < lo[i] || c[i] > hi[i]) return -1.0;
       continue;
     }
     double ua = (lo[i] - c[i]) / dir[i], ub = (hi[i] - c[i]) / dir[i];
     if (ua > ub) std::swap(ua, ub);
     u0 = std::max(u0, ua);
     u1 = std::min(u1, ub);
-    if (u0 > u1) return false;
+    if (u0 > u1) return -1.0;
   }
-  return true;
+  return u1;
 }
+
+/// A link box (centre c, axes the columns of R, half extents h; object frame) grown by a ball of
+/// radius gap and moved along d by u in [0, len]: its extent along 6 axes (the box's three, and
+/// each crossed with d; the object's axes are the centre line's test, the nine crossings of box
+/// and object axes cost more than they prune), for a separating-axis bound against
+/// axis-aligned boxes and triangles. On each axis the moved box's extent overlaps the other set's
+/// only for u in an interval; outside the intersection of those intervals some axis separates
+/// the two, so the link is farther than gap (whichever axes are tried: the bound can only be
+/// loose, never too small).
+class SweptBox {
+ public:
+  SweptBox(const Eigen::Vector3d& c, const Eigen::Matrix3d& r, const Eigen::Vector3d& h,
+           const Eigen::Vector3d& d, double len, double gap)
+      : c_(c), r_(r), h_(h), d_(d), len_(len), gap_(gap) {
+    int k = 0;
+    for (int j = 0; j < 3; ++j) n_.col(k++) = r.col(j);
+    for (int j = 0; j < 3; ++j) n_.col(k++) = d.cross(r.col(j));
+    for (int a = 0; a < kAxes; ++a) extent(n_.col(a), &ax_[a]);
+    abs_ = n_.cwiseAbs();
+  }
+  /// The largest u at which the moved box may meet the box [lo, hi]; -1 when it never does.
+  double last(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    const Eigen::Vector3d bc = 0.5 * (lo + hi), bh = 0.5 * (hi - lo);
+    double u0 = 0.0, u1 = len_;
+    for (int a = 0; a < kAxes; ++a) {
+      const double p = n_.col(a).dot(bc), r = abs_.col(a).dot(bh);
+      if (!narrow(ax_[a], p - r, p + r, &u0, &u1)) return -1.0;
+    }
+    return u1;
+  }
+  /// The same for the triangle with corners v (the 6 axes and the triangle's normal).
+  double last(const std::array<Eigen::Vector3d, 3>& v, const Eigen::Vector3d& normal) const {
+    double u0 = 0.0, u1 = len_;
+    for (int a = 0; a < kAxes; ++a)
+      if (!narrowTriangle(n_.col(a), ax_[a], v, &u0, &u1)) return -1.0;
+    Axis na;
+    extent(normal, &na);
+    return narrowTriangle(normal, na, v, &u0, &u1) ? u1 : -1.0;
+  }
+
+ private:
+  static constexpr int kAxes = 6;
+  struct Axis {
+    double lo = 0.0, hi = 0.0, nd = 0.0;  // the grown box's extent at u = 0; n . d
+  };
+  void extent(const Eigen::Vector3d& n, Axis* out) const {
+    const double mid = n.dot(c_), ext = (r_.transpose() * n).cwiseAbs().dot(h_) + gap_ * n.norm();
+    out->lo = mid - ext;
+    out->hi = mid + ext;
+    out->nd = n.dot(d_);
+  }
+  // Narrows [u0, u1] to the u at which [ax.lo, ax.hi] + u nd meets [blo, bhi]; false if empty.
+  static bool narrow(const Axis& ax, double blo, double bhi, double* u0, double* u1) {
+    const double x = blo - ax.hi, y = bhi - ax.lo;  // overlap iff x <= u nd <= y
+    if (ax.nd == 0.0) return x <= 0.0 && 0.0 <= y;
+    double ua = x / ax.nd, ub = y / ax.nd;
+    if (ua > ub) std::swap(ua, ub);
+    *u0 = std::max(*u0, ua);
+    *u1 = std::min(*u1, ub);
+    return *u0 <= *u1;
+  }
+  static bool narrowTriangle(const Eigen::Vector3d& n, const Axis& ax,
+                             const std::array<Eigen::Vector3d, 3>& v, double* u0, double* u1) {
+    const double p0 = n.dot(v[0]), p1 = n.dot(v[1]), p2 = n.dot(v[2]);
+    return narrow(ax, std::min({p0, p1, p2}), std::max({p0, p1, p2}), u0, u1);
+  }
+  Eigen::Vector3d c_;
+  Eigen::Matrix3d r_;
+  Eigen::Vector3d h_, d_;
+  double len_, gap_;
+  Eigen::Matrix<double, 3, kAxes> n_, abs_;
+  std::array<Axis, kAxes> ax_{};
+};
 
 /// True when a triangle hit penetrates deeper than `depth` on a face the link presses
 /// (separation direction within acos(min_agreement) of the face normal).
@@ -213,31 +290,48 @@ bool queryLinkDeeper(const CollisionScene::Data& d, const std::vector<ShapeEntry
   return false;
 }
 
-// The link box's extent along each object axis, plus the gap, grows every box the centre's line
-// is tested on (the link box lies within its centre plus that extent; the object within its
-// box, each triangle within its node's and its own box).
-bool CollisionScene::linkSweepClear(int link, const Eigen::Isometry3d& t,
-                                    const Eigen::Vector3d& dir, double gap) const {
+// Each box of the object's tree (and each triangle) is bounded twice: the line of the link box's
+// centre against it grown on every axis by the link box's extent along it plus the gap (the link
+// box lies within its centre plus that extent; the object within its box, each triangle within
+// its node's and its own box), and the link box itself swept (SweptBox); the smaller last u of
+// the two holds. The sweep is cut at the length beyond which the link box cannot come within
+// the gap of the object's sphere. A box whose bound is no later than the latest found so far is
+// skipped; with `first` the walk ends at the first triangle the link may meet.
+double CollisionScene::linkSweepLast(int link, const Eigen::Isometry3d& t,
+                                     const Eigen::Vector3d& dir, double gap, bool first) const {
   const Data& d = *d_;
   const auto& box = d.link_box[static_cast<std::size_t>(link)];
   const Eigen::Vector3d c = t * box[0];
   const Eigen::Vector3d r = t.linear().cwiseAbs() * box[1] + Eigen::Vector3d::Constant(gap);
-  if (!rayMeetsBox(c, dir, d.lo - r, d.hi + r)) return true;
-  if (!d.culled) return false;
-  bool meets = false;
+  const double len = (c - d.centre).norm() + d.radius + box[1].norm() + gap + kSweepBeyond;
+  double best = rayLastInBox(c, dir, len, d.lo - r, d.hi + r);
+  if (best < 0.0) return -1.0;
+  if (!d.culled) return len;
+  const SweptBox swept(c, t.linear(), box[1], dir, len, gap);
+  best = std::min(best, swept.last(d.lo, d.hi));
+  if (best < 0.0) return -1.0;
+  best = -1.0;
   walkInBulletOrder(
       d,
       [&](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-        return rayMeetsBox(c, dir, lo - r, hi + r);
+        return rayLastInBox(c, dir, len, lo - r, hi + r) > best && swept.last(lo, hi) > best;
       },
       [&](int tri) {
         const auto& v = d.corners[static_cast<std::size_t>(tri)];
         const Eigen::Vector3d lo = v[0].cwiseMin(v[1]).cwiseMin(v[2]);
         const Eigen::Vector3d hi = v[0].cwiseMax(v[1]).cwiseMax(v[2]);
-        meets = rayMeetsBox(c, dir, lo - r, hi + r);
-        return !meets;
+        const double ray = rayLastInBox(c, dir, len, lo - r, hi + r);
+        if (ray <= best) return true;
+        best =
+            std::max(best, std::min(ray, swept.last(v, d.normals[static_cast<std::size_t>(tri)])));
+        return !(first && best >= 0.0);
       });
-  return !meets;
+  return best;
+}
+
+bool CollisionScene::linkSweepClear(int link, const Eigen::Isometry3d& t,
+                                    const Eigen::Vector3d& dir, double gap) const {
+  return linkSweepLast(link, t, dir, gap, true) < 0.0;
 }
 
 }  // namespace taskmap

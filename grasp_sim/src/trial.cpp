@@ -160,19 +160,50 @@ bool Trial::palmStaysClear(double s, const Eigen::Vector3d& dir) const {
   return true;
 }
 
+// Ends a retraction whose palm provably stays clear from at(s) on: no_palm_contact.
+bool Trial::endClear(double s) {
+  palm_ = at(s);
+  st_.retraction = s;
+  finish(GraspStatus::kNoPalmContact,
+         "a finger touches the object before the palm when the hand leaves it");
+  return false;
+}
+
+// palmStaysClear's proof from at(s) along `dir` (-a_ out of the object) with a witness when it
+// fails: < s when every palm-rigid link provably stays farther than tol_ from the object from
+// at(s) on; else s plus the last u at which the first link the proof fails on may meet its first
+// triangle (CollisionScene::linkSweepLast). A proof from any s' before that would find the same
+// triangle in its way (the bounds are geometric: moving the start along the line shifts the
+// interval, up to rounding), so it is not tried again until the hand has passed that point
+// (exact either way: a proof not tried only ends the trial later, with the same status).
+double Trial::palmClearFrom(double s, const Eigen::Vector3d& dir) const {
+  const Eigen::Isometry3d pm = at(s);
+  for (int l : m_.shaped) {
+    const auto u = static_cast<std::size_t>(l);
+    if (!m_.hand.links()[u].palm) continue;
+    const double last = m_.scene->linkSweepLast(l, pm * lp_[u], dir, tol_ + kSweepSlack, true);
+    if (last >= 0.0) return s + last;
+  }
+  return s - 1.0;
+}
+
+// palmClearFrom at lo once lo is past the previous witness (`retry`): true when the palm
+// provably stays clear from at(lo) on.
+bool Trial::palmClearAt(double lo, double* retry) const {
+  if (!(lo > *retry)) return false;
+  *retry = palmClearFrom(lo, -a_);
+  return *retry < lo;
+}
+
 // The hand penetrates at s = 0: coarse steps out along -a, then bisection until the free side
 // touches within the tolerance. With early_no_palm_ the trial ends as soon as the palm provably
-// stays clear of the object from the last penetrating pose on (palmStaysClear).
+// stays clear of the object from the last penetrating pose on (palmClearAt), before each coarse
+// step and after each bisection step that moves that pose.
 bool Trial::leaveObject(double m, double s_max, double* s) {
   double lo = 0.0, hi = 0.0;
+  double retry = early_no_palm_ ? -1.0 : kInf;  // palmClearAt: the proof's next chance
   while (true) {
-    if (early_no_palm_ && palmStaysClear(lo, -a_)) {
-      palm_ = at(lo);
-      st_.retraction = lo;
-      finish(GraspStatus::kNoPalmContact,
-             "a finger touches the object before the palm when the hand leaves it");
-      return false;
-    }
+    if (palmClearAt(lo, &retry)) return endClear(lo);
     const double step = std::max(m_.retract_step, std::isfinite(m) ? -m : 0.0);
     hi = std::min(lo + step, s_max);
     m = evalAll(at(hi), tol_, true);
@@ -194,6 +225,7 @@ bool Trial::leaveObject(double m, double s_max, double* s) {
     const double mm = evalAll(at(mid), tol_, true);
     if (mm < 0.0) {
       lo = mid;
+      if (palmClearAt(lo, &retry)) return endClear(lo);
     } else {
       hi = mid;
       m = mm;

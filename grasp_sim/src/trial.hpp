@@ -56,6 +56,9 @@ class Trial {
   Eigen::Isometry3d at(double s) const;
   bool leaveObject(double m, double s_max, double* s);
   bool palmStaysClear(double s, const Eigen::Vector3d& dir) const;
+  double palmClearFrom(double s, const Eigen::Vector3d& dir) const;
+  bool palmClearAt(double lo, double* retry) const;
+  bool endClear(double s);
   bool approachObject(double s_max, double* s);
   double palmGap(const Eigen::Isometry3d& pm, double threshold);
   void placeFingertips();

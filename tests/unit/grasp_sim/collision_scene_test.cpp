@@ -386,4 +386,38 @@ TEST(CollisionScene, LinkLinkAxisGivesTheSameDistances) {
 }
 
 }  // namespace
+// The swept link box's own axes: the barrett palm (a box) turned 45 degrees about z, its face
+// 5 mm from a face of a cube turned the same way, moved along that face (upward and sideways).
+// The line of its box's centre meets the object's box grown by the link box's extent on every
+// object axis, so only the box's own axis proves it clear; the distance query agrees along the
+// ray. Moved toward the face it is not clear.
+TEST(CollisionScene, LinkSweepClearSeesTheLinkBoxItsAxes) {
+  TriangleMesh cube = testing::makeBox(0.1, 0.1, 0.1);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(M_PI / 4, V::UnitZ()).toRotationMatrix();
+  for (auto& v : cube.vertices) v = turn * v;
+  const HandModel hand = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const int link = hand.linkIndex("bh_palm");
+  ASSERT_GE(link, 0);
+  const CollisionScene scene(cube, hand);
+  const double gap = 0.002;
+  const V n = turn * V::UnitX();  // the cube face's normal, the link's x axis
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = turn;
+  // bh_palm's box: 0.09 x 0.12 x 0.08 m, centred 0.04 m below the link frame.
+  t.translation() = (0.05 + 0.045 + 0.005) * n + V(0, 0, 0.04);
+  for (const V& dir : {V(V::UnitZ()), V(turn * V::UnitY())}) {
+    const V c = t * V(0, 0, -0.04), grown = (turn.cwiseAbs() * V(0.045, 0.06, 0.04)).array() + gap;
+    const V lo = -V::Constant(0.1 / std::sqrt(2.0)) - grown, hi = -lo;
+    EXPECT_TRUE((c.array() > lo.array()).all() && (c.array() < hi.array()).all());
+    EXPECT_TRUE(scene.linkSweepClear(link, t, dir, gap));
+    for (int k = 0; k <= 60; ++k) {
+      Eigen::Isometry3d moved = t;
+      moved.translation() += (0.5 * k / 60.0) * dir;
+      EXPECT_EQ(scene.linkDistance(link, moved, gap), kInf) << "step " << k;
+    }
+  }
+  EXPECT_FALSE(scene.linkSweepClear(link, t, -n, gap));
+  EXPECT_GE(scene.linkSweepLast(link, t, -n, gap), 0.005 - gap - 1e-9);
+}
+
 }  // namespace taskmap
