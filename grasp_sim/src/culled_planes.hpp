@@ -80,6 +80,7 @@ struct ShapePlanes {
   Eigen::Vector3d org = Eigen::Vector3d::Zero();
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
+  int node_pair = -1;   // the block of node planes holding two planes then padding (or -1)
   int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
   int count = 0;
   bool box = false;  // a box: planes [0, 6) its faces, the rest of the block padding
@@ -105,6 +106,9 @@ struct ShapePlanes {
     if (fmin.size() < e.bx.size()) fmin.resize(e.bx.size());
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
+    node_pair = -1;
+    for (int b = 0; b < node_planes; b += kPlaneBlock)
+      if (std::isinf(e.pr[b + 2]) && !std::isinf(e.pr[b + 1])) node_pair = b;
     facet_begin = e.facet_begin;
     box = e.is_box && count == kPlaneBlock;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
@@ -148,12 +152,11 @@ struct ShapePlanes {
       return lb;
     }
     for (int b = 0; b < node_planes; b += kPlaneBlock) {
-      const Block gb = nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
-                       nz.segment<kPlaneBlock>(b) * m.z() -
-                       (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
-                        az.segment<kPlaneBlock>(b) * e.z()) -
-                       h.segment<kPlaneBlock>(b);
-      if (raise(gb, b, limit, &lb, &node_hint)) break;
+      if (b == node_pair) {  // two planes and padding: the two alone (padding never raises it)
+        if (raise(nodeGaps<2>(b, m, e), b, limit, &lb, &node_hint)) break;
+        continue;
+      }
+      if (raise(nodeGaps<kPlaneBlock>(b, m, e), b, limit, &lb, &node_hint)) break;
     }
     return lb;
   }
@@ -298,6 +301,14 @@ struct ShapePlanes {
   }
 
  private:
+  /// n . m - |n| . e - h for the node planes [b, b + N) (a node box of centre m, half extent e).
+  template <int N>
+  Eigen::Array<double, N, 1> nodeGaps(int b, const Eigen::Vector3d& m,
+                                      const Eigen::Vector3d& e) const {
+    return nx.segment<N>(b) * m.x() + ny.segment<N>(b) * m.y() + nz.segment<N>(b) * m.z() -
+           (ax.segment<N>(b) * e.x() + ay.segment<N>(b) * e.y() + az.segment<N>(b) * e.z()) -
+           h.segment<N>(b);
+  }
   /// Transforms the planes [b, end) to the object frame (rot, org).
   void place(int b, int end) const {
     const int n = end - b;
