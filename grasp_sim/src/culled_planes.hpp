@@ -62,16 +62,25 @@ struct ShapePlanes {
   static constexpr int kBoxPlanes = 6;
   using BoxBlock = Eigen::Array<double, kBoxPlanes, 1>;
   static_assert(kPlaneBlock >= kBoxPlanes, "a box's faces fill its first block");
-  Eigen::ArrayXd nx, ny, nz, h;          // object-frame normals and offsets, ShapeEntry's layout
+  // Object-frame normals and offsets, ShapeEntry's layout (mutable: face blocks are placed on
+  // their first read, placed()).
+  mutable Eigen::ArrayXd nx, ny, nz, h;
   Eigen::ArrayXd ax, ay, az;             // |n| per component, node planes only
   mutable Eigen::ArrayXd fd0, fd1, fd2;  // faceGap: n . v_k of the last triangle, per corner
   mutable Eigen::ArrayXd fub[3];         // faceGap: per face block, its bound for corner k
+  mutable Eigen::ArrayXd fmin;           // faceGap: per face block, the smallest of the three
   mutable std::vector<char> fread;       // faceGap: per face block, whether it was computed
-  const ShapeEntry* fe = nullptr;        // the shape (its face blocks)
+  // Per face block, whether its planes are in the object frame yet: set() transforms the planes
+  // before the faces, a face block is transformed when first read (placed()), with the same
+  // arithmetic element by element (most questions never read most of a hull's faces: the base
+  // link of a Robotiq 2F-85 has 1555).
+  mutable std::vector<char> fplaced;
+  const ShapeEntry* fe = nullptr;                     // the shape (its face blocks)
   Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();  // shape frame -> object frame
   Eigen::Vector3d org = Eigen::Vector3d::Zero();
   // (The columns may be longer than count: entries from count on are stale.)
   int node_planes = 0;  // the first ones, tested on tree nodes
+  int node_pair = -1;   // the block of node planes holding two planes then padding (or -1)
   int facet_begin = 0;  // the ones before, tested on triangles; hulls: the face planes after
   int count = 0;
   bool box = false;  // a box: planes [0, 6) its faces, the rest of the block padding
@@ -81,6 +90,9 @@ struct ShapePlanes {
   // mostly culled by the same plane). Only the order of the planes changes: a bound above its
   // limit is above it whichever plane shows it, and a bound at or below it is the full maximum.
   mutable int node_hint = 0, tri_hint = 0;
+  // walkNearestFirst's stack (bound, node), kept with the planes (which callers keep per thread)
+  // rather than in a thread_local of its own: one lookup of thread-local storage less per walk.
+  mutable std::vector<std::pair<double, int>> walk_stack;
 
   void set(const ShapeEntry& e, const Eigen::Isometry3d& ts, const btVector3& amin,
            const btVector3& amax, double threshold) {
@@ -91,8 +103,12 @@ struct ShapePlanes {
     org = c;
     for (auto& u : fub)
       if (u.size() < e.bx.size()) u.resize(e.bx.size());
+    if (fmin.size() < e.bx.size()) fmin.resize(e.bx.size());
     count = static_cast<int>(e.pr.size());
     node_planes = e.node_planes;
+    node_pair = -1;
+    for (int b = 0; b < node_planes; b += kPlaneBlock)
+      if (std::isinf(e.pr[b + 2]) && !std::isinf(e.pr[b + 1])) node_pair = b;
     facet_begin = e.facet_begin;
     box = e.is_box && count == kPlaneBlock;
     // The columns only grow (shapes of one hand alternate between sizes); [0, count) is used.
@@ -100,11 +116,8 @@ struct ShapePlanes {
       for (Eigen::ArrayXd* a : {&nx, &ny, &nz, &h, &ax, &ay, &az, &fd0, &fd1, &fd2})
         a->resize(count);
     }
-    nx.head(count) = r(0, 0) * e.px + r(0, 1) * e.py + r(0, 2) * e.pz;
-    ny.head(count) = r(1, 0) * e.px + r(1, 1) * e.py + r(1, 2) * e.pz;
-    nz.head(count) = r(2, 0) * e.px + r(2, 1) * e.py + r(2, 2) * e.pz;
-    h.head(count) =
-        e.pr + (nx.head(count) * c.x() + ny.head(count) * c.y() + nz.head(count) * c.z());
+    place(0, facet_begin);
+    fplaced.assign(static_cast<std::size_t>((count - facet_begin) / kPlaneBlock), 0);
     ax.head(node_planes) = nx.head(node_planes).abs();
     ay.head(node_planes) = ny.head(node_planes).abs();
     az.head(node_planes) = nz.head(node_planes).abs();
@@ -113,6 +126,10 @@ struct ShapePlanes {
     cut = threshold + kCullSlack;
     qlo = eig(amin) - Eigen::Vector3d::Constant(threshold);
     qhi = eig(amax) + Eigen::Vector3d::Constant(threshold);
+  }
+  /// Every plane in the object frame now (tests that read the columns directly).
+  void placeAll() const {
+    for (std::size_t j = 0; j < fplaced.size(); ++j) placed(static_cast<int>(j));
   }
   /// Lower bound of the distance of a tree node's box from the shape (planes only); +inf
   /// outside the query box; stops early once above `limit`.
@@ -135,12 +152,11 @@ struct ShapePlanes {
       return lb;
     }
     for (int b = 0; b < node_planes; b += kPlaneBlock) {
-      const Block gb = nx.segment<kPlaneBlock>(b) * m.x() + ny.segment<kPlaneBlock>(b) * m.y() +
-                       nz.segment<kPlaneBlock>(b) * m.z() -
-                       (ax.segment<kPlaneBlock>(b) * e.x() + ay.segment<kPlaneBlock>(b) * e.y() +
-                        az.segment<kPlaneBlock>(b) * e.z()) -
-                       h.segment<kPlaneBlock>(b);
-      if (raise(gb, b, limit, &lb, &node_hint)) break;
+      if (b == node_pair) {  // two planes and padding: the two alone (padding never raises it)
+        if (raise(nodeGaps<2>(b, m, e), b, limit, &lb, &node_hint)) break;
+        continue;
+      }
+      if (raise(nodeGaps<kPlaneBlock>(b, m, e), b, limit, &lb, &node_hint)) break;
     }
     return lb;
   }
@@ -154,6 +170,7 @@ struct ShapePlanes {
     if ((tlo.array() > qhi.array()).any() || (thi.array() < qlo.array()).any())
       return std::numeric_limits<double>::infinity();
     const int k = tri_hint;
+    placedPlane(k);  // a face plane after a tight bound
     auto along = [&](int i, const Eigen::Vector3d& p) {
       return nx[i] * p.x() + ny[i] * p.y() + nz[i] * p.z();
     };
@@ -168,6 +185,7 @@ struct ShapePlanes {
     }
     const int end = tight ? count : facet_begin;
     for (int b = 0; b < end; b += kPlaneBlock) {
+      placedPlane(b);
       const Block gb = alongBlock(b, v[0]).min(alongBlock(b, v[1])).min(alongBlock(b, v[2])) -
                        h.segment<kPlaneBlock>(b);
       if (raise(gb, b, limit, &lb, &tri_hint)) break;
@@ -192,9 +210,9 @@ struct ShapePlanes {
           fe->bx * p.x() + fe->by * p.y() + fe->bz * p.z() + p.norm() * fe->bchord - fe->bmin;
     }
     fread.assign(static_cast<std::size_t>(nb), 0);
-    Eigen::Index top = 0;
-    const Eigen::ArrayXd ub = fub[0].head(nb).min(fub[1].head(nb)).min(fub[2].head(nb));
-    ub.maxCoeff(&top);
+    fmin.head(nb) = fub[0].head(nb).min(fub[1].head(nb)).min(fub[2].head(nb));
+    const auto ub = fmin.head(nb);
+    const int top = firstMax(ub);
     double g = -std::numeric_limits<double>::infinity();
     int rank = std::numeric_limits<int>::max();
     *face = -1;
@@ -202,6 +220,7 @@ struct ShapePlanes {
       const int blk = j < 0 ? static_cast<int>(top) : j;
       if (j == top || (j >= 0 && ub[j] + kCullSlack < g)) continue;
       const int b = facet_begin + blk * kPlaneBlock;
+      placed(blk);
       const Block a0 = alongBlock(b, v[0]), a1 = alongBlock(b, v[1]), a2 = alongBlock(b, v[2]);
       fd0.segment<kPlaneBlock>(b) = a0;
       fd1.segment<kPlaneBlock>(b) = a1;
@@ -264,7 +283,7 @@ struct ShapePlanes {
       if (fread[static_cast<std::size_t>(j)]) {
         if ((a.segment<kPlaneBlock>(b) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack)
           return false;
-      } else if (fub[corner][j] + kCullSlack >= -kInsideSlack &&
+      } else if (fub[corner][j] + kCullSlack >= -kInsideSlack && placed(j) &&
                  (alongBlock(b, v[static_cast<std::size_t>(corner)]) - h.segment<kPlaneBlock>(b))
                          .maxCoeff() >= -kInsideSlack) {
         return false;
@@ -275,11 +294,61 @@ struct ShapePlanes {
   /// True when `p` lies deeper than kInsideSlack inside every plane from `first` on.
   bool inside(const Eigen::Vector3d& p, int first) const {
     for (int b = first; b < count; b += kPlaneBlock)
-      if ((alongBlock(b, p) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack) return false;
+      if (placedPlane(b) &&
+          (alongBlock(b, p) - h.segment<kPlaneBlock>(b)).maxCoeff() >= -kInsideSlack)
+        return false;
     return true;
   }
 
  private:
+  /// n . m - |n| . e - h for the node planes [b, b + N) (a node box of centre m, half extent e).
+  template <int N>
+  Eigen::Array<double, N, 1> nodeGaps(int b, const Eigen::Vector3d& m,
+                                      const Eigen::Vector3d& e) const {
+    return nx.segment<N>(b) * m.x() + ny.segment<N>(b) * m.y() + nz.segment<N>(b) * m.z() -
+           (ax.segment<N>(b) * e.x() + ay.segment<N>(b) * e.y() + az.segment<N>(b) * e.z()) -
+           h.segment<N>(b);
+  }
+  /// Transforms the planes [b, end) to the object frame (rot, org).
+  void place(int b, int end) const {
+    const int n = end - b;
+    if (n <= 0) return;
+    const ShapeEntry& e = *fe;
+    const Eigen::Matrix3d& r = rot;
+    Eigen::ArrayXd &mx = nx, &my = ny, &mz = nz, &mh = h;
+    mx.segment(b, n) =
+        r(0, 0) * e.px.segment(b, n) + r(0, 1) * e.py.segment(b, n) + r(0, 2) * e.pz.segment(b, n);
+    my.segment(b, n) =
+        r(1, 0) * e.px.segment(b, n) + r(1, 1) * e.py.segment(b, n) + r(1, 2) * e.pz.segment(b, n);
+    mz.segment(b, n) =
+        r(2, 0) * e.px.segment(b, n) + r(2, 1) * e.py.segment(b, n) + r(2, 2) * e.pz.segment(b, n);
+    mh.segment(b, n) =
+        e.pr.segment(b, n) +
+        (mx.segment(b, n) * org.x() + my.segment(b, n) * org.y() + mz.segment(b, n) * org.z());
+  }
+  /// Face block j in the object frame (transformed on its first read); true.
+  bool placed(int j) const {
+    auto& f = fplaced[static_cast<std::size_t>(j)];
+    if (!f) {
+      const int b = facet_begin + j * kPlaneBlock;
+      place(b, b + kPlaneBlock);
+      f = 1;
+    }
+    return true;
+  }
+  /// The block of planes from b in the object frame; true.
+  bool placedPlane(int b) const {
+    return b < facet_begin || placed((b - facet_begin) / kPlaneBlock);
+  }
+  /// The first index of the largest entry (as Eigen's maxCoeff(&index); no NaN here): the
+  /// largest by a vector max, then the first entry equal to it.
+  template <class A>
+  static int firstMax(const A& a) {
+    const double m = a.maxCoeff();
+    int i = 0;
+    while (i + 1 < a.size() && !(a[i] == m)) ++i;
+    return i;
+  }
   /// min over the face planes of h_i - n_i . p, p = corner k of faceGap's triangle, except
   /// blocks faceGap skipped whose bound for p puts every face more than kCullSlack below g
   /// (those faces' h_i - n_i . p exceed -g: they cannot decide faceContact's test).
@@ -292,7 +361,7 @@ struct ShapePlanes {
       if (fread[static_cast<std::size_t>(j)])
         inside =
             std::min(inside, (h.segment<kPlaneBlock>(b) - a.segment<kPlaneBlock>(b)).minCoeff());
-      else if (!(fub[k][j] + kCullSlack < g))
+      else if (!(fub[k][j] + kCullSlack < g) && placed(j))
         inside = std::min(inside, (h.segment<kPlaneBlock>(b) - alongBlock(b, p)).minCoeff());
     }
     return inside;
@@ -367,7 +436,7 @@ void walkNearestFirst(const CollisionScene::Data& d, const ShapePlanes& pl, cons
     const auto& box = d.node_boxes[static_cast<std::size_t>(i)];
     return pl.nodeBound(box[0], box[1], cut);
   };
-  thread_local std::vector<std::pair<double, int>> stack;  // (bound, node)
+  std::vector<std::pair<double, int>>& stack = pl.walk_stack;  // (bound, node)
   stack.clear();
   stack.emplace_back(bound(0, pl.cut), 0);
   while (!stack.empty() && !stop()) {

@@ -97,6 +97,7 @@ void checkShape(const ShapeEntry& e, const std::vector<Eigen::Vector3d>& shape_p
     btVector3 amin, amax;
     e.shape->getAabb(bt(ts), amin, amax);
     pl.set(e, ts, amin, amax, 0.01);
+    pl.placeAll();
     ASSERT_EQ(pl.count % kPlaneBlock, 0);
     // Valid planes: no point of the shape beyond any (padding: +inf offsets).
     for (const auto& p : shape_points)
@@ -190,6 +191,9 @@ TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
     btVector3 amin, amax;
     e.shape->getAabb(bt(ts), amin, amax);
     pl.set(e, ts, amin, amax, 0.0);
+    pl.placeAll();
+    ShapePlanes lazy;  // face blocks placed as read: the same numbers
+    lazy.set(e, ts, amin, amax, 0.0);
     for (int k = 0; k < 300; ++k) {
       // A small triangle about a point inside the hull (scaled ellipsoid point) or near it.
       const Eigen::Vector3d c =
@@ -209,6 +213,10 @@ TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
       const double limit = 0.002 * g(rng);
       int face = -2;
       const double gap = pl.faceGap(v, limit, &face);
+      int lazy_face = -2;
+      EXPECT_EQ(lazy.faceGap(v, limit, &lazy_face), gap);
+      EXPECT_EQ(lazy_face, face);
+      EXPECT_EQ(lazy.bound(v, limit, true), pl.bound(v, limit, true));
       if (scan > limit + 1e-15) {
         EXPECT_GT(gap, limit);
         EXPECT_EQ(face, -1);
@@ -220,9 +228,11 @@ TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
         EXPECT_EQ(face, scan_face);
       }
       if (gap > limit) continue;
-      for (int c3 = 0; c3 < 3; ++c3)
+      for (int c3 = 0; c3 < 3; ++c3) {
         EXPECT_EQ(pl.insideFaces(v, c3),
                   pl.inside(v[static_cast<std::size_t>(c3)], pl.facet_begin));
+        EXPECT_EQ(lazy.insideFaces(v, c3), pl.insideFaces(v, c3));
+      }
       // The face contact by scan: the corners deepest below the gap's face, each at least -gap
       // inside every face.
       const double min_depth = 1e-9;
@@ -245,6 +255,13 @@ TEST(CulledPlanes, HullFaceGapAndContactMatchTheFaceScan) {
       double depth = 0.0;
       Eigen::Vector3d normal = Eigen::Vector3d::Zero(), point = Eigen::Vector3d::Zero();
       const bool ok = pl.faceContact(v, gap, face, min_depth, &depth, &normal, &point);
+      double lazy_depth = 0.0;
+      Eigen::Vector3d lazy_normal = Eigen::Vector3d::Zero(), lazy_point = lazy_normal;
+      EXPECT_EQ(lazy.faceContact(v, gap, face, min_depth, &lazy_depth, &lazy_normal, &lazy_point),
+                ok);
+      EXPECT_EQ(lazy_depth, depth);
+      EXPECT_EQ(lazy_normal, normal);
+      EXPECT_EQ(lazy_point, point);
       EXPECT_EQ(ok, scan_proven);
       if (ok && scan_proven) {
         EXPECT_EQ(depth, -gap);
