@@ -17,7 +17,7 @@ namespace taskmap {
 class HullSupportCells {
  public:
   /// Cells per cube face edge.
-  static constexpr int kCellsPerEdge = 8;
+  static constexpr int kCellsPerEdge = 16;
   /// Builds the lists for `points` (local frame). Empty points: no cells.
   explicit HullSupportCells(const std::vector<Eigen::Vector3d>& points);
   /// The candidates (indices into the points, ascending) of the cell holding direction `v`;

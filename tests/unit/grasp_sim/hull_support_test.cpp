@@ -94,8 +94,8 @@ TEST(HullSupport, CellsKeepFewCandidates) {
   std::vector<Eigen::Vector3d> pts;
   for (int i = 0; i < 100; ++i) pts.push_back(Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized());
   const HullSupportCells cells(pts);
-  EXPECT_EQ(cells.cellCount(), 6u * 64u);
-  EXPECT_LT(cells.meanCandidates(), 40.0);  // the point of the cells: far fewer than 100
+  EXPECT_EQ(cells.cellCount(), 6u * 256u);
+  EXPECT_LT(cells.meanCandidates(), 20.0);  // the point of the cells: far fewer than 100
   EXPECT_EQ(cells.cell(0.0, 0.0, 0.0), nullptr);
   EXPECT_EQ(cells.cell(std::nan(""), 1.0, 0.0), nullptr);
 }
