@@ -127,6 +127,7 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
       if (scene->linkLinkDistance(a, poses[ua], b, poses[ub], tol) <= tol) continue;
       self_pairs.emplace_back(a, b);
     }
+  if (lean_queries && diag.self_pair_proofs) dropPairsProvenApart(this);
   partners.assign(links.size(), {});
   for (const auto& pr : self_pairs) {
     partners[static_cast<std::size_t>(pr.first)].push_back(pr.second);

@@ -49,4 +49,10 @@ struct SimModel {
   void findCoupledGroups();
 };
 
+/// Drops from m->self_pairs every pair whose relative pose one actuated joint alone changes and
+/// that stays farther apart than the contact tolerance over that joint's whole range (proven by
+/// GJK samples and a bound on the links' speed; self_pair_proof.cpp): its self-collision test
+/// answers +inf at every pose a trial can reach, so no result changes.
+void dropPairsProvenApart(SimModel* m);
+
 }  // namespace taskmap

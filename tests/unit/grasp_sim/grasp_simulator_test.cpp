@@ -316,6 +316,21 @@ TEST(GraspSimulator, SelfCollisionAxesGiveTheSameTrials) {
   }
 }
 
+// Self-collision pairs proven apart over their joint's range (default) against testing every
+// pair: the same trials bit for bit (statuses, poses, joints, contacts, query counts) for the
+// knuckle jaw, whose six pairs are all proven apart (self_pair_proof_test.cpp), on a cylinder
+// its jaws grip.
+TEST(GraspSimulator, SelfPairProofsGiveTheSameTrials) {
+  const HandModel hand = HandModel::load(testing::testHandPath("knuckle_jaw"));
+  const TriangleMesh cylinder = testing::makeCylinder(0.03, 0.12, 32, 2);
+  GraspSimDiagnostics every;
+  every.self_pair_proofs = false;
+  const GraspSimulator proofs(cylinder, hand), plain(cylinder, hand, {}, every);
+  const auto poses =
+      randomPoses(60, Eigen::Vector3d(-0.03, -0.03, -0.06), Eigen::Vector3d(0.03, 0.03, 0.06));
+  EXPECT_GT(sameTrials(proofs, plain, poses, true), 0);  // the trials reach the closing
+}
+
 // FailureDetail::kStatus (what a build asks) against kFull on the same trials: the same status
 // on every trial, successful trials the same bit for bit; failures may end early, and on these
 // sets no_palm_contact trials do (fewer queries in all), for box hands and a hull palm, on the

@@ -37,6 +37,13 @@ struct GraspSimDiagnostics {
   /// false = GJK/EPA on every pair whose bounding spheres are within the threshold (the
   /// previous path, kept to compare).
   bool self_collision_axes = true;
+  /// Self-collision pairs: true = a pair whose relative pose one actuated joint alone changes
+  /// (the links of a mimic-coupled gripper) and that GJK samples, spaced by a bound on the
+  /// links' speed, prove farther apart than the contact tolerance over that joint's whole range
+  /// is not tested (docs/METHOD.md §2, "Self-collision pairs proven apart"): its test would
+  /// answer +inf at every pose, so the trials are the same bit for bit; false = every pair
+  /// tested. Needs culled_queries.
+  bool self_pair_proofs = true;
   /// Measure wall time per phase into GraspResult::stats (costs a few clock reads per trial).
   bool profile = false;
 };
