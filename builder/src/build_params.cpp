@@ -40,33 +40,26 @@ std::string nameOf(const json& v, const std::string& key) {
   if (!v.is_string()) wrongValue(key, "has the wrong type");
   return v.get<std::string>();
 }
-void fromJson(const json& v, const std::string& key, SamplerKind& out) {
+/// An enum by its name through `parse` (which throws Error on an unknown name).
+template <class E, class Parse>
+void enumFromJson(const json& v, const std::string& key, const char* what, Parse parse, E& out) {
   try {
-    out = samplerKindFromString(nameOf(v, key));
+    out = parse(nameOf(v, key));
   } catch (const Error& e) {
-    wrongValue(key, std::string("is not a sampler: ") + e.what());
+    wrongValue(key, std::string("is not a ") + what + ": " + e.what());
   }
+}
+void fromJson(const json& v, const std::string& key, SamplerKind& out) {
+  enumFromJson(v, key, "sampler", samplerKindFromString, out);
 }
 void fromJson(const json& v, const std::string& key, ContactModel& out) {
-  try {
-    out = contactModelFromString(nameOf(v, key));
-  } catch (const Error& e) {
-    wrongValue(key, std::string("is not a contact model: ") + e.what());
-  }
+  enumFromJson(v, key, "contact model", contactModelFromString, out);
 }
 void fromJson(const json& v, const std::string& key, VolumeMode& out) {
-  try {
-    out = volumeModeFromString(nameOf(v, key));
-  } catch (const Error& e) {
-    wrongValue(key, std::string("is not a volume mode: ") + e.what());
-  }
+  enumFromJson(v, key, "volume mode", volumeModeFromString, out);
 }
 void fromJson(const json& v, const std::string& key, Linkage& out) {
-  try {
-    out = linkageFromString(nameOf(v, key));
-  } catch (const Error& e) {
-    wrongValue(key, std::string("is not a linkage: ") + e.what());
-  }
+  enumFromJson(v, key, "linkage", linkageFromString, out);
 }
 void fromJson(const json& v, const std::string& key, WrenchNorm& out) {
   out = nameOf(v, key) == "linf" ? WrenchNorm::kLInf : WrenchNorm::kL1;

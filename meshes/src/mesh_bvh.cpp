@@ -91,6 +91,23 @@ const Eigen::Vector3d kDirections[] = {
     Eigen::Vector3d(-0.5571943, 0.7718357, 0.3063629).normalized(),
 };
 
+/// Moller-Trumbore after the parallel test: the ray p + t d against the triangle at corner `a`
+/// with edges e1, e2, where pvec = d x e2 and det = e1 . pvec (not ~0). False when (u, v) lies
+/// outside the triangle grown by kBaryTol; else the ray's t and the barycentric u, v.
+bool crossing(const Eigen::Vector3d& p, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
+              const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, const Eigen::Vector3d& pvec,
+              double det, double* t, double* u, double* v) {
+  const double inv_det = 1.0 / det;
+  const Eigen::Vector3d s = p - a;
+  *u = s.dot(pvec) * inv_det;
+  if (*u < -kBaryTol || *u > 1 + kBaryTol) return false;
+  const Eigen::Vector3d qvec = s.cross(e1);
+  *v = d.dot(qvec) * inv_det;
+  if (*v < -kBaryTol || *u + *v > 1 + kBaryTol) return false;
+  *t = e2.dot(qvec) * inv_det;
+  return true;
+}
+
 }  // namespace
 
 MeshBvh::MeshBvh(const TriangleMesh& mesh) {
@@ -217,13 +234,8 @@ MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector
         }
         continue;
       }
-      const double inv_det = 1.0 / det;
-      const double u = s.dot(pvec) * inv_det;
-      if (u < -kBaryTol || u > 1 + kBaryTol) continue;
-      const Eigen::Vector3d qvec = s.cross(e1);
-      const double v = d.dot(qvec) * inv_det;
-      if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
-      const double t = e2.dot(qvec) * inv_det;
+      double t = 0.0, u = 0.0, v = 0.0;
+      if (!crossing(p, d, a_[i], e1, e2, pvec, det, &t, &u, &v)) continue;
       if (t < -eps_) continue;
       if (t <= eps_) return Parity::kOnSurface;
       if (u < kBaryTol || v < kBaryTol || u + v > 1 - kBaryTol) return Parity::kAmbiguous;
@@ -368,14 +380,8 @@ double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, dou
       const Eigen::Vector3d pvec = d.cross(e2);
       const double det = e1.dot(pvec);
       if (std::abs(det) <= 1e-12 * n1_[i] * n2_[i]) continue;
-      const double inv_det = 1.0 / det;
-      const Eigen::Vector3d s = p - a_[i];
-      const double u = s.dot(pvec) * inv_det;
-      if (u < -kBaryTol || u > 1 + kBaryTol) continue;
-      const Eigen::Vector3d qvec = s.cross(e1);
-      const double v = d.dot(qvec) * inv_det;
-      if (v < -kBaryTol || u + v > 1 + kBaryTol) continue;
-      const double t = e2.dot(qvec) * inv_det;
+      double t = 0.0, u = 0.0, v = 0.0;
+      if (!crossing(p, d, a_[i], e1, e2, pvec, det, &t, &u, &v)) continue;
       if (t <= t_min || t > t_max) continue;
       if (t < best || (t == best && order_[i] < best_face)) {
         best = t;
