@@ -176,7 +176,11 @@ void Trial::close() {
 void Trial::closingStep() {
   const auto& closing = m_.hand.closing();
   const auto& levers = m_.hand.jointLevers();
-  // `rate` bounds the speed (metres per unit time) of every point of every moving link.
+  // `rate` bounds the speed (metres per unit time) of every point of every moving link, except
+  // for a link that one driver turns through two joints of the same sense (the humanoid's
+  // middle and distal phalanges): HandModel::jointLevers() keeps a driver's largest single lever,
+  // not their sum, so there the bound falls short by up to the second joint's lever (about 1.4x
+  // on the humanoid's distal links; docs/METHOD.md §2). Changing it changes those hands' maps.
   double rate = 0.0, dt_lim = kInf, dt_step = kInf;
   for (std::size_t c = 0; c < closing.size(); ++c) {
     if (!active_[c]) continue;
