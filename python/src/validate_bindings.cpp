@@ -19,19 +19,23 @@ py::dict summaryDict(const ValidationSummary& s) {
   return py::module_::import("json").attr("loads")(summaryJson(s)).cast<py::dict>();
 }
 
+/// `hand`, or the URDF the map was built with (refused with what to pass when not found).
+std::string handUrdf(const TaskMapData& map, const std::string& hand, const std::string& map_path,
+                     const char* who) {
+  if (!hand.empty()) return hand;
+  try {
+    return findMapHandUrdf(map);
+  } catch (const Error& e) {
+    throw Error(std::string(who) + ": map '" + map_path + "': " + e.what() + "; pass hand=PATH");
+  }
+}
+
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
                       double object_mass, double friction, double jaw_force, double contact_patch,
                       py::object progress) {
   TaskMapData map = readMap(map_path);
-  std::string urdf = hand;
-  if (urdf.empty()) {
-    try {
-      urdf = findMapHandUrdf(map);
-    } catch (const Error& e) {
-      throw Error("validate: map '" + map_path + "': " + e.what() + "; pass hand=PATH");
-    }
-  }
+  const std::string urdf = handUrdf(map, hand, map_path, "validate");
   ValidateOptions o;
   o.threads = threads;
   o.grasps = grasps;
@@ -64,6 +68,24 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   return summaryDict(s);
 }
 
+py::dict tracePath(const std::string& map_path, std::size_t grasp, const std::string& hand,
+                   double object_mass, double friction, double jaw_force, double contact_patch) {
+  std::string trace_json;
+  {
+    py::gil_scoped_release release;
+    const TaskMapData map = readMap(map_path);
+    const std::string urdf = handUrdf(map, hand, map_path, "trace_hold");
+    HoldTestOptions o;
+    o.object_mass = object_mass;
+    o.sliding_friction = friction;
+    o.jaw_force = jaw_force;
+    o.contact_patch = contact_patch;
+    const HandModel h = HandModel::load(urdf);
+    trace_json = traceJson(traceGrasp(map, h, grasp, o), h);
+  }
+  return py::module_::import("json").attr("loads")(trace_json).cast<py::dict>();
+}
+
 }  // namespace
 
 void bindValidate(py::module_& m) {
@@ -84,6 +106,16 @@ void bindValidate(py::module_& m) {
         "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
         "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
         "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps.");
+  m.def("trace_hold", &tracePath, py::arg("map"), py::arg("grasp"), py::arg("hand") = "",
+        py::arg("object_mass") = d.object_mass, py::arg("friction") = d.sliding_friction,
+        py::arg("jaw_force") = d.jaw_force, py::arg("contact_patch") = d.contact_patch,
+        "Runs the hold test of grasp `grasp` (index from 0) of the map at `map` and returns where "
+        "the object went (what `taskmap validate --trace I --json` prints; the map is not "
+        "written): status, holds, max_translation (m), max_rotation (rad), failed_direction, "
+        "initial_penetration, approach (the approach axis, palm frame) and samples, one after "
+        "each closing stage and each check of the pushes, with phase ('closing', 'squeeze' or "
+        "the push), step, translation, rotation, offset (palm frame, m), along_approach (m) and "
+        "contacts (link name: newtons). Other arguments as for validate.");
 }
 
 }  // namespace taskmap

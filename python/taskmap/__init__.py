@@ -5,7 +5,7 @@ reaches and validate grasps.
 ``import taskmap`` loads the run-time query library only (``taskmap._core``: the map store and
 the FLANN index), none of Bullet, assimp, qhull, urdfdom, CGAL, cairo or MuJoCo. The offline
 stages (``build``, ``dataset``, ``import_acronym``, ``recluster``, ``regress``, ``Robot``,
-``reach``, ``plan_grasp``, ``validate``, the robot's comfort costs ``joint_limit_cost`` and
+``reach``, ``plan_grasp``, ``validate``, ``trace_hold``, the robot's comfort costs ``joint_limit_cost`` and
 ``collision_cost``, and ``summary``, ``hand_info``, ``hand_init``, ``mesh_info``, ``picture``,
 ``export``, ``export_glb``, ``view``: what ``taskmap inspect``, ``hand-info``, ``hand-init``,
 ``mesh-info``, ``export``, ``export-glb`` and ``view`` report, draw and write) live in
@@ -22,7 +22,7 @@ __version__ = "0.1.0"
 
 # Names provided by taskmap._offline, imported when first used (PEP 562).
 _OFFLINE = frozenset({"build", "dataset", "import_acronym", "Robot", "reach", "plan_grasp",
-                      "validate", "joint_limit_cost", "collision_cost", "summary", "hand_info",
+                      "validate", "trace_hold", "joint_limit_cost", "collision_cost", "summary", "hand_info",
                       "mesh_info", "hand_init", "recluster", "regress", "picture",
                       "export", "export_glb", "view"})
 

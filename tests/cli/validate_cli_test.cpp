@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -79,6 +80,39 @@ TEST_F(ValidateCliTest, BuildKeepHoldingStoresOnlyGraspsThatHold) {
   EXPECT_NE(refused.code, 0);
   EXPECT_NE(refused.out.find("--keep-holding needs --validate"), std::string::npos) << refused.out;
   EXPECT_FALSE(fs::exists(path("never.h5")));
+}
+
+// --trace: one grasp's test stage by stage, as text and as JSON, the map left as it was; its
+// verdict is the grasp's label; an index past the grasps and -o are refused.
+TEST_F(ValidateCliTest, TraceShowsOneGraspStageByStage) {
+  const std::string map = buildBoxMap("traced.h5");
+  const auto bytes = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const std::string before = bytes(map);
+  const auto text = testing::runTaskmap("validate " + map + " --trace 0");
+  ASSERT_EQ(text.code, 0) << text.out;
+  for (const char* part : {"grasp 0 of", "along approach mm", "closing", "squeeze", "-x"})
+    EXPECT_NE(text.out.find(part), std::string::npos) << part << "\n" << text.out;
+  const auto json = testing::runTaskmap("validate " + map + " --trace 0 --json");
+  ASSERT_EQ(json.code, 0) << json.out;
+  const auto j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(bytes(map), before);  // nothing written
+  ASSERT_TRUE(j["samples"].is_array());
+  EXPECT_EQ(j["samples"][0]["phase"], "closing");
+  EXPECT_TRUE(j["samples"][0].contains("along_approach"));
+  const auto labelled =
+      testing::runTaskmap("validate " + map + " --threads 1 -o " + path("labels.h5"));
+  ASSERT_EQ(labelled.code, 0) << labelled.out;
+  EXPECT_EQ(j["holds"].get<bool>(), readMap(path("labels.h5")).validation->hold[0] == 1);
+  const auto past = testing::runTaskmap("validate " + map + " --trace 8");
+  EXPECT_NE(past.code, 0);
+  EXPECT_NE(past.out.find("grasp 8 is not in the map (it has 8 grasps"), std::string::npos)
+      << past.out;
+  const auto out = testing::runTaskmap("validate " + map + " --trace 0 -o " + path("x.h5"));
+  EXPECT_NE(out.code, 0);
+  EXPECT_NE(out.out.find("--trace writes nothing"), std::string::npos) << out.out;
 }
 
 TEST_F(ValidateCliTest, RefusesWhatIsNotAMapAndAnotherHand) {

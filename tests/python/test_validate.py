@@ -52,6 +52,17 @@ class ValidateTest(unittest.TestCase):
         # The labelled map reads back through the verified reader.
         self.assertEqual(len(taskmap.load(py_out)), 6)
 
+    def test_trace_is_the_command_lines(self):
+        t = taskmap.trace_hold(self.map, 0)
+        cli = json.loads(subprocess.run([CLI, "validate", self.map, "--trace", "0", "--json"],
+                                        check=True, capture_output=True, text=True).stdout)
+        self.assertEqual(t, cli)
+        self.assertEqual(t["samples"][0]["phase"], "closing")
+        self.assertIn(t["status"], ("holds", "slipped", "lost_in_closing", "penetration"))
+        with self.assertRaises(taskmap.Error) as e:
+            taskmap.trace_hold(self.map, 6)
+        self.assertIn("is not in the map", str(e.exception))
+
     def test_refuses_a_file_that_is_not_a_map(self):
         junk = os.path.join(self.dir.name, "junk.h5")
         with open(junk, "w") as f:

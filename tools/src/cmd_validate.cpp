@@ -25,6 +25,7 @@ struct ValidateArgs {
   std::string map, output, hand;
   ValidateOptions options;
   bool json = false, quiet = false, force = false;
+  long long trace = -1;  ///< >= 0: trace this grasp instead of labelling the map
 };
 
 nlohmann::ordered_json reportJson(const ValidationSummary& s, const ValidateArgs& a) {
@@ -35,10 +36,7 @@ nlohmann::ordered_json reportJson(const ValidationSummary& s, const ValidateArgs
   return j;
 }
 
-void runValidate(const ValidateArgs& args) {
-  if (!args.output.empty())
-    checkOutputPath(args.output, {args.map, args.hand}, OutputKind::kTaskMap, args.force);
-  TaskMapData map = readMap(args.map);
+HandModel mapHand(const TaskMapData& map, const ValidateArgs& args) {
   std::string urdf = args.hand;
   if (urdf.empty()) {
     try {
@@ -47,7 +45,29 @@ void runValidate(const ValidateArgs& args) {
       throw Error("validate: map '" + args.map + "': " + e.what() + "; pass --hand URDF");
     }
   }
-  const HandModel hand = HandModel::load(urdf);
+  return HandModel::load(urdf);
+}
+
+// --trace: one grasp's hold test with the object's path; the map is not written.
+void runTrace(const ValidateArgs& args) {
+  if (!args.output.empty()) throw Error("validate: --trace writes nothing; leave out -o");
+  const TaskMapData map = readMap(args.map);
+  const HandModel hand = mapHand(map, args);
+  const HoldTrace t =
+      traceGrasp(map, hand, static_cast<std::size_t>(args.trace), args.options.hold);
+  if (args.json)
+    std::cout << nlohmann::ordered_json::parse(traceJson(t, hand)).dump(2) << "\n";
+  else
+    std::cout << "taskmap validate: grasp " << args.trace << " of " << args.map << "\n"
+              << traceText(t, hand);
+}
+
+void runValidate(const ValidateArgs& args) {
+  if (args.trace >= 0) return runTrace(args);
+  if (!args.output.empty())
+    checkOutputPath(args.output, {args.map, args.hand}, OutputKind::kTaskMap, args.force);
+  TaskMapData map = readMap(args.map);
+  const HandModel hand = mapHand(map, args);
   const bool terminal = ::isatty(STDERR_FILENO) != 0 && !args.quiet;
   ValidateControl control;
   control.progress = [terminal](const ValidateProgress& p) {
@@ -104,7 +124,11 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
       ->capture_default_str();
-  cmd->add_flag("--json", a->json, "print the summary as JSON");
+  cmd->add_option("--trace", a->trace,
+                  "test only grasp I (index from 0) and print where the object goes and which "
+                  "links press it, stage by stage; writes nothing")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--json", a->json, "print the summary (or the --trace) as JSON");
   cmd->add_flag("--force", a->force, "replace an existing -o file that is not a task map");
   cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
   cmd->callback([a]() { runValidate(*a); });

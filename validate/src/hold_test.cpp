@@ -6,9 +6,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <mujoco/mujoco.h>
@@ -201,6 +203,7 @@ struct HoldTester::Impl {
   int object_body = -1;
   int object_qpos = -1;              // address of the free joint's 7 numbers
   std::vector<int> urdf_joint_qpos;  // per HandModel::joints(): qpos address, -1 if fixed
+  std::vector<int> body_link;        // per MuJoCo body: index into HandModel::links(), or -1
   mutable std::mutex pool_mutex;     // simulation states reused across test() calls
   mutable std::vector<DataPtr> pool;
 
@@ -238,9 +241,41 @@ struct HoldTester::Impl {
 
   void place(mjData* d, const Pose& palm, const Eigen::VectorXd& q) const;
   double penetration(const mjData* d) const;
-  bool close(mjData* d, const Eigen::VectorXd& from, const Eigen::VectorXd& to, int* steps) const;
-  HoldResult push(mjData* d, const mjData* closed, const mjtNum* start, HoldResult r) const;
+  /// Closing phase `phase` toward `to`; with `trace`, a sample after each stage.
+  bool close(mjData* d, const Eigen::VectorXd& from, const Eigen::VectorXd& to, int* steps,
+             const mjtNum* start, const char* phase, HoldTrace* trace) const;
+  HoldResult push(mjData* d, const mjData* closed, const mjtNum* start, HoldResult r,
+                  HoldTrace* trace) const;
+  HoldResult run(const Pose& palm, const Eigen::VectorXd& joints, HoldTrace* trace) const;
+  void record(const mjData* d, const mjtNum* start, const char* phase, int steps,
+              HoldTrace* trace) const;
 };
+
+// A sample of the object's pose and of the force each hand link presses it with (normal force
+// of each contact, mj_contactForce's first component, summed per link).
+void HoldTester::Impl::record(const mjData* d, const mjtNum* start, const char* phase, int steps,
+                              HoldTrace* trace) const {
+  if (!trace) return;
+  HoldTraceSample s;
+  s.phase = phase;
+  s.step = steps;
+  std::tie(s.translation, s.rotation) = displacement(d, start);
+  const mjtNum* q = d->qpos + object_qpos;
+  s.offset = Eigen::Vector3d(q[0] - start[0], q[1] - start[1], q[2] - start[2]);
+  std::map<int, double> force;
+  for (int c = 0; c < d->ncon; ++c) {
+    const mjContact& k = d->contact[c];
+    const int b1 = model->geom_bodyid[k.geom1], b2 = model->geom_bodyid[k.geom2];
+    if ((b1 == object_body) == (b2 == object_body)) continue;
+    const int link = body_link[static_cast<std::size_t>(b1 == object_body ? b2 : b1)];
+    if (link < 0) continue;
+    mjtNum f[6];
+    mj_contactForce(model, d, c, f);
+    force[link] += f[0];
+  }
+  for (const auto& [link, f] : force) s.contacts.push_back({link, f});
+  trace->samples.push_back(std::move(s));
+}
 
 void HoldTester::Impl::place(mjData* d, const Pose& palm, const Eigen::VectorXd& q) const {
   mj_resetData(model, d);
@@ -268,7 +303,8 @@ double HoldTester::Impl::penetration(const mjData* d) const {
 }
 
 bool HoldTester::Impl::close(mjData* d, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
-                             int* steps) const {
+                             int* steps, const mjtNum* start, const char* phase,
+                             HoldTrace* trace) const {
   const int n = options.interpolation_stages;
   for (int k = 1; k <= n; ++k) {
     const double t = static_cast<double>(k) / n;
@@ -276,12 +312,13 @@ bool HoldTester::Impl::close(mjData* d, const Eigen::VectorXd& from, const Eigen
     for (int s = 0; s < options.steps_per_stage; ++s) mj_step(model, d);
     *steps += options.steps_per_stage;
     if (!finite(d)) return false;
+    record(d, start, phase, *steps, trace);
   }
   return true;
 }
 
 HoldResult HoldTester::Impl::push(mjData* d, const mjData* closed, const mjtNum* start,
-                                  HoldResult r) const {
+                                  HoldResult r, HoldTrace* trace) const {
   const Eigen::Quaterniond r0(start[3], start[4], start[5], start[6]);
   const double force = options.push_per_mass * options.object_mass;
   const auto lost = displacement(closed, start);
@@ -304,6 +341,7 @@ HoldResult HoldTester::Impl::push(mjData* d, const mjData* closed, const mjtNum*
         r.failed_direction = dir;
         return r;
       }
+      record(d, start, pushDirectionNames()[static_cast<std::size_t>(dir)], r.steps, trace);
       const auto [dp, da] = displacement(d, start);
       r.max_translation = std::max(r.max_translation, dp);
       r.max_rotation = std::max(r.max_rotation, da);
@@ -342,6 +380,11 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
         j.type == JointType::kFixed ? -1 : mj_name2id(s.model, mjOBJ_JOINT, j.name.c_str());
     s.urdf_joint_qpos.push_back(id < 0 ? -1 : s.model->jnt_qposadr[id]);
   }
+  s.body_link.assign(static_cast<std::size_t>(s.model->nbody), -1);
+  for (std::size_t l = 0; l < hand.links().size(); ++l) {
+    const int id = mj_name2id(s.model, mjOBJ_BODY, ("link_" + std::to_string(l)).c_str());
+    if (id >= 0) s.body_link[static_cast<std::size_t>(id)] = static_cast<int>(l);
+  }
   s.info.object_pieces = static_cast<int>(pieces.pieces.size());
   s.info.object_volume_error = pieces.volumeError();
   s.info.object_decomposed = pieces.decomposed;
@@ -368,33 +411,44 @@ const HoldTestOptions& HoldTester::options() const {
   return impl_->options;
 }
 
-HoldResult HoldTester::test(const Pose& palm, const Eigen::VectorXd& joints) const {
-  const Impl& s = *impl_;
-  const Eigen::Index n = static_cast<Eigen::Index>(s.hand.jointNames().size());
+HoldResult HoldTester::Impl::run(const Pose& palm, const Eigen::VectorXd& joints,
+                                 HoldTrace* trace) const {
+  const Eigen::Index n = static_cast<Eigen::Index>(hand.jointNames().size());
   if (joints.size() != n)
     throw Error("hold test: " + std::to_string(joints.size()) + " joint values for hand '" +
-                s.hand.name() + "' with " + std::to_string(n) + " actuated joints");
-  const Eigen::VectorXd pre = s.hand.preshape();
-  const Eigen::VectorXd pregrasp = pre + s.options.pregrasp_fraction * (joints - pre);
-  const Eigen::VectorXd squeeze = pre + s.options.squeeze_fraction * (joints - pre);
-  DataPtr d = s.acquire(), closed = s.acquire();
+                hand.name() + "' with " + std::to_string(n) + " actuated joints");
+  const Eigen::VectorXd pre = hand.preshape();
+  const Eigen::VectorXd pregrasp = pre + options.pregrasp_fraction * (joints - pre);
+  const Eigen::VectorXd squeeze = pre + options.squeeze_fraction * (joints - pre);
+  DataPtr d = acquire(), closed = acquire();
   HoldResult r;
-  s.place(d.get(), palm, pregrasp);
-  r.initial_penetration = s.penetration(d.get());
+  place(d.get(), palm, pregrasp);
+  r.initial_penetration = penetration(d.get());
   mjtNum start[7];
-  std::memcpy(start, d->qpos + s.object_qpos, sizeof start);
-  if (r.initial_penetration > s.options.max_penetration) {
+  std::memcpy(start, d->qpos + object_qpos, sizeof start);
+  record(d.get(), start, "closing", 0, trace);
+  if (r.initial_penetration > options.max_penetration) {
     r.status = HoldStatus::kPenetration;
-  } else if (!s.close(d.get(), pregrasp, joints, &r.steps) ||
-             !s.close(d.get(), joints, squeeze, &r.steps)) {
+  } else if (!close(d.get(), pregrasp, joints, &r.steps, start, "closing", trace) ||
+             !close(d.get(), joints, squeeze, &r.steps, start, "squeeze", trace)) {
     r.status = HoldStatus::kUnstable;
   } else {
-    copyState(s.model, closed.get(), d.get());
-    r = s.push(d.get(), closed.get(), start, r);
+    copyState(model, closed.get(), d.get());
+    r = push(d.get(), closed.get(), start, r, trace);
   }
-  s.release(std::move(d));
-  s.release(std::move(closed));
+  release(std::move(d));
+  release(std::move(closed));
   return r;
+}
+
+HoldResult HoldTester::test(const Pose& palm, const Eigen::VectorXd& joints) const {
+  return impl_->run(palm, joints, nullptr);
+}
+
+HoldTrace HoldTester::trace(const Pose& palm, const Eigen::VectorXd& joints) const {
+  HoldTrace t;
+  t.result = impl_->run(palm, joints, &t);
+  return t;
 }
 
 }  // namespace taskmap

@@ -242,6 +242,18 @@ ObjectModel mapObjectModel(const TaskMapData& map) {
   return ObjectModel::fromMesh(mesh, o.name);
 }
 
+HoldTrace traceGrasp(const TaskMapData& map, const HandModel& hand, std::size_t grasp,
+                     const HoldTestOptions& options) {
+  options.validate();
+  checkHand(map, hand);
+  if (grasp >= map.grasps.size())
+    throw Error("validate: grasp " + std::to_string(grasp) + " is not in the map (it has " +
+                std::to_string(map.grasps.size()) + " grasps, indices from 0)");
+  const HoldTester tester(hand, mapObjectModel(map), options);
+  const Eigen::VectorXd q = map.grasps.joints.row(static_cast<Eigen::Index>(grasp)).transpose();
+  return tester.trace(map.grasps.poseAt(grasp), q);
+}
+
 ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
                               const ValidateOptions& options, const ValidateControl& control) {
   options.validate();

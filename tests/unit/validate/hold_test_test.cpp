@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <cmath>
 #include <string>
 
@@ -59,6 +61,50 @@ TEST(HoldTest, OpenJawsAroundTheBoxDoNotHold) {
   // Stored joints at the open limit: the jaws never close on the box.
   const HoldResult r = pandaOnBox().test(topGrasp(0.061), Eigen::Vector2d(0.04, 0.04));
   EXPECT_FALSE(r.holds);
+}
+
+// The traced test is the test: the same result, and a sample at the start, after each closing
+// stage and after each displacement check of the pushes it ran. Holding jaws press the box with
+// both fingers at the end of the squeeze, and it stays within millimetres; a hand that does not
+// touch lets the first push carry the box off, with no link pressing it.
+TEST(HoldTest, TraceIsTheTestWithTheObjectsPath) {
+  const HoldTester& t = pandaOnBox();
+  const HandModel hand = testing::pandaHand();
+  const HoldResult r = t.test(topGrasp(0.061), Eigen::Vector2d(0.02, 0.02));
+  const HoldTrace tr = t.trace(topGrasp(0.061), Eigen::Vector2d(0.02, 0.02));
+  EXPECT_EQ(tr.result.status, r.status);
+  EXPECT_EQ(tr.result.max_translation, r.max_translation);
+  EXPECT_EQ(tr.result.max_rotation, r.max_rotation);
+  EXPECT_EQ(tr.result.steps, r.steps);
+  const int stages = t.options().interpolation_stages;
+  const int checks =
+      static_cast<int>(std::lround(t.options().push_duration / t.options().timestep)) /
+      t.options().check_every;
+  ASSERT_EQ(tr.samples.size(), static_cast<std::size_t>(1 + 2 * stages + 6 * checks));
+  EXPECT_EQ(tr.samples.front().phase, "closing");
+  EXPECT_EQ(tr.samples[static_cast<std::size_t>(2 * stages)].phase, "squeeze");
+  EXPECT_EQ(tr.samples.back().phase, "+z");
+  EXPECT_EQ(tr.samples.back().step, r.steps);
+  const HoldTraceSample& squeezed = tr.samples[static_cast<std::size_t>(2 * stages)];
+  std::set<std::string> pressing;
+  for (const HoldTraceContact& c : squeezed.contacts) {
+    ASSERT_GE(c.link, 0);
+    ASSERT_LT(static_cast<std::size_t>(c.link), hand.links().size());
+    if (c.force > 1.0) pressing.insert(hand.links()[static_cast<std::size_t>(c.link)].name);
+  }
+  EXPECT_EQ(pressing.size(), 2u) << "both fingers press the box";
+  double most = 0.0;
+  for (const HoldTraceSample& s : tr.samples) {
+    EXPECT_NEAR(s.offset.norm(), s.translation, 1e-12);
+    if (s.phase != "closing" && s.phase != "squeeze") most = std::max(most, s.translation);
+  }
+  EXPECT_EQ(most, r.max_translation);  // the pushes' samples are the test's checks
+
+  const HoldTrace off = t.trace(topGrasp(0.5), Eigen::Vector2d(0.04, 0.04));
+  EXPECT_EQ(off.result.status, HoldStatus::kSlipped);
+  EXPECT_EQ(off.samples.back().phase, "-x");
+  EXPECT_GT(off.samples.back().translation, 0.05);
+  EXPECT_TRUE(off.samples.back().contacts.empty());
 }
 
 TEST(HoldTest, AHandStartingInsideTheObjectFails) {

@@ -83,6 +83,28 @@ TEST(ValidateMap, KeepHoldingKeepsTheHoldingRowsWithTheirContacts) {
                                    {"no hold labels", "validate it first"}));
 }
 
+// A map grasp's trace is the label validateMap gives it; an index past the grasps is refused.
+TEST(ValidateMap, TraceOfAGraspIsItsLabelWithThePath) {
+  TaskMapData map = boxMap();
+  ValidateOptions o;
+  o.threads = 1;
+  o.grasps = 2;
+  validateMap(&map, testing::pandaHand(), o);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const HoldTrace t = traceGrasp(map, testing::pandaHand(), i);
+    EXPECT_EQ(t.result.holds ? 1 : 0, map.validation->hold[i]);
+    EXPECT_EQ(t.result.max_translation, map.validation->translation[i]);
+    EXPECT_FALSE(t.samples.empty());
+    const std::string json = traceJson(t, testing::pandaHand());
+    EXPECT_NE(json.find("\"samples\""), std::string::npos);
+    EXPECT_NE(traceText(t, testing::pandaHand()).find(holdStatusName(t.result.status)),
+              std::string::npos);
+  }
+  EXPECT_TRUE(
+      testing::throwsError([&] { traceGrasp(map, testing::pandaHand(), map.grasps.size()); },
+                           {"grasp " + std::to_string(map.grasps.size()), "is not in the map"}));
+}
+
 TEST(ValidateMap, LabelsRoundTripThroughTheMapFile) {
   TaskMapData map = boxMap();
   ValidateOptions o;

@@ -111,6 +111,32 @@ struct HoldResult {
   int steps = 0;                     ///< simulation steps taken
 };
 
+/// The force one hand link presses on the object at a traced instant.
+struct HoldTraceContact {
+  int link = -1;       ///< index into HandModel::links()
+  double force = 0.0;  ///< summed normal force of its contacts with the object, N
+};
+
+/// The object and its contacts at one instant of a traced hold test (HoldTester::trace).
+struct HoldTraceSample {
+  /// "closing" (pregrasp to grasp), "squeeze" (grasp to squeeze target), or the name of the
+  /// push under way (pushDirectionNames(); each push starts again from the squeezed state).
+  std::string phase;
+  int step = 0;              ///< simulation steps of this test so far
+  double translation = 0.0;  ///< object's displacement from its start, metres
+  double rotation = 0.0;     ///< object's rotation from its start, radians
+  /// The displacement in the palm frame (the hand's base is fixed there), metres.
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  std::vector<HoldTraceContact> contacts;  ///< hand links touching the object, by link index
+};
+
+/// A hold test with the object's path: the result test() returns and a sample after each
+/// closing stage and each displacement check of the pushes.
+struct HoldTrace {
+  HoldResult result;                     ///< the same as HoldTester::test's
+  std::vector<HoldTraceSample> samples;  ///< in simulation order
+};
+
 /// Summary of the simulation model built for a hand and an object.
 struct HoldModelInfo {
   int object_pieces = 0;             ///< convex pieces of the object
@@ -144,6 +170,9 @@ class HoldTester {
   /// Tests the grasp: palm frame `palm` in the object frame, actuated joints `joints`
   /// (HandModel::jointNames() order, radians or metres). Throws Error on a size mismatch.
   HoldResult test(const Pose& palm, const Eigen::VectorXd& joints) const;
+  /// test() with the object's path recorded (HoldTrace): where the object goes and which links
+  /// press it, to see why a grasp fails. The same simulation: trace(p, q).result == test(p, q).
+  HoldTrace trace(const Pose& palm, const Eigen::VectorXd& joints) const;
 
   /// What the model holds.
   const HoldModelInfo& info() const;

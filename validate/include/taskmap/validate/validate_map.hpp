@@ -91,4 +91,22 @@ std::string holdParamsJson(const HoldTestOptions& options);
 /// The map's object as a solid (its stored mesh, already closed and in metres).
 ObjectModel mapObjectModel(const TaskMapData& map);
 
+/// The hold test of grasp `grasp` of `map` with the object's path (HoldTester::trace): why a
+/// grasp holds or fails. `hand` must be the map's hand. Throws Error when `grasp` is not a grasp
+/// index of the map or the hand does not match.
+HoldTrace traceGrasp(const TaskMapData& map, const HandModel& hand, std::size_t grasp,
+                     const HoldTestOptions& options = {});
+
+/// A trace as a JSON object, the form `taskmap validate --trace --json` and Python
+/// (`taskmap.trace_hold`) give: status, holds, max_translation (m), max_rotation (rad),
+/// failed_direction (a push name or null), initial_penetration (m), approach (the hand's approach
+/// axis in the palm frame) and samples, each with phase, step, translation, rotation, offset
+/// (palm frame, m), along_approach (offset . approach, m) and contacts (link name: newtons).
+std::string traceJson(const HoldTrace& trace, const HandModel& hand);
+
+/// A trace as `taskmap validate --trace` prints it: one line per sample (phase, step, the
+/// object's displacement, its part along the approach, rotation, links pressing it with their
+/// forces), then the verdict; lines end in '\n'.
+std::string traceText(const HoldTrace& trace, const HandModel& hand);
+
 }  // namespace taskmap
