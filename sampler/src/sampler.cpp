@@ -663,8 +663,8 @@ std::optional<std::pair<AntipodalPair, Pose>> Sampler::drawPalmJaw(Rng& rng) con
 // for every seed and thread. With p the accepted share, a trial finds a pose within n attempts
 // with probability 1 - (1 - p)^n; when that stays under kProbeMinFound at n = options.attempts
 // (an object that the jaws almost never span, a mug wider than the opening or the hand's
-// span), attempting costs more than it finds: no attempt, the mixed sampler's trials instead. antipodal_palm and palm_enclose (one
-// attempt: one surface point, its kEncloseRolls directions).
+// span), attempting costs more than it finds: no attempt, the mixed sampler's trials instead.
+// antipodal_palm and palm_enclose (one attempt: one surface point, its kEncloseRolls directions).
 int Sampler::probeAttempts() const {
   double min_w = 0.0, max_w = 0.0;
   if (options_.kind == SamplerKind::kAntipodalPalm) {
