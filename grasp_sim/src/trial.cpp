@@ -150,14 +150,7 @@ bool Trial::retract() {
 // the hand then stops touching, the palm is beyond tol_: placePalm's no_palm_contact (or, for
 // an approach, no touch at all: no_palm_contact too).
 bool Trial::palmStaysClear(double s, const Eigen::Vector3d& dir) const {
-  const Eigen::Isometry3d pm = at(s);
-  for (int l : m_.shaped) {
-    const auto u = static_cast<std::size_t>(l);
-    if (m_.hand.links()[u].palm &&
-        !m_.scene->linkSweepClear(l, pm * lp_[u], dir, tol_ + kSweepSlack))
-      return false;
-  }
-  return true;
+  return palmClearFrom(s, dir) < s;
 }
 
 // Ends a retraction whose palm provably stays clear from at(s) on: no_palm_contact.

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "taskmap/core/constants.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap {
@@ -14,7 +15,7 @@ const std::string& linkName(const HandModel& hand, int link) {
   return hand.links()[static_cast<std::size_t>(link)].name;
 }
 
-constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+constexpr double kDegrees = 180.0 / kPi;
 
 }  // namespace
 
