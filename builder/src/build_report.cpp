@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "taskmap/builder/sampler_choice.hpp"
+
 namespace taskmap {
 namespace {
 
@@ -41,6 +43,18 @@ std::string timingText(const BuildTiming& t, double write_seconds) {
     text += line;
   }
   return text;
+}
+
+/// Why the sampler was chosen, when a pilot chose it: " (pilot: mixed found F of 4 in T
+/// trials)", and when palm_enclose's probe then refused the object, why mixed stays.
+std::string samplerChoiceText(const SamplerChoice& c) {
+  if (!c.piloted) return "";
+  char line[200];
+  std::snprintf(line, sizeof line, " (pilot: mixed found %llu of %llu in %llu trials%s)",
+                static_cast<ull>(c.pilot_found), static_cast<ull>(kPilotFound),
+                static_cast<ull>(c.pilot_trials),
+                c.enclose_refused ? "; palm_enclose cannot place the hand on this object" : "");
+  return line;
 }
 
 }  // namespace
@@ -99,7 +113,7 @@ std::string buildSummaryText(const std::string& label, const BuildResult& result
   os << label << ": " << toString(result.status) << ": " << result.message << "\n";
   os << "  object    " << map.object.name << " (" << map.object.vertices.rows()
      << " vertices, scale " << map.object.scale << "), hand " << map.hand.name << ", sampler "
-     << map.sampling.sampler << "\n";
+     << map.sampling.sampler << samplerChoiceText(result.sampler_choice) << "\n";
   os << "  outcomes ";
   for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
   os << "\n";

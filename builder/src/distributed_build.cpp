@@ -16,6 +16,8 @@ BuildRank::BuildRank(const FileBuildOptions& options, bool coordinator)
   hand_ = std::make_unique<HandModel>(HandModel::load(plan_.hand_urdf));
   checkGraspOptions(plan_.options, *hand_, plan_.hand_urdf);
   runner_ = std::make_unique<TrialRunner>(*object_, *hand_, plan_.options);
+  // The map records the sampler the trials ran, and the checkpoint's identity reads it.
+  plan_.options.sampler.kind = runner_->samplerChoice().kind;
 }
 
 std::string BuildRank::runBlock(std::uint64_t b, std::uint64_t block_trials) const {
@@ -62,6 +64,7 @@ FileBuildResult DistributedBuild::finish(const BuildTiming& timing) {
   FileBuildResult r;
   r.threads = buildThreadCount(options.threads);
   r.build = assembleMap(rank_.object(), rank_.hand(), options, ledger_.takePrefix(), false, timing);
+  r.build.sampler_choice = rank_.samplerChoice();
   if (r.build.status == BuildStatus::kNoGrasps) {
     checkpoint_.remove();
     return r;

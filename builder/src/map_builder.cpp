@@ -1,6 +1,8 @@
 // The map-building pipeline: deterministic parallel trials in fixed blocks, then assembleMap.
 #include "taskmap/builder/map_builder.hpp"
 
+#include "taskmap/builder/sampler_choice.hpp"
+
 #include <ctime>
 #include <string>
 #include <vector>
@@ -8,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build_diagnosis.hpp"
+#include "taskmap/builder/sampler_choice.hpp"
 #include "taskmap/builder/size_check.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
@@ -78,13 +81,16 @@ int buildThreadCount(int threads) {
   return detail::threadCount(threads);
 }
 
-BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const BuildOptions& options,
-                     const BuildControl& control) {
-  options.validate();
+BuildResult buildMap(const ObjectModel& object, const HandModel& hand,
+                     const BuildOptions& requested, const BuildControl& control) {
+  requested.validate();
   control.validate();
-  if (options.check_size) requirePlausibleSize(object, hand);
+  if (requested.check_size) requirePlausibleSize(object, hand);
   const auto t_start = detail::Clock::now();
   BuildTiming timing;
+  const SamplerChoice choice = chooseSampler(object, hand, requested, control, &timing);
+  BuildOptions options = requested;
+  options.sampler.kind = choice.kind;
   const int threads = detail::threadCount(options.threads);
   const Sampler sampler(object, detail::samplerOptionsFor(options, hand));
   const GraspSimulator simulator(object, hand, options.simulation);
@@ -102,6 +108,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand, const Bui
   BuildResult result =
       assembleMap(object, hand, options, scheduler.takePrefixBlocks(), interrupted, timing);
   result.timing.wall_seconds = detail::secondsSince(t_start);
+  result.sampler_choice = choice;
   return result;
 }
 

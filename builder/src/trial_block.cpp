@@ -6,6 +6,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "taskmap/builder/sampler_choice.hpp"
 #include "taskmap/builder/size_check.hpp"
 #include "taskmap/core/error.hpp"
 #include "trial_pool.hpp"
@@ -181,6 +182,7 @@ struct TrialRunner::Impl {
   const Eigen::Vector3d com;
   const double torque_scale;
   BuildTiming timing;
+  SamplerChoice choice;
 
   Impl(const ObjectModel& object, const HandModel& hand, const BuildOptions& o)
       : options(o),
@@ -193,12 +195,22 @@ struct TrialRunner::Impl {
 };
 
 TrialRunner::TrialRunner(const ObjectModel& object, const HandModel& hand,
-                         const BuildOptions& options) {
-  options.validate();
-  if (options.check_size) requirePlausibleSize(object, hand);
+                         const BuildOptions& requested) {
+  requested.validate();
+  if (requested.check_size) requirePlausibleSize(object, hand);
   const auto t0 = detail::Clock::now();
+  BuildTiming pilot;
+  const SamplerChoice choice = chooseSampler(object, hand, requested, {}, &pilot);
+  BuildOptions options = requested;
+  options.sampler.kind = choice.kind;
   impl_ = std::make_unique<Impl>(object, hand, options);
+  impl_->choice = choice;
+  impl_->timing = pilot;
   impl_->timing.setup_seconds = detail::secondsSince(t0);
+}
+
+const SamplerChoice& TrialRunner::samplerChoice() const {
+  return impl_->choice;
 }
 
 TrialRunner::~TrialRunner() = default;

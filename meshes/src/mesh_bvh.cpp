@@ -2,6 +2,7 @@
 #include "mesh_bvh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -51,6 +52,16 @@ Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3
 namespace {
 
 constexpr int kLeafSize = 4;
+/// Centroid bins per axis of a surface-area split.
+constexpr int kSahBins = 16;
+/// Levels split by surface area; deeper nodes split at the median (bounded depth).
+constexpr int kMaxSahDepth = 32;
+
+/// The bin of coordinate x among kSahBins over [lo, lo + extent] (extent > 0).
+int binOf(double x, double lo, double extent) {
+  const int b = static_cast<int>(kSahBins * ((x - lo) / extent));
+  return std::clamp(b, 0, kSahBins - 1);
+}
 constexpr double kBaryTol = 1e-9;  ///< barycentric band around edges treated as ambiguous
 
 double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
@@ -59,12 +70,33 @@ double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo,
   return d.squaredNorm();
 }
 
-/// True when the ray p + t d (inv = 1 / d componentwise) meets the box for some t in
-/// [0, t_end]; *t_enter receives the entry parameter when given.
-bool rayHitsBox(const Eigen::Vector3d& p, const Eigen::Vector3d& inv, const Eigen::Vector3d& lo,
-                const Eigen::Vector3d& hi, double t_end = std::numeric_limits<double>::infinity(),
-                double* t_enter = nullptr) {
+/// A ray's origin and componentwise inverse direction, for slab tests.
+struct RaySlabs {
+  RaySlabs(const Eigen::Vector3d& origin, const Eigen::Vector3d& d)
+      : p(origin), inv(d.cwiseInverse()), finite(inv.allFinite()) {}
+  Eigen::Vector3d p, inv;
+  /// Every 1 / d component is finite: no slab product can be NaN (0 times infinity)
+  bool finite;
+};
+
+/// True when the ray p + t d meets the box for some t in [0, t_end]; *t_enter receives the
+/// entry parameter when given. With finite slabs, the same minima and maxima without the NaN
+/// guard or branches.
+bool rayHitsBox(const RaySlabs& r, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                double t_end = std::numeric_limits<double>::infinity(), double* t_enter = nullptr) {
+  const Eigen::Vector3d& p = r.p;
+  const Eigen::Vector3d& inv = r.inv;
   double t0 = 0, t1 = t_end;
+  if (r.finite) {
+    for (int k = 0; k < 3; ++k) {
+      const double a = (lo[k] - p[k]) * inv[k], b = (hi[k] - p[k]) * inv[k];
+      t0 = std::max(t0, std::min(a, b));
+      t1 = std::min(t1, std::max(a, b));
+    }
+    if (t0 > t1) return false;
+    if (t_enter != nullptr) *t_enter = t0;
+    return true;
+  }
   for (int k = 0; k < 3; ++k) {
     double a = (lo[k] - p[k]) * inv[k], b = (hi[k] - p[k]) * inv[k];
     if (std::isnan(a) || std::isnan(b)) {
@@ -117,13 +149,19 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
   std::vector<Eigen::Vector3d> centroids(n);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
+  TriangleBoxes boxes;
+  boxes.lo.resize(n);
+  boxes.hi.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& f = mesh.faces[i];
     centroids[i] = (mesh.vertices[f[0]] + mesh.vertices[f[1]] + mesh.vertices[f[2]]) / 3.0;
+    boxes.lo[i] = boxes.hi[i] = mesh.vertices[f[0]];
     for (int c = 0; c < 3; ++c) {
-      lo = lo.cwiseMin(mesh.vertices[f[c]]);
-      hi = hi.cwiseMax(mesh.vertices[f[c]]);
+      boxes.lo[i] = boxes.lo[i].cwiseMin(mesh.vertices[f[c]]);
+      boxes.hi[i] = boxes.hi[i].cwiseMax(mesh.vertices[f[c]]);
     }
+    lo = lo.cwiseMin(boxes.lo[i]);
+    hi = hi.cwiseMax(boxes.hi[i]);
   }
   eps_ = n > 0 ? 1e-12 * (hi - lo).norm() : 0.0;
   if (n > 0) {
@@ -136,7 +174,7 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
     e2_.resize(n);
     n1_.resize(n);
     n2_.resize(n);
-    build(0, static_cast<int>(n), centroids);
+    build(0, static_cast<int>(n), centroids, boxes, 0);
     for (std::size_t i = 0; i < n; ++i) {
       const auto& f = mesh.faces[static_cast<std::size_t>(order_[i])];
       a_[i] = mesh.vertices[f[0]];
@@ -173,7 +211,64 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
   }
 }
 
-int MeshBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centroids) {
+int MeshBvh::sahSplit(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
+                      const TriangleBoxes& boxes) {
+  struct Bin {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    int count = 0;
+  };
+  const auto area = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    const Eigen::Vector3d e = (hi - lo).cwiseMax(0.0);
+    return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
+  };
+  Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
+  for (int i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centroids[order_[i]]);
+    hi = hi.cwiseMax(centroids[order_[i]]);
+  }
+  double best_cost = std::numeric_limits<double>::infinity();
+  int best_axis = -1, best_bin = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double extent = hi[axis] - lo[axis];
+    if (!(extent > 0.0)) continue;
+    std::array<Bin, kSahBins> bins;
+    for (int i = begin; i < end; ++i) {
+      const int f = order_[i];
+      Bin& b = bins[binOf(centroids[f][axis], lo[axis], extent)];
+      b.lo = b.lo.cwiseMin(boxes.lo[f]);
+      b.hi = b.hi.cwiseMax(boxes.hi[f]);
+      ++b.count;
+    }
+    // Cost of splitting after bin k: area x count of each side, swept from both ends.
+    std::array<double, kSahBins> right_cost{};
+    Bin acc;
+    for (int k = kSahBins - 1; k > 0; --k) {
+      acc.lo = acc.lo.cwiseMin(bins[k].lo);
+      acc.hi = acc.hi.cwiseMax(bins[k].hi);
+      acc.count += bins[k].count;
+      right_cost[k] = acc.count > 0 ? area(acc.lo, acc.hi) * acc.count : -1.0;
+    }
+    acc = Bin();
+    for (int k = 0; k + 1 < kSahBins; ++k) {
+      acc.lo = acc.lo.cwiseMin(bins[k].lo);
+      acc.hi = acc.hi.cwiseMax(bins[k].hi);
+      acc.count += bins[k].count;
+      if (acc.count == 0 || right_cost[k + 1] < 0.0) continue;
+      const double cost = area(acc.lo, acc.hi) * acc.count + right_cost[k + 1];
+      if (cost < best_cost) best_cost = cost, best_axis = axis, best_bin = k;
+    }
+  }
+  if (best_axis < 0) return -1;
+  const double extent = hi[best_axis] - lo[best_axis];
+  const auto mid = std::stable_partition(order_.begin() + begin, order_.begin() + end, [&](int f) {
+    return binOf(centroids[f][best_axis], lo[best_axis], extent) <= best_bin;
+  });
+  return static_cast<int>(mid - order_.begin());
+}
+
+int MeshBvh::build(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
+                   const TriangleBoxes& boxes, int depth) {
   const int index = static_cast<int>(nodes_.size());
   nodes_.emplace_back();
   if (end - begin <= kLeafSize) {
@@ -181,21 +276,26 @@ int MeshBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centroids) 
     nodes_[index].end = end;
     return index;
   }
-  Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
-  for (int i = begin; i < end; ++i) {
-    lo = lo.cwiseMin(centroids[order_[i]]);
-    hi = hi.cwiseMax(centroids[order_[i]]);
+  // Surface-area splits above kMaxSahDepth levels, median splits below (a depth bound for the
+  // traversals' fixed stacks: at most kMaxSahDepth + log2(n) levels).
+  int mid = depth < kMaxSahDepth ? sahSplit(begin, end, centroids, boxes) : -1;
+  if (mid <= begin || mid >= end) {
+    Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
+    for (int i = begin; i < end; ++i) {
+      lo = lo.cwiseMin(centroids[order_[i]]);
+      hi = hi.cwiseMax(centroids[order_[i]]);
+    }
+    int axis = 0;
+    (hi - lo).maxCoeff(&axis);
+    mid = begin + (end - begin) / 2;
+    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                     [&](int x, int y) {
+                       const double cx = centroids[x][axis], cy = centroids[y][axis];
+                       return cx < cy || (cx == cy && x < y);
+                     });
   }
-  int axis = 0;
-  (hi - lo).maxCoeff(&axis);
-  const int mid = begin + (end - begin) / 2;
-  std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                   [&](int x, int y) {
-                     const double cx = centroids[x][axis], cy = centroids[y][axis];
-                     return cx < cy || (cx == cy && x < y);
-                   });
-  const int left = build(begin, mid, centroids);
-  const int right = build(mid, end, centroids);
+  const int left = build(begin, mid, centroids, boxes, depth + 1);
+  const int right = build(mid, end, centroids, boxes, depth + 1);
   nodes_[index].left = left;
   nodes_[index].right = right;
   return index;
@@ -203,14 +303,14 @@ int MeshBvh::build(int begin, int end, std::vector<Eigen::Vector3d>& centroids) 
 
 MeshBvh::Parity MeshBvh::rayParity(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const {
   if (nodes_.empty()) return Parity::kOutside;
-  const Eigen::Vector3d inv = d.cwiseInverse();
+  const RaySlabs ray(p, d);
   int winding = 0;  // exits minus entries along the ray
   int stack[128];
   int top = 0;
   stack[top++] = 0;
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
-    if (!rayHitsBox(p, inv, node.lo, node.hi)) continue;
+    if (!rayHitsBox(ray, node.lo, node.hi)) continue;
     if (node.left >= 0) {
       stack[top++] = node.left;
       stack[top++] = node.right;
@@ -336,18 +436,30 @@ bool MeshBvh::within(const Eigen::Vector3d& p, double r) const {
   return false;
 }
 
+// Moller-Trumbore; parallel rays (det ~ 0) do not cross the triangle.
+bool MeshBvh::rayCrosses(int i, const Eigen::Vector3d& p, const Eigen::Vector3d& d,
+                         double* t) const {
+  const Eigen::Vector3d& e1 = e1_[i];
+  const Eigen::Vector3d& e2 = e2_[i];
+  const Eigen::Vector3d pvec = d.cross(e2);
+  const double det = e1.dot(pvec);
+  if (std::abs(det) <= 1e-12 * n1_[i] * n2_[i]) return false;
+  double u = 0.0, v = 0.0;
+  return crossing(p, d, a_[i], e1, e2, pvec, det, t, &u, &v);
+}
+
 double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min,
                          double t_max, int* face) const {
   double best = std::numeric_limits<double>::infinity();
   int best_face = -1;
-  const Eigen::Vector3d inv = d.cwiseInverse();
+  const RaySlabs ray(p, d);
   // Boxes are searched nearest entry first, and a box entered past the range's end or the
   // best hit so far is skipped: a triangle in a box is crossed no earlier than the box is
   // entered (boxes are grown by eps_; the bound has a relative slack of 1e-9 besides, so
   // rounding never drops the hit the full search would return, ties by face index included).
   const auto bound = [&] { return std::min(t_max, best) * (1.0 + 1e-9) + eps_; };
   double t_root = 0.0;
-  if (nodes_.empty() || !rayHitsBox(p, inv, nodes_[0].lo, nodes_[0].hi, bound(), &t_root)) {
+  if (nodes_.empty() || !rayHitsBox(ray, nodes_[0].lo, nodes_[0].hi, bound(), &t_root)) {
     if (face != nullptr) *face = -1;
     return best;
   }
@@ -360,9 +472,8 @@ double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, dou
     const Node& node = nodes_[index];
     if (node.left >= 0) {
       double tl = 0.0, tr = 0.0;
-      const bool hl = rayHitsBox(p, inv, nodes_[node.left].lo, nodes_[node.left].hi, bound(), &tl);
-      const bool hr =
-          rayHitsBox(p, inv, nodes_[node.right].lo, nodes_[node.right].hi, bound(), &tr);
+      const bool hl = rayHitsBox(ray, nodes_[node.left].lo, nodes_[node.left].hi, bound(), &tl);
+      const bool hr = rayHitsBox(ray, nodes_[node.right].lo, nodes_[node.right].hi, bound(), &tr);
       // The farther child is pushed first, so the nearer one is searched first.
       if (hl && hr && tl <= tr) {
         stack[top++] = {node.right, tr};
@@ -374,15 +485,8 @@ double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, dou
       continue;
     }
     for (int i = node.begin; i < node.end; ++i) {
-      // Moller-Trumbore; parallel rays (det ~ 0) do not cross the triangle.
-      const Eigen::Vector3d& e1 = e1_[i];
-      const Eigen::Vector3d& e2 = e2_[i];
-      const Eigen::Vector3d pvec = d.cross(e2);
-      const double det = e1.dot(pvec);
-      if (std::abs(det) <= 1e-12 * n1_[i] * n2_[i]) continue;
-      double t = 0.0, u = 0.0, v = 0.0;
-      if (!crossing(p, d, a_[i], e1, e2, pvec, det, &t, &u, &v)) continue;
-      if (t <= t_min || t > t_max) continue;
+      double t = 0.0;
+      if (!rayCrosses(i, p, d, &t) || t <= t_min || t > t_max) continue;
       if (t < best || (t == best && order_[i] < best_face)) {
         best = t;
         best_face = order_[i];
@@ -390,6 +494,40 @@ double MeshBvh::firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, dou
     }
   }
   if (face != nullptr) *face = best_face;
+  return best;
+}
+
+double MeshBvh::firstHitAndAgain(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min,
+                                 double t_max, double gap, int* face, bool* again) const {
+  double best = std::numeric_limits<double>::infinity();
+  double last = -std::numeric_limits<double>::infinity();  // the farthest crossing seen
+  int best_face = -1;
+  const RaySlabs ray(p, d);
+  const double reach = t_max * (1.0 + 1e-9) + eps_;
+  int stack[128];
+  int top = 0;
+  if (!nodes_.empty()) stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (!rayHitsBox(ray, node.lo, node.hi, reach)) continue;
+    if (node.left >= 0) {
+      stack[top++] = node.right;
+      stack[top++] = node.left;
+      continue;
+    }
+    for (int i = node.begin; i < node.end; ++i) {
+      double t = 0.0;
+      if (!rayCrosses(i, p, d, &t) || t <= t_min || t > reach) continue;
+      last = std::max(last, t);
+      if (t > t_max) continue;
+      if (t < best || (t == best && order_[i] < best_face)) {
+        best = t;
+        best_face = order_[i];
+      }
+    }
+  }
+  if (face != nullptr) *face = best_face;
+  *again = best_face >= 0 && last > best + gap;
   return best;
 }
 

@@ -56,6 +56,13 @@ class MeshBvh {
   double firstHit(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min, double t_max,
                   int* face) const;
 
+  /// firstHit's answer (the same t and face), and in *again whether the ray crosses a triangle
+  /// at some t in (t_hit + gap, t_max] (searched up to t_max (1 + 1e-9) + eps: a true answer
+  /// may come from a crossing just past t_max, a false one is exact). One search of every box
+  /// the ray meets within the range, without firstHit's nearest-first cut.
+  double firstHitAndAgain(const Eigen::Vector3d& p, const Eigen::Vector3d& d, double t_min,
+                          double t_max, double gap, int* face, bool* again) const;
+
   /// Generalized winding number of the surface around p (1 inside, 0 outside), O(n).
   double windingNumber(const Eigen::Vector3d& p) const;
 
@@ -65,7 +72,19 @@ class MeshBvh {
     int left = -1, right = -1;  ///< children; -1 in a leaf
     int begin = 0, end = 0;     ///< triangle range in order_ for a leaf
   };
-  int build(int begin, int end, std::vector<Eigen::Vector3d>& centroids);
+  /// Whether the ray p + t d crosses the triangle at tree position i (not parallel to it,
+  /// within its barycentric tolerance), and where: *t.
+  bool rayCrosses(int i, const Eigen::Vector3d& p, const Eigen::Vector3d& d, double* t) const;
+  /// Boxes of the triangles (unpadded), by face index: what a split's surface-area cost reads.
+  struct TriangleBoxes {
+    std::vector<Eigen::Vector3d> lo, hi;
+  };
+  int build(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
+            const TriangleBoxes& boxes, int depth);
+  /// The split of order_[begin, end) by the surface-area heuristic over binned centroids, its
+  /// first index past the left part; -1 when no split separates the centroids.
+  int sahSplit(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
+               const TriangleBoxes& boxes);
 
   /// A regular grid over the root box (inside_grid.cpp): a cell whose bounding ball meets no
   /// triangle holds no surface point, so every point of it has the winding number of its

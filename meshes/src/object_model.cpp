@@ -220,22 +220,50 @@ bool ObjectModel::nearSurface(const Eigen::Vector3d& p, double distance) const {
   return impl_->bvh->within(p, distance);
 }
 
-std::optional<RayHit> ObjectModel::castRay(const Eigen::Vector3d& origin,
-                                           const Eigen::Vector3d& direction, double min_distance,
-                                           double max_distance) const {
+namespace {
+
+void checkRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double min_distance,
+              double max_distance) {
   if (!origin.allFinite() || !direction.allFinite() || std::abs(direction.norm() - 1.0) > 1e-9)
     throw Error("castRay needs a finite origin and a finite unit direction");
   if (!(min_distance >= 0.0) || !(max_distance > min_distance))
     throw Error("castRay needs 0 <= min_distance < max_distance (metres)");
+}
+
+}  // namespace
+
+std::optional<RayHit> ObjectModel::castRayAndAgain(const Eigen::Vector3d& origin,
+                                                   const Eigen::Vector3d& direction,
+                                                   double min_distance, double max_distance,
+                                                   double gap, bool* again) const {
+  checkRay(origin, direction, min_distance, max_distance);
+  if (!std::isfinite(gap) || gap < 0.0)
+    throw Error("castRayAndAgain needs a finite gap >= 0 (metres)");
   int face = -1;
-  const double t = impl_->bvh->firstHit(origin, direction, min_distance, max_distance, &face);
+  const double t = impl_->bvh->firstHitAndAgain(origin, direction, min_distance, max_distance, gap,
+                                                &face, again);
   if (face < 0) return std::nullopt;
+  return hitAt(origin, direction, t, face);
+}
+
+RayHit ObjectModel::hitAt(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t,
+                          int face) const {
   RayHit hit;
   hit.distance = t;
   hit.point = origin + t * direction;
   hit.normal = impl_->normals[static_cast<std::size_t>(face)];
   hit.face = face;
   return hit;
+}
+
+std::optional<RayHit> ObjectModel::castRay(const Eigen::Vector3d& origin,
+                                           const Eigen::Vector3d& direction, double min_distance,
+                                           double max_distance) const {
+  checkRay(origin, direction, min_distance, max_distance);
+  int face = -1;
+  const double t = impl_->bvh->firstHit(origin, direction, min_distance, max_distance, &face);
+  if (face < 0) return std::nullopt;
+  return hitAt(origin, direction, t, face);
 }
 
 Eigen::Vector3d ObjectModel::sampleInside(Rng& rng) const {

@@ -176,19 +176,52 @@ std::optional<std::pair<double, double>> chord(const ObjectModel& object, const 
   return std::make_pair(*plus, *minus);
 }
 
+/// A crossing more than this past a first hit may be one a walk restarting kStep past it finds
+/// (half of kStep: rounding of the restarted ray's distances cannot hide one), metres.
+constexpr double kAgainGap = 0.5 * kStep;
+
+/// The first crossings of the rays x + s d and x - s d (firstChord) and whether each ray crosses
+/// the surface again past its hit within the range chord() would walk it (castRayAndAgain, gap
+/// kAgainGap).
+struct FirstChord {
+  RayHit plus, minus;
+  bool again_plus = true, again_minus = true;
+};
+
 /// The chord of the solid through x (inside it) along d: distances to where the rays x + s d
 /// and x - s d first leave it, empty unless both fit within max_len together. A lower bound of
 /// chord()'s extent, two rays; the hits themselves (chord() walks on from them).
-std::optional<std::pair<RayHit, RayHit>> firstChord(const ObjectModel& object,
-                                                    const Eigen::Vector3d& x,
-                                                    const Eigen::Vector3d& d, double max_len) {
-  const std::optional<RayHit> plus = object.castRay(x, d, 0.0, max_len);
+std::optional<FirstChord> firstChord(const ObjectModel& object, const Eigen::Vector3d& x,
+                                     const Eigen::Vector3d& d, double max_len) {
+  FirstChord c;
+  const std::optional<RayHit> plus =
+      object.castRayAndAgain(x, d, 0.0, max_len, kAgainGap, &c.again_plus);
   if (!plus) return std::nullopt;
   const double rest = max_len - plus->distance;
   if (!(rest > 0.0)) return std::nullopt;
-  const std::optional<RayHit> minus = object.castRay(x, -d, 0.0, rest);
+  const std::optional<RayHit> minus =
+      object.castRayAndAgain(x, -d, 0.0, rest, kAgainGap, &c.again_minus);
   if (!minus) return std::nullopt;
-  return std::make_pair(*plus, *minus);
+  c.plus = *plus;
+  c.minus = *minus;
+  return c;
+}
+
+/// chord(object, x, d, max_len, true, first)'s answer: each side walks on from its first hit,
+/// and where the ray does not cross again within the walk's range (max_len for +d, what +d left
+/// for -d: firstChord's ranges) the walk ends there, an exit, without casting again.
+std::optional<std::pair<double, double>> walkedChord(const ObjectModel& object,
+                                                     const Eigen::Vector3d& x,
+                                                     const Eigen::Vector3d& d, double max_len,
+                                                     const FirstChord& f) {
+  if (f.again_plus || f.again_minus) {
+    const std::pair<RayHit, RayHit> first{f.plus, f.minus};
+    return chord(object, x, d, max_len, true, &first);
+  }
+  // reach(): after a lone hit the ray is inside when it entered there.
+  if (f.plus.normal.dot(d) < 0.0 || f.minus.normal.dot(-d) < 0.0) return std::nullopt;
+  if (!(f.plus.distance + f.minus.distance > 0.0)) return std::nullopt;
+  return std::make_pair(f.plus.distance, f.minus.distance);
 }
 
 /// The object's depth along w (unit) from the surface point q (on the surface, w into the
@@ -254,11 +287,19 @@ bool faceClear(const ObjectModel& object, const EncloseGeometry& g, const Eigen:
 
 /// No point of the open fingers is inside the object, nor within kFingerClearance of its
 /// surface (the inside tests first: a pose with a finger over a face fails after a few).
+/// `*first`: the index of the point found inside by the previous call of one draw, tested
+/// first (the same fingertip usually cuts the part at the next roll and point: one test instead
+/// of dozens); updated on each such failure. The answer does not depend on it.
 bool fingersOutside(const ObjectModel& object, const Pose& palm,
-                    const std::vector<Eigen::Vector3d>& points) {
+                    const std::vector<Eigen::Vector3d>& points, std::size_t* first) {
   const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
-  for (const Eigen::Vector3d& p : points)
-    if (object.contains(palm.position + r * p)) return false;
+  const auto inside = [&](std::size_t i) { return object.contains(palm.position + r * points[i]); };
+  if (*first < points.size() && inside(*first)) return false;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (i != *first && inside(i)) {
+      *first = i;
+      return false;
+    }
   for (const Eigen::Vector3d& p : points)
     if (object.nearSurface(palm.position + r * p, kFingerClearance)) return false;
   return true;
@@ -267,15 +308,16 @@ bool fingersOutside(const ObjectModel& object, const Pose& palm,
 struct Candidate {
   double width = 0.0, plus = 0.0, minus = 0.0;
   Eigen::Vector3d dir = Eigen::Vector3d::Zero();
-  std::optional<std::pair<RayHit, RayHit>> first;  ///< firstChord's hits (x inside the solid)
+  std::optional<FirstChord> first;  ///< firstChord's hits (x inside the solid)
 };
 
 /// One surface point: the kEncloseRolls directions across w = -n, narrowest chord first, each
-/// placed and checked; the first accepted pose.
+/// placed and checked; the first accepted pose. `finger_hint`: fingersOutside's `first`.
 std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g,
                              const Eigen::Vector3d& a,
                              const std::vector<Eigen::Vector3d>& finger_points,
-                             const SurfaceSample& q, double roll, double margin) {
+                             const SurfaceSample& q, double roll, double margin,
+                             std::size_t* finger_hint) {
   const Eigen::Vector3d w = -q.normal;
   const auto at_q = throughDepth(object, q.point, w, g.probe_depth);
   if (!at_q) return std::nullopt;
@@ -295,7 +337,7 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
     if (inside) {
       cands[k].first = firstChord(object, x, cands[k].dir, span);
       if (cands[k].first)
-        ch = std::make_pair(cands[k].first->first.distance, cands[k].first->second.distance);
+        ch = std::make_pair(cands[k].first->plus.distance, cands[k].first->minus.distance);
     } else {
       ch = chord(object, x, cands[k].dir, span, inside);
     }
@@ -319,7 +361,7 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
     if (inside) {
       // The first crossings bound the extent from below; the whole extent (a part that
       // continues past a gap) must fit too.
-      const auto ch = chord(object, x, cd.dir, span, inside, &*cd.first);
+      const auto ch = walkedChord(object, x, cd.dir, span, *cd.first);
       if (!ch) continue;
       cd.plus = ch->first, cd.minus = ch->second, cd.width = ch->first + ch->second;
     }
@@ -340,8 +382,10 @@ std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g
     // q's palm-frame coordinates: along c the chord's centre less its offset from x, along v
     // the grasp centre's.
     const Eigen::Vector2d face_cv(centre - 0.5 * (cd.plus - cd.minus), g.grasp_centre.y());
+    // Both checks must pass; the finger points first (they reject most candidates, the face's
+    // eight rays few).
+    if (!fingersOutside(object, pose, finger_points, finger_hint)) continue;
     if (!faceClear(object, g, q.point - kFaceClearance * w, face_cv, cd.dir, vw)) continue;
-    if (!fingersOutside(object, pose, finger_points)) continue;
     return pose;
   }
   return std::nullopt;
@@ -371,11 +415,12 @@ std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeom
                                     const Eigen::Vector3d& approach_axis,
                                     const std::vector<Eigen::Vector3d>& finger_points, int attempts,
                                     double margin, Rng& rng) {
+  std::size_t finger_hint = 0;
   for (int k = 0; k < attempts; ++k) {
     const SurfaceSample q = object.sampleSurface(rng);
     const double roll = rng.uniform(0.0, 2.0 * M_PI);
     std::optional<Pose> pose =
-        tryPoint(object, geometry, approach_axis, finger_points, q, roll, margin);
+        tryPoint(object, geometry, approach_axis, finger_points, q, roll, margin, &finger_hint);
     if (pose) return pose;
   }
   return std::nullopt;

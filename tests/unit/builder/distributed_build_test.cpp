@@ -49,6 +49,14 @@ class DistributedBuildTest : public ::testing::Test {
     EXPECT_TRUE(build.run().written);
     return bytesOf((dir_ / "one.h5").string());
   }
+  /// The real Allegro on the reference box: the default sampler comes from the pilot.
+  FileBuildOptions pilotRequest(const std::string& name) const {
+    FileBuildOptions o = request(name);
+    o.hand = std::string(TEST_DATA_DIR) +
+             "/real/hands/allegro_right/allegro_hand_description_right.urdf";
+    o.build.valid_target = 6;
+    return o;
+  }
   fs::path dir_;
 };
 
@@ -73,6 +81,23 @@ TEST_F(DistributedBuildTest, TwoRanksOutOfOrderWriteTheOneProcessMap) {
   ASSERT_TRUE(r.written) << r.build.message;
   EXPECT_EQ(bytesOf((dir_ / "two.h5").string()), expected);
   EXPECT_FALSE(fs::exists(dir_ / "two.h5.ckpt"));
+}
+
+TEST_F(DistributedBuildTest, ThePilotsSamplerGivesTheOneProcessMap) {
+  MapFileBuild one(pilotRequest("one.h5"));
+  const FileBuildResult single = one.run();
+  ASSERT_TRUE(single.written) << single.build.message;
+  EXPECT_EQ(single.build.sampler_choice.kind, SamplerKind::kPalmEnclose);
+  const BuildRank coordinator(pilotRequest("two.h5"), true);
+  const BuildRank worker(pilotRequest("two.h5"), false);
+  EXPECT_EQ(worker.samplerChoice().kind, SamplerKind::kPalmEnclose);
+  DistributedBuild book(coordinator, 5);
+  for (std::uint64_t b; book.next(&b);) book.accept(b, worker.runBlock(b, 5));
+  const FileBuildResult r = book.finish(coordinator.timing());
+  ASSERT_TRUE(r.written) << r.build.message;
+  EXPECT_TRUE(r.build.sampler_choice.piloted);
+  EXPECT_EQ(r.build.map.sampling.sampler, "palm_enclose");
+  EXPECT_EQ(bytesOf((dir_ / "two.h5").string()), bytesOf((dir_ / "one.h5").string()));
 }
 
 TEST_F(DistributedBuildTest, AStoppedRunResumesFromItsCheckpoint) {

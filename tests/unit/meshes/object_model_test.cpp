@@ -368,6 +368,88 @@ TEST(ObjectModelTest, CastRayMatchesABruteForceOracle) {
   }
 }
 
+TEST(ObjectModelTest, CastRayAlongAxesAndOnBoxPlanesMatchesTheOracle) {
+  // Directions with zero components (their slab tests divide by zero) from origins on the box's
+  // face planes, and random rays on a 16k-face scan (a tree deeper than the box's).
+  const ObjectModel box = ObjectModel::load(object("box"));  // x +-0.03, y +-0.04, z 0..0.12
+  const double planes[3][4] = {
+      {-0.03, 0.0, 0.03, 0.05}, {-0.04, 0.01, 0.04, 0.06}, {0.0, 0.06, 0.12, -0.01}};
+  int hits = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int sign = -1; sign <= 1; sign += 2)
+      for (double a : planes[(axis + 1) % 3])
+        for (double b : planes[(axis + 2) % 3]) {
+          Eigen::Vector3d o = Eigen::Vector3d::Zero(), d = Eigen::Vector3d::Zero();
+          o[axis] = -0.2 * sign;
+          o[(axis + 1) % 3] = a;
+          o[(axis + 2) % 3] = b;
+          d[axis] = sign;
+          const double expected = bruteForceRay(box.mesh(), o, d, 0.0);
+          const std::optional<RayHit> hit = box.castRay(o, d, 0.0);
+          ASSERT_EQ(hit.has_value(), std::isfinite(expected))
+              << o.transpose() << " " << d.transpose();
+          if (!hit) continue;
+          ++hits;
+          EXPECT_NEAR(hit->distance, expected, 1e-12) << o.transpose() << " " << d.transpose();
+        }
+  EXPECT_GE(hits, 6);  // the centre lines and the rays along the box's faces and edges
+  const ObjectModel scan =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_025_mug.obj");
+  Rng rng(11, 0);
+  for (int i = 0; i < 200; ++i) {
+    const SurfaceSample s = scan.sampleSurface(rng);
+    const Eigen::Vector3d o = s.point - 0.003 * s.normal, d = rng.direction();
+    const double expected = bruteForceRay(scan.mesh(), o, d, 0.0);
+    const std::optional<RayHit> hit = scan.castRay(o, d, 0.0);
+    ASSERT_EQ(hit.has_value(), std::isfinite(expected)) << "ray " << i;
+    if (hit) {
+      EXPECT_NEAR(hit->distance, expected, 1e-9) << "ray " << i;
+    }
+  }
+}
+
+TEST(ObjectModelTest, CastRayAndAgainIsCastRayWithTheCrossingsPastItsHit) {
+  // On the reference mug (a hollow: rays cross its walls several times) and the YCB mug scan,
+  // from inside the wall and from outside: the hit is castRay's, and `again` is whether the
+  // brute-force crossings (every triangle) include one in (hit + gap, range].
+  for (const std::string& path :
+       {object("mug"), std::string(TEST_DATA_DIR) + "/real/objects/ycb_025_mug.obj"}) {
+    SCOPED_TRACE(path);
+    const ObjectModel model = ObjectModel::load(path);
+    const TriangleMesh& mesh = model.mesh();
+    Rng rng(13, 0);
+    int again_true = 0, again_false = 0;
+    for (int i = 0; i < 200; ++i) {
+      const SurfaceSample s = model.sampleSurface(rng);
+      const Eigen::Vector3d o = s.point + (i % 2 == 0 ? -0.001 : 0.02) * s.normal;
+      const Eigen::Vector3d d = i % 2 == 0 ? rng.direction() : Eigen::Vector3d(-s.normal);
+      const double range = rng.uniform(0.01, 0.2), gap = 1e-7;
+      bool again = false;
+      const std::optional<RayHit> hit = model.castRayAndAgain(o, d, 0.0, range, gap, &again);
+      const std::optional<RayHit> plain = model.castRay(o, d, 0.0, range);
+      ASSERT_EQ(hit.has_value(), plain.has_value()) << "ray " << i;
+      if (!hit) {
+        EXPECT_FALSE(again);
+        continue;
+      }
+      EXPECT_EQ(hit->distance, plain->distance) << "ray " << i;
+      EXPECT_EQ(hit->face, plain->face) << "ray " << i;
+      // Crossings past the hit: the oracle's smallest t beyond hit + gap.
+      const double next = bruteForceRay(mesh, o, d, hit->distance + gap);
+      EXPECT_EQ(again, next <= range)
+          << "ray " << i << ": next crossing " << next << ", range " << range;
+      (again ? again_true : again_false) += 1;
+    }
+    EXPECT_GT(again_true, 10);
+    EXPECT_GT(again_false, 10);
+  }
+  const ObjectModel box = ObjectModel::load(object("box"));
+  bool again = false;
+  EXPECT_THROW(box.castRayAndAgain(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), 0.0, 1.0,
+                                   -1.0, &again),
+               Error);
+}
+
 TEST(ObjectModelTest, CastRayRefusesBadArguments) {
   const ObjectModel model = ObjectModel::load(object("box"));
   EXPECT_THROW(model.castRay(Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 1, 0)), Error);

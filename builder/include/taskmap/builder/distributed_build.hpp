@@ -36,8 +36,11 @@ class BuildRank {
   const FileBuildPlan& plan() const { return plan_; }           ///< validated options, hand URDF
   const ObjectModel& object() const { return *object_; }        ///< the loaded object
   const HandModel& hand() const { return *hand_; }              ///< the loaded hand
-  /// Stage CPU seconds and trials simulated by this process so far (setup included).
+  /// Stage CPU seconds and trials simulated by this process so far (setup and the sampler's
+  /// pilot included).
   const BuildTiming& timing() const { return runner_->timing(); }
+  /// The sampler the trials run and how it was chosen (TrialRunner::samplerChoice).
+  const SamplerChoice& samplerChoice() const { return runner_->samplerChoice(); }
 
  private:
   FileBuildOptions request_;

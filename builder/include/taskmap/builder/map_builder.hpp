@@ -130,11 +130,23 @@ using ProgressCallback = std::function<void(const BuildProgress&)>;
 using BuildControl = RunControl<BuildProgress>;
 
 /// Result of a build.
+/// How a build's sampler was chosen (chooseSampler, sampler_choice.hpp).
+struct SamplerChoice {
+  SamplerKind kind = SamplerKind::kMixed;  ///< the sampler the build runs
+  bool piloted = false;                    ///< a pilot of mixed trials decided
+  std::uint64_t pilot_trials = 0;          ///< mixed trials the pilot simulated
+  std::uint64_t pilot_found = 0;           ///< force-closure grasps among them
+  /// The pilot asked for palm_enclose, whose probe found that it cannot place the hand here
+  bool enclose_refused = false;
+};
+
 struct BuildResult {
   BuildStatus status = BuildStatus::kComplete;
   std::string message;  ///< one line for the user
   TaskMapData map;      ///< ready for writeMap (generator, created_utc filled in)
+  /// The stage CPU seconds include the sampler choice's pilot (sampler_choice.hpp)
   BuildTiming timing;
+  SamplerChoice sampler_choice;  ///< the sampler the build ran and how it was chosen
 };
 
 /// Runs the pipeline. Throws Error on invalid options and, unless options.check_size is false,

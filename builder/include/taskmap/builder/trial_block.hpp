@@ -61,7 +61,8 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
 /// sampler and the simulator once (BuildTiming::setup_seconds).
 class TrialRunner {
  public:
-  /// Throws Error on invalid options. object and hand must outlive the runner.
+  /// Throws Error on invalid options. object and hand must outlive the runner. An unset sampler
+  /// kind is chosen as buildMap chooses it (chooseSampler; its pilot's CPU is in timing()).
   TrialRunner(const ObjectModel& object, const HandModel& hand, const BuildOptions& options);
   ~TrialRunner();
   TrialRunner(const TrialRunner&) = delete;
@@ -73,8 +74,11 @@ class TrialRunner {
   bool run(std::uint64_t first, std::uint64_t last, TrialBlock* block,
            const std::atomic<bool>* stop = nullptr);
 
-  /// Stage times summed over every run() so far, setup included.
+  /// Stage times summed over every run() so far, setup and the sampler's pilot included.
   const BuildTiming& timing() const;
+
+  /// The sampler the trials run and how it was chosen.
+  const SamplerChoice& samplerChoice() const;
 
  private:
   struct Impl;

@@ -107,6 +107,14 @@ class ObjectModel {
   std::optional<RayHit> castRay(
       const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double min_distance = 0.0,
       double max_distance = std::numeric_limits<double>::infinity()) const;
+  /// castRay's hit (the same one), and in *again whether the ray crosses the surface again
+  /// past it: true when a crossing lies beyond hit + gap within max_distance (or up to 1e-9
+  /// relative past it: true may be spurious there, false is exact); false without a hit. For a
+  /// walk that would cast again from just past the hit (gap: its restart distance, metres);
+  /// throws as castRay does, and on a gap that is not finite and >= 0.
+  std::optional<RayHit> castRayAndAgain(const Eigen::Vector3d& origin,
+                                        const Eigen::Vector3d& direction, double min_distance,
+                                        double max_distance, double gap, bool* again) const;
   /// Uniform point inside the volume (rejection sampling in the bounds).
   Eigen::Vector3d sampleInside(Rng& rng) const;
   /// Area-weighted uniform point on the surface with its outward normal.
@@ -115,6 +123,9 @@ class ObjectModel {
   struct Impl;  ///< private implementation (CGAL, acceleration structures)
 
  private:
+  /// The hit at distance t on face `face` of the ray origin + t direction.
+  RayHit hitAt(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t,
+               int face) const;
   std::shared_ptr<const Impl> impl_;
 };
 
