@@ -28,7 +28,10 @@ SamplerChoice chooseSampler(const ObjectModel& object, const HandModel& hand,
     return choice;
   }
   choice.kind = defaultSamplerKind(hand);
-  if (choice.kind != SamplerKind::kMixed || !palmEnclosePossible(hand, options)) return choice;
+  // A trial budget below the pilot's: the pilot would spend more than the build may.
+  if (choice.kind != SamplerKind::kMixed || options.max_trials < kPilotTrials ||
+      !palmEnclosePossible(hand, options))
+    return choice;
   BuildOptions pilot = options;
   pilot.sampler.kind = SamplerKind::kMixed;
   pilot.seed = kPilotSeed;

@@ -101,7 +101,7 @@ TEST(SamplerChoiceTest, TrialRunnerRunsTheSameChoice) {
   EXPECT_GT(runner.timing().simulation_seconds, 0.0) << "the pilot's CPU is in the timing";
 }
 
-TEST(SamplerChoiceTest, NoPilotForAGivenKindJawsOrFingertipGrasps) {
+TEST(SamplerChoiceTest, NoPilotForAGivenKindJawsASmallBudgetOrFingertipGrasps) {
   BuildOptions given = defaultBuild(1);
   given.sampler.kind = SamplerKind::kVolume;
   const SamplerChoice g = chooseSampler(referenceBox(), allegro(), given);
@@ -112,6 +112,12 @@ TEST(SamplerChoiceTest, NoPilotForAGivenKindJawsOrFingertipGrasps) {
       chooseSampler(testing::boxObject(), testing::pandaHand(), defaultBuild(1));
   EXPECT_FALSE(jaws.piloted);
   EXPECT_EQ(jaws.kind, SamplerKind::kAntipodalPalm);
+
+  BuildOptions small = defaultBuild(1);
+  small.max_trials = kPilotTrials - 1;  // a budget below the pilot's
+  const SamplerChoice b = chooseSampler(referenceBox(), allegro(), small);
+  EXPECT_FALSE(b.piloted);
+  EXPECT_EQ(b.kind, SamplerKind::kMixed);
 
   BuildOptions tips = defaultBuild(1);
   tips.simulation.grasp_mode = GraspMode::kFingertip;

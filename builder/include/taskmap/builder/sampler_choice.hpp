@@ -20,7 +20,8 @@ constexpr std::uint64_t kPilotSeed = 0x70696c6f74ULL;  // "pilot"
 /// The sampler of a build: options.sampler.kind when set; else the hand's default
 /// (defaultSamplerKind: antipodal_palm for parallel jaws, mixed otherwise), except for a hand
 /// that palm_enclose can place (fingers closing across the approach axis, finger collision
-/// shapes, palm grasps that require the palm's contact): a pilot build of mixed trials (seed
+/// shapes, palm grasps that require the palm's contact), in a build whose trial budget
+/// (max_trials) is at least kPilotTrials: a pilot build of mixed trials (seed
 /// kPilotSeed, at most kPilotTrials trials, the build's simulation, quality and checks) keeps
 /// mixed when it finds kPilotFound force-closure grasps, else the build runs palm_enclose
 /// unless palm_enclose's probe finds that it cannot place the hand on this object.
