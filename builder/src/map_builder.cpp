@@ -1,8 +1,6 @@
 // The map-building pipeline: deterministic parallel trials in fixed blocks, then assembleMap.
 #include "taskmap/builder/map_builder.hpp"
 
-#include "taskmap/builder/sampler_choice.hpp"
-
 #include <ctime>
 #include <string>
 #include <vector>

@@ -212,21 +212,17 @@ MeshBvh::MeshBvh(const TriangleMesh& mesh) {
 }
 
 int MeshBvh::sahSplit(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
-                      const TriangleBoxes& boxes) {
+                      const TriangleBoxes& boxes, const Eigen::Vector3d& lo,
+                      const Eigen::Vector3d& hi) {
   struct Bin {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
     Eigen::Vector3d hi = -lo;
     int count = 0;
   };
-  const auto area = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-    const Eigen::Vector3d e = (hi - lo).cwiseMax(0.0);
+  const auto area = [](const Eigen::Vector3d& box_lo, const Eigen::Vector3d& box_hi) {
+    const Eigen::Vector3d e = (box_hi - box_lo).cwiseMax(0.0);
     return e.x() * e.y() + e.y() * e.z() + e.z() * e.x();
   };
-  Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
-  for (int i = begin; i < end; ++i) {
-    lo = lo.cwiseMin(centroids[order_[i]]);
-    hi = hi.cwiseMax(centroids[order_[i]]);
-  }
   double best_cost = std::numeric_limits<double>::infinity();
   int best_axis = -1, best_bin = 0;
   for (int axis = 0; axis < 3; ++axis) {
@@ -276,15 +272,15 @@ int MeshBvh::build(int begin, int end, const std::vector<Eigen::Vector3d>& centr
     nodes_[index].end = end;
     return index;
   }
+  Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;  // the centroids' box
+  for (int i = begin; i < end; ++i) {
+    lo = lo.cwiseMin(centroids[order_[i]]);
+    hi = hi.cwiseMax(centroids[order_[i]]);
+  }
   // Surface-area splits above kMaxSahDepth levels, median splits below (a depth bound for the
   // traversals' fixed stacks: at most kMaxSahDepth + log2(n) levels).
-  int mid = depth < kMaxSahDepth ? sahSplit(begin, end, centroids, boxes) : -1;
+  int mid = depth < kMaxSahDepth ? sahSplit(begin, end, centroids, boxes, lo, hi) : -1;
   if (mid <= begin || mid >= end) {
-    Eigen::Vector3d lo = centroids[order_[begin]], hi = lo;
-    for (int i = begin; i < end; ++i) {
-      lo = lo.cwiseMin(centroids[order_[i]]);
-      hi = hi.cwiseMax(centroids[order_[i]]);
-    }
     int axis = 0;
     (hi - lo).maxCoeff(&axis);
     mid = begin + (end - begin) / 2;

@@ -81,10 +81,10 @@ class MeshBvh {
   };
   int build(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
             const TriangleBoxes& boxes, int depth);
-  /// The split of order_[begin, end) by the surface-area heuristic over binned centroids, its
-  /// first index past the left part; -1 when no split separates the centroids.
+  /// The split of order_[begin, end) by the surface-area heuristic over binned centroids (their
+  /// box [lo, hi]), its first index past the left part; -1 when no split separates them.
   int sahSplit(int begin, int end, const std::vector<Eigen::Vector3d>& centroids,
-               const TriangleBoxes& boxes);
+               const TriangleBoxes& boxes, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
   /// A regular grid over the root box (inside_grid.cpp): a cell whose bounding ball meets no
   /// triangle holds no surface point, so every point of it has the winding number of its

@@ -129,7 +129,6 @@ using ProgressCallback = std::function<void(const BuildProgress&)>;
 /// Progress callback, interval and stop flag of a build (run_control.hpp).
 using BuildControl = RunControl<BuildProgress>;
 
-/// Result of a build.
 /// How a build's sampler was chosen (chooseSampler, sampler_choice.hpp).
 struct SamplerChoice {
   SamplerKind kind = SamplerKind::kMixed;  ///< the sampler the build runs
@@ -140,6 +139,7 @@ struct SamplerChoice {
   bool enclose_refused = false;
 };
 
+/// Result of a build.
 struct BuildResult {
   BuildStatus status = BuildStatus::kComplete;
   std::string message;  ///< one line for the user
