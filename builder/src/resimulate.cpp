@@ -56,7 +56,13 @@ Resimulation resimulateGrasp(const TaskMapData& map, const Pose& palm_in_object)
   GraspSimOptions simulation = params.options.simulation;
   simulation.validate();
   const GraspSimulator simulator(object, hand, simulation);
-  const GraspResult g = simulator.simulate(palm_in_object);
+  // A palm grasp is stored with the palm touching the surface, where a start a hair outside
+  // and one a hair inside take different branches of the approach (advance or back out);
+  // starting pressed in by the squeeze puts every start near it on one branch, the build's.
+  Pose start = palm_in_object;
+  if (simulation.grasp_mode.value_or(hand.graspMode()) == GraspMode::kPalm)
+    start.position += hand.squeeze() * (start.orientation * hand.approachAxis());
+  const GraspResult g = simulator.simulate(start);
   r.outcome = toString(g.status);
   r.message = g.message;
   r.final_pose = g.pose;

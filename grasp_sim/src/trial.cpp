@@ -66,7 +66,9 @@ double Trial::lap() {
 void Trial::finish(GraspStatus status, const std::string& msg) {
   res_.status = status;
   res_.message = msg;
-  res_.pose = Pose::fromIsometry(palm_);
+  Eigen::Isometry3d reported = palm_;
+  reported.translation() -= pressed_ * a_;
+  res_.pose = Pose::fromIsometry(reported);
   res_.joints = q_;
 }
 
@@ -273,7 +275,10 @@ bool Trial::placePalm() {
            "a finger touches the object before the palm when the hand leaves it");
     return false;
   }
-  if (palm_touch) palm_.translation() += (m_.squeeze + std::max(palm_gap, 0.0)) * a_;
+  if (palm_touch) {
+    palm_.translation() += (m_.squeeze + std::max(palm_gap, 0.0)) * a_;
+    pressed_ = m_.squeeze;
+  }
   return true;
 }
 

@@ -106,6 +106,9 @@ class Trial {
   Clock::time_point t0_;
 
   Eigen::Isometry3d palm_;
+  /// Metres along a_ the reported pose lies behind palm_: the palm's squeeze, once placePalm
+  /// pressed it (the pose is reported with the palm touching, not pressed into the object).
+  double pressed_ = 0.0;
   Eigen::Vector3d p0_, a_;
   Eigen::VectorXd q_;
   std::vector<Eigen::Isometry3d> lp_;  // link poses in the palm frame at q_ (or last evaluated)

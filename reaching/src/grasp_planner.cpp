@@ -30,6 +30,7 @@ void GraspPlanOptions::validate() const {
     throw Error("grasp plan options: via_height must be finite and >= 0 metres");
   if (screen_iterations < 0)
     throw Error("grasp plan options: screen_iterations must be >= 0 (0 = no screening)");
+  if (end_steps < 1) throw Error("grasp plan options: end_steps must be >= 1");
 }
 
 namespace {
@@ -99,6 +100,57 @@ void measure(const TrajectoryProblem& p, const TaskMap& map, ClusterPlan& plan) 
   });
 }
 
+/// Joint configuration near *q whose palm pose relative to the object is `target` (palm in the
+/// object frame): damped least-squares Newton steps on the relative pose (eq. 1.4-1.5), a joint
+/// that leaves its range clamped and frozen. False when it does not reach 1e-7 m and 1e-6 rad
+/// in 100 steps.
+bool solveRelativePose(const TrajectoryProblem& p, const Eigen::Isometry3d& target,
+                       Eigen::VectorXd* q) {
+  Kinematics kin(*p.robot);
+  const Eigen::VectorXd &lo = p.robot->lower(), &up = p.robot->upper();
+  std::vector<bool> held(static_cast<std::size_t>(q->size()), false);
+  for (int it = 0; it < 100; ++it) {
+    kin.update(*q);
+    Eigen::Matrix<double, 6, 1> e;
+    e.head<3>() = target.translation() - kin.relativePosition(p.body, p.reference);
+    e.tail<3>() =
+        rotationLog(target.linear() * kin.relativeRotation(p.body, p.reference).transpose());
+    if (e.head<3>().norm() < 1e-7 && e.tail<3>().norm() < 1e-6) return true;
+    Eigen::Matrix<double, 6, Eigen::Dynamic> j(6, q->size());
+    j.topRows<3>() = kin.relativePositionJacobian(p.body, p.reference);
+    j.bottomRows<3>() = kin.relativeAngularJacobian(p.body, p.reference);
+    for (Eigen::Index k = 0; k < q->size(); ++k)
+      if (held[static_cast<std::size_t>(k)]) j.col(k).setZero();
+    const Eigen::Matrix<double, 6, 6> a =
+        j * j.transpose() + 1e-8 * Eigen::Matrix<double, 6, 6>::Identity();
+    *q += j.transpose() * a.ldlt().solve(e);
+    for (Eigen::Index k = 0; k < q->size(); ++k) {
+      if ((*q)[k] < lo[k] || (*q)[k] > up[k]) held[static_cast<std::size_t>(k)] = true;
+      (*q)[k] = std::clamp((*q)[k], lo[k], up[k]);
+    }
+  }
+  return false;
+}
+
+/// Bends the last `steps` steps of the plan's trajectory onto its final nearest sample: q_t +=
+/// s(t) dq (smoothstep s from 0 to 1, clamped to the limits), dq taking the last step's palm to
+/// the sample's pose. False (the trajectory unchanged) when the IK does not get there.
+bool endOnSample(const TrajectoryProblem& p, const TaskMap& map, int steps, ClusterPlan& plan) {
+  std::vector<Eigen::VectorXd>& q = plan.optimization.cost.q;
+  Eigen::VectorXd end = q.back();
+  const Eigen::Isometry3d target =
+      map.data().grasps.poseAt(static_cast<std::size_t>(plan.grasp_index)).toIsometry();
+  if (!solveRelativePose(p, target, &end)) return false;
+  const Eigen::VectorXd dq = end - q.back();
+  const int n = std::min(steps, static_cast<int>(q.size()) - 1);
+  for (int k = 1; k <= n; ++k) {
+    const double s = static_cast<double>(k) / n, w = s * s * (3.0 - 2.0 * s);
+    Eigen::VectorXd& qt = q[q.size() - 1 - static_cast<std::size_t>(n - k)];
+    qt = (qt + w * dq).cwiseMax(p.robot->lower()).cwiseMin(p.robot->upper());
+  }
+  return true;
+}
+
 /// Optimises from one cluster's representative.
 ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank& rank,
                      const GraspPlanOptions& o, const RunControl<PlanProgress>& control,
@@ -135,12 +187,17 @@ ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank&
   plan.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   measure(p, map, plan);
+  if (o.end_on_sample) {
+    plan.ends_on_sample = endOnSample(p, map, o.end_steps, plan);
+    plan.sample_out_of_reach = !plan.ends_on_sample;
+    if (plan.ends_on_sample) measure(p, map, plan);  // clearance, limits, speed of the bent end
+  }
   return plan;
 }
 
 bool safe(const ClusterPlan& c) {
   return c.collision_free && c.joint_limit_margin >= 0.0 && c.velocity_ratio <= 1.0 + 1e-9 &&
-         c.iterations_to_manifold >= 0;
+         c.iterations_to_manifold >= 0 && !c.sample_out_of_reach;
 }
 
 // A plan stopped by the run control: the clusters optimised so far, the cheapest one best.
@@ -195,16 +252,25 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
                             plan.plans.begin());
   };
   plan.best = cheapest();
-  if (screen) {  // plans[i] started from ranking[i] (the reachable clusters come first)
+  // Screening: the cheapest is re-run in full; when the full run loses its place (it became
+  // unsafe, e.g. its sample out of reach), the new cheapest is re-run too, until the cheapest
+  // plan is a full one. plans[i] started from ranking[i] (the reachable clusters come first).
+  std::vector<bool> full(plan.plans.size(), !screen);
+  while (!full[static_cast<std::size_t>(plan.best)] && !control.stopRequested()) {
     plan.plans[plan.best] =
         planFrom(problem, map, plan.ranking[plan.best], options, control, plan.plans.size());
+    full[static_cast<std::size_t>(plan.best)] = true;
     plan.best = cheapest();
   }
+  if (control.stopRequested()) return interrupted(std::move(plan));
   const ClusterPlan& b = plan.plans[plan.best];
   plan.status = safe(b) ? GraspPlanStatus::kPlanned : GraspPlanStatus::kUnsafe;
-  plan.message = (safe(b) ? "planned: grasp " : "unsafe plan: grasp ") +
-                 std::to_string(b.grasp_index) + " of cluster " + std::to_string(b.grasp_cluster) +
-                 " after " + std::to_string(b.optimization.iterations) + " iterations";
+  plan.message =
+      (safe(b) ? "planned: grasp " : "unsafe plan: grasp ") + std::to_string(b.grasp_index) +
+      " of cluster " + std::to_string(b.grasp_cluster) + " after " +
+      std::to_string(b.optimization.iterations) + " iterations" +
+      (b.sample_out_of_reach ? " (the palm cannot be put on the grasp within the joint limits)"
+                             : "");
   return plan;
 }
 

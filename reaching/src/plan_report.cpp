@@ -41,10 +41,14 @@ nlohmann::json clusterJson(const ClusterPlan& c) {
                       {"joint_limit_margin_rad", c.joint_limit_margin},
                       {"velocity_ratio", c.velocity_ratio},
                       {"collision_free", c.collision_free},
+                      {"ends_on_sample", c.ends_on_sample},
                       {"cost", c.optimization.cost.total},
                       {"ms", c.milliseconds},
                       {"ms_per_iteration", c.milliseconds / std::max(1, it)}};
   if (c.min_clearance < 0.0) j["warning"] = clearanceWarning(c.min_clearance);
+  if (c.sample_out_of_reach)
+    j["warning"] = "the palm cannot be put on grasp " + std::to_string(c.grasp_index) +
+                   " within the joint limits";
   return j;
 }
 

@@ -64,7 +64,7 @@ TEST(CoupledClosing, MimicJawsCentreTheHandOnAnOffsetBox) {
     EXPECT_NEAR(r.stats.centring_shift, off, kTol);
     EXPECT_NEAR(r.pose.position.x(), 0.0, kTol);   // centred over the box
     EXPECT_NEAR(r.pose.position.y(), 0.0, 1e-12);  // not moved across the closing direction
-    EXPECT_NEAR(r.pose.position.z(), 0.05 - hand.squeeze(), kTol);  // palm pressed as before
+    EXPECT_NEAR(r.pose.position.z(), 0.05, kTol);  // palm touching (reported, squeeze undone)
     EXPECT_NEAR(r.joints[0], 0.5 * w - hand.squeeze(), kTol);
     for (const Contact& c : r.contacts) {
       EXPECT_GT(c.depth, 0.0);
@@ -173,7 +173,7 @@ TEST(FingertipGrasp, StandoffPinchWithoutThePalm) {
   const GraspResult p = power.simulate(fromAbove(Eigen::Vector3d(0.004, 0.0, 0.0)));
   ASSERT_EQ(p.status, GraspStatus::kOk) << p.message;
   EXPECT_TRUE(p.palm_contact);
-  EXPECT_NEAR(p.pose.position.z(), top - hand.squeeze(), kTol);
+  EXPECT_NEAR(p.pose.position.z(), top, kTol);  // the palm touching (reported, squeeze undone)
 
   // Standoff from the options; 0 = stop at the first contact (here the palm touches first).
   GraspSimOptions zero;

@@ -14,7 +14,10 @@
 /// (conservative advancement) until it touches; if it touches nothing within max_retraction the
 /// trial is kNoPalmContact. When the touching links at the exit do not include the palm (or a
 /// link fixed to it) the trial is kNoPalmContact (unless require_palm_contact is false). The
-/// palm is then pressed into the surface by the squeeze distance along +a.
+/// palm is then pressed into the surface by the squeeze distance along +a for the closing and
+/// the contacts; the reported pose is the pressed one moved back by the squeeze, the palm
+/// touching the surface (a palm stored 1 mm inside the object kicks it away in physics,
+/// docs/VALIDATION.md).
 ///
 /// Fingertip grasps (GraspMode::kFingertip, from the options or the hand sidecar): the palm is
 /// neither required nor pressed. From the exit pose (the first contact coming from outside)
@@ -140,7 +143,7 @@ struct GraspStats {
 struct GraspResult {
   GraspStatus status = GraspStatus::kNoFingerContact;  ///< outcome
   std::string message;                                 ///< human-readable detail
-  Pose pose;                                           ///< final palm pose in the object frame
+  Pose pose;  ///< final palm pose in the object frame (palm grasps: touching, the squeeze undone)
   Eigen::VectorXd joints;         ///< final values, HandModel::jointNames() order
   std::vector<Contact> contacts;  ///< pressed contacts; link indexes HandModel::links()
   std::vector<std::string> fingers_in_contact;  ///< HandModel::fingerNames() with a contact

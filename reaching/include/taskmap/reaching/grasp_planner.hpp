@@ -33,8 +33,8 @@ struct GraspPlanOptions {
   /// descent; a caller's on_iteration is called after the planner's own bookkeeping of each
   /// iteration (chained, not replaced)
   TrajectoryOptimizerOptions optimizer;
-  /// w_map,p and w_map,q: proximity 1e4 keeps the final pose within a millimetre of a sample
-  /// (docs/REACHING.md "Chosen weights").
+  /// w_map,p and w_map,q (docs/REACHING.md "Chosen weights"); the quality term can hold the
+  /// optimiser's last step millimetres off a sample, which end_on_sample corrects.
   MapCostWeights map_weights{1.0e4, 1.0};
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
@@ -44,6 +44,15 @@ struct GraspPlanOptions {
   /// re-run the cheapest (safe first) with the full optimizer.max_iterations (docs/REACHING.md
   /// "Screening"). 0 = off (every cluster optimised fully); >= 0. Default 5.
   int screen_iterations = 5;
+  /// End each plan on its final nearest sample (docs/REACHING.md "Ending on the sample"): the
+  /// last end_steps steps of the optimised trajectory are bent (smoothstep) onto the joint
+  /// configuration whose palm pose relative to the object is the sample's (damped
+  /// least-squares IK within the joint limits, to 1e-7 m and 1e-6 rad). A plan that cannot end
+  /// there is not safe (ClusterPlan::ends_on_sample). The optimised attractor points, costs
+  /// and convergence measures are the optimiser's; clearance, limits and velocities are
+  /// measured on the bent trajectory. false keeps the optimiser's last step.
+  bool end_on_sample = true;
+  int end_steps = 50;  ///< steps bent onto the sample (>= 1; fewer when the trajectory is shorter)
   /// Throws Error naming the field when a value is out of range.
   void validate() const;
 };
@@ -65,7 +74,12 @@ struct ClusterPlan {
   double joint_limit_margin = 0.0;  ///< smallest distance to a position limit, rad
   double velocity_ratio = 0.0;      ///< max |dq/dt| / velocity limit over the trajectory
   bool collision_free = false;      ///< min_clearance >= 0 (hand-object pairs excluded)
-  double milliseconds = 0.0;        ///< wall time of the optimisation
+  /// The trajectory ends on grasp_index's pose (GraspPlanOptions::end_on_sample).
+  bool ends_on_sample = false;
+  /// end_on_sample was asked and the IK could not put the palm on the sample within the joint
+  /// limits: the plan is not safe.
+  bool sample_out_of_reach = false;
+  double milliseconds = 0.0;  ///< wall time of the optimisation
 };
 
 /// Outcome of planGrasp.
