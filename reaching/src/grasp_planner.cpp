@@ -139,7 +139,7 @@ bool endOnSample(const TrajectoryProblem& p, const TaskMap& map, int steps, Clus
   std::vector<Eigen::VectorXd>& q = plan.optimization.cost.q;
   Eigen::VectorXd end = q.back();
   const Eigen::Isometry3d target =
-      map.data().grasps.poseAt(static_cast<std::size_t>(plan.grasp_index)).toIsometry();
+      map.data().grasps.poseAt(static_cast<std::size_t>(plan.nearest.back())).toIsometry();
   if (!solveRelativePose(p, target, &end)) return false;
   const Eigen::VectorXd dq = end - q.back();
   const int n = std::min(steps, static_cast<int>(q.size()) - 1);
@@ -186,12 +186,11 @@ ClusterPlan planFrom(TrajectoryProblem p, const TaskMap& map, const ClusterRank&
                                                   : optimizeTrajectory(p, {via, target}, opt);
   plan.milliseconds =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  measure(p, map, plan);
   if (o.end_on_sample) {
     plan.ends_on_sample = endOnSample(p, map, o.end_steps, plan);
     plan.sample_out_of_reach = !plan.ends_on_sample;
-    if (plan.ends_on_sample) measure(p, map, plan);  // clearance, limits, speed of the bent end
   }
+  measure(p, map, plan);  // of the trajectory as returned (bent onto the sample or not)
   return plan;
 }
 

@@ -6,8 +6,11 @@
 // re-simulation is force closure, whose joints equal the stored ones (within 1e-6), and that
 // hold (hold test of the re-simulated pose and joints, the validator's defaults).
 //
-//   resim_report MAP.h5 [--grasps N] [--offset "X Y Z" ...]   (palm-frame offsets of the
-//                                  start, millimetres; default "0 0 0")
+//   resim_report MAP.h5 [--grasps N] [--offset "X Y Z" ...] [--random N HALF SEED]
+//     --offset: a palm-frame offset of the starts, millimetres (default "0 0 0");
+//     --random: N offsets uniform in the cube of half-size HALF millimetres (seeded);
+//   resim_report MAP.h5 --start "X Y Z QW QX QY QZ"
+//     one re-simulation from that palm pose (object frame, metres), e.g. a plan's `start`.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -22,11 +25,14 @@
 int main(int argc, char** argv) {
   using namespace taskmap;
   if (argc < 2) {
-    std::fprintf(stderr, "usage: resim_report MAP.h5 [--grasps N] [--shift MM ...]\n");
+    std::fprintf(stderr,
+                 "usage: resim_report MAP.h5 [--grasps N] [--offset \"X Y Z\" ...] "
+                 "[--random N HALF SEED] | --start \"X Y Z QW QX QY QZ\"\n");
     return 2;
   }
   std::size_t limit = 1000000;
   std::vector<Eigen::Vector3d> shifts;
+  const char* start_pose = nullptr;
   for (int a = 2; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--grasps" && a + 1 < argc)
@@ -41,6 +47,8 @@ int main(int argc, char** argv) {
         for (int c = 0; c < 3; ++c) v[c] = 2.0 * std::rand() / RAND_MAX - 1.0;
         shifts.push_back(1e-3 * half * v);
       }
+    } else if (arg == "--start" && a + 1 < argc) {
+      start_pose = argv[++a];
     } else if (arg == "--offset" && a + 1 < argc) {
       Eigen::Vector3d v;
       if (std::sscanf(argv[++a], "%lf %lf %lf", &v.x(), &v.y(), &v.z()) != 3) return 2;
@@ -49,9 +57,11 @@ int main(int argc, char** argv) {
   }
   if (shifts.empty()) shifts = {Eigen::Vector3d::Zero()};
   const TaskMapData map = readMap(argv[1]);
-  if (const char* s = std::getenv("RESIM_START")) {
+  if (start_pose != nullptr) {
     Eigen::Matrix<double, 7, 1> v;
-    std::sscanf(s, "%lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6]);
+    if (std::sscanf(start_pose, "%lf %lf %lf %lf %lf %lf %lf", &v[0], &v[1], &v[2], &v[3], &v[4],
+                    &v[5], &v[6]) != 7)
+      return 2;
     const Resimulation r = resimulateGrasp(map, Pose::fromVector7(v));
     std::printf("%s fc %d eps %g retraction %g contacts %d fingers %zu\n", r.outcome.c_str(),
                 r.force_closure ? 1 : 0, r.epsilon, r.retraction_m, r.contacts, r.fingers.size());

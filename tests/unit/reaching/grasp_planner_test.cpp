@@ -18,14 +18,40 @@
 namespace taskmap {
 namespace {
 
+/// The Panda with the humanoid hand in the paper's basket scene (reference position), its
+/// collision model (the hand may touch the basket) and a 300-step reach from the ready pose.
+struct BasketScene {
+  BasketScene() : robot(withScene()), collisions(robot, handMayTouch()) {}
+  static ReachScene scene() {
+    return loadReachScene(std::string(TASKMAP_SOURCE_DIR) +
+                          "/reaching/scenes/basket_reference.json");
+  }
+  static RobotModel withScene() {
+    RobotModel r = test::pandaWithHand();
+    addSceneTo(scene(), r);
+    return r;
+  }
+  static CollisionOptions handMayTouch() {
+    CollisionOptions co;
+    co.hand_may_touch = {scene().object};
+    return co;
+  }
+  TrajectoryProblem problem() const {
+    TrajectoryProblem p;
+    p.robot = &robot;
+    p.collisions = &collisions;
+    p.body = robot.palmBody();
+    p.reference = robot.requireBody(scene().object);
+    p.q0 = test::readyPose();
+    p.reach.steps = 300;
+    return p;
+  }
+  RobotModel robot;
+  CollisionModel collisions;
+};
+
 TEST(GraspPlanner, ScreeningRerunsTheCheapestClusterInFull) {
-  RobotModel robot = test::pandaWithHand();
-  const ReachScene scene =
-      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json");
-  addSceneTo(scene, robot);
-  CollisionOptions co;
-  co.hand_may_touch = {scene.object};
-  const CollisionModel collisions(robot, co);
+  const BasketScene basket;
   TaskMapOptions mo;
   mo.quality_mode = QualityMode::kExact;
   // The synthetic basket map (one cluster per bar; the Panda reaches bar 2 only here) with bar 2
@@ -45,13 +71,7 @@ TEST(GraspPlanner, ScreeningRerunsTheCheapestClusterInFull) {
     }
   }
   const TaskMap map = TaskMap::fromData(data, mo);
-  TrajectoryProblem p;
-  p.robot = &robot;
-  p.collisions = &collisions;
-  p.body = robot.palmBody();
-  p.reference = robot.requireBody(scene.object);
-  p.q0 = test::readyPose();
-  p.reach.steps = 300;
+  const TrajectoryProblem p = basket.problem();
   GraspPlanOptions o;
   o.all_clusters = true;
   o.optimizer.max_iterations = 6;
@@ -95,21 +115,9 @@ TEST(GraspPlanner, ScreeningRerunsTheCheapestClusterInFull) {
 // planner's bookkeeping (it used to be replaced silently), progress comes once per iteration,
 // and a raised stop flag ends the plan as kInterrupted.
 TEST(GraspPlanner, ChainsTheCallersCallbackAndStopsOnTheFlag) {
-  RobotModel robot = test::pandaWithHand();
-  const ReachScene scene =
-      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json");
-  addSceneTo(scene, robot);
-  CollisionOptions co;
-  co.hand_may_touch = {scene.object};
-  const CollisionModel collisions(robot, co);
+  const BasketScene basket;
   const TaskMap map = TaskMap::fromData(testing::syntheticMap(300), {});
-  TrajectoryProblem p;
-  p.robot = &robot;
-  p.collisions = &collisions;
-  p.body = robot.palmBody();
-  p.reference = robot.requireBody(scene.object);
-  p.q0 = test::readyPose();
-  p.reach.steps = 300;
+  const TrajectoryProblem p = basket.problem();
   GraspPlanOptions o;
   o.optimizer.max_iterations = 3;
   int caller_calls = 0;
@@ -140,21 +148,10 @@ TEST(GraspPlanner, ChainsTheCallersCallbackAndStopsOnTheFlag) {
 // stays within the joint limits, and the optimiser's costs and measures are kept. Without it
 // the last step is the optimiser's, off the sample.
 TEST(GraspPlanner, EndsOnItsSampleWithinTheLimits) {
-  RobotModel robot = test::pandaWithHand();
-  const ReachScene scene =
-      loadReachScene(std::string(TASKMAP_SOURCE_DIR) + "/reaching/scenes/basket_reference.json");
-  addSceneTo(scene, robot);
-  CollisionOptions co;
-  co.hand_may_touch = {scene.object};
-  const CollisionModel collisions(robot, co);
+  const BasketScene basket;
+  const RobotModel& robot = basket.robot;
   const TaskMap map = TaskMap::fromData(testing::syntheticMap(300), {});
-  TrajectoryProblem p;
-  p.robot = &robot;
-  p.collisions = &collisions;
-  p.body = robot.palmBody();
-  p.reference = robot.requireBody(scene.object);
-  p.q0 = test::readyPose();
-  p.reach.steps = 300;
+  const TrajectoryProblem p = basket.problem();
   GraspPlanOptions o;
   o.optimizer.max_iterations = 4;
   o.end_on_sample = false;
