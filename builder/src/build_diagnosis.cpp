@@ -44,6 +44,10 @@ std::string adviceFor(const std::string& outcome) {
     return "grasps closed but the hold filter found none whose squeeze holds the free object: "
            "check the preshape and closing against the object size, or build without "
            "--hold-filter";
+  if (outcome == "weak_squeeze")
+    return "grasps closed but the fingers stopped so near their preshape that none presses the "
+           "object with the least squeeze force: check the preshape opening against the object "
+           "size, or build with --min-squeeze-force 0";
   if (outcome == "pushed")
     return "grasps reached force closure but the closing check found none whose closing keeps "
            "the free object in place: check the preshape and closing against the object size, "

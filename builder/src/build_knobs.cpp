@@ -102,6 +102,7 @@ BuildOptions buildOptionsOf(const BuildKnobs& k, KnobStyle style) {
   if (k.keep_invalid) o.stored = StoredGrasps::kAllCompleted;
   o.cluster = !k.no_cluster;
   o.hold_filter.enabled = k.hold_filter;
+  o.min_squeeze_force = k.min_squeeze_force;
   if (k.closing_check == "pushes_early")
     o.closing_check = ClosingCheckOptions::earlyVerdict();
   else

@@ -281,6 +281,10 @@ void visitParams(Io& io, P& p) {
   // Absent: every pressing contact (maps of earlier builds keep their params).
   if (!Io::kWriting || o.quality.contacts_per_link > 0)
     io("contacts_per_link", o.quality.contacts_per_link);
+  // Written when on; absent (maps built without the test, and before it existed) reads 0: off.
+  if constexpr (!Io::kWriting)
+    if (io.j.find("min_squeeze_force") == io.j.end()) o.min_squeeze_force = 0.0;
+  if (!Io::kWriting || o.min_squeeze_force > 0.0) io("min_squeeze_force", o.min_squeeze_force);
   visitHoldFilter(io, p);
   visitClosingCheck(io, p);
   auto& s = o.simulation;

@@ -5,8 +5,6 @@
 #include <cstdio>
 #include <sstream>
 
-#include "taskmap/builder/sampler_choice.hpp"
-
 namespace taskmap {
 namespace {
 
@@ -45,16 +43,9 @@ std::string timingText(const BuildTiming& t, double write_seconds) {
   return text;
 }
 
-/// Why the sampler was chosen, when a pilot chose it: " (pilot: mixed found F of 4 in T
-/// trials)", and when palm_enclose's probe then refused the object, why mixed stays.
+/// Why a default build runs mixed where the hand's default is palm_enclose.
 std::string samplerChoiceText(const SamplerChoice& c) {
-  if (!c.piloted) return "";
-  char line[200];
-  std::snprintf(line, sizeof line, " (pilot: mixed found %llu of %llu in %llu trials%s)",
-                static_cast<ull>(c.pilot_found), static_cast<ull>(kPilotFound),
-                static_cast<ull>(c.pilot_trials),
-                c.enclose_refused ? "; palm_enclose cannot place the hand on this object" : "");
-  return line;
+  return c.enclose_refused ? " (palm_enclose cannot place the hand on this object)" : "";
 }
 
 }  // namespace

@@ -102,4 +102,28 @@ SqueezeDrive squeezeDrive(const HandModel& hand, const Pose& palm, const Eigen::
   return drive;
 }
 
+double squeezeForce(const std::vector<Contact>& contacts, const SqueezeDrive& drive) {
+  if (drive.jacobians.size() != contacts.size())
+    throw Error("squeeze force: " + std::to_string(drive.jacobians.size()) + " Jacobians for " +
+                std::to_string(contacts.size()) + " contacts");
+  double force = 0.0;
+  for (std::size_t c = 0; c < contacts.size(); ++c) {
+    const auto& jac = drive.jacobians[c];
+    for (Eigen::Index a = 0; a < jac.rows(); ++a) {
+      const double lever = jac.row(a).norm();
+      const double e = drive.effort(a);
+      if (lever < 1e-9 || e * jac.row(a).dot(contacts[c].normal) >= 0.0) continue;
+      force = std::max(force, std::abs(e) / lever);
+    }
+  }
+  return force;
+}
+
+double graspSqueezeForce(const HandModel& hand, const Pose& palm, const Eigen::VectorXd& joints,
+                         const std::vector<Contact>& contacts) {
+  HoldFilterOptions drive_options;
+  drive_options.revolute_gripper_force = true;  // the hold test's drive
+  return squeezeForce(contacts, squeezeDrive(hand, palm, joints, contacts, drive_options));
+}
+
 }  // namespace taskmap

@@ -23,9 +23,11 @@ constexpr const char* kForceClosure = "force_closure";
 constexpr const char* kNotForceClosure = "not_force_closure";
 constexpr const char* kUnbalanced = "unbalanced";
 constexpr const char* kPushed = "pushed";
+constexpr const char* kWeakSqueeze = "weak_squeeze";
 
 std::string outcomeName(const TrialOutcome& t) {
   if (t.status != GraspStatus::kOk) return toString(t.status);
+  if (t.weak_squeeze) return kWeakSqueeze;
   if (t.unbalanced) return kUnbalanced;
   if (t.pushed) return kPushed;
   return t.force_closure ? kForceClosure : kNotForceClosure;

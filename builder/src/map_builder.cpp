@@ -1,6 +1,7 @@
 // The map-building pipeline: deterministic parallel trials in fixed blocks, then assembleMap.
 #include "taskmap/builder/map_builder.hpp"
 
+#include <cmath>
 #include <ctime>
 #include <string>
 #include <vector>
@@ -22,6 +23,8 @@ void BuildOptions::validate() const {
   quality.validate();
   hold_filter.validate();
   closing_check.validate();
+  if (!(min_squeeze_force >= 0.0) || !std::isfinite(min_squeeze_force))
+    throw Error("min_squeeze_force must be finite and >= 0 (N; 0 turns the test off)");
   if (valid_target < 1) throw Error("valid must be at least 1");
   if (max_trials < 1) throw Error("trials must be at least 1");
   if (valid_target > kMaxBuildCount)
@@ -86,7 +89,7 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand,
   if (requested.check_size) requirePlausibleSize(object, hand);
   const auto t_start = detail::Clock::now();
   BuildTiming timing;
-  const SamplerChoice choice = chooseSampler(object, hand, requested, control, &timing);
+  const SamplerChoice choice = chooseSampler(object, hand, requested);
   BuildOptions options = requested;
   options.sampler.kind = choice.kind;
   const int threads = detail::threadCount(options.threads);

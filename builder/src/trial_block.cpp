@@ -29,6 +29,7 @@ constexpr std::uint8_t kFlagForceClosure = 1;
 constexpr std::uint8_t kFlagGrasp = 2;
 constexpr std::uint8_t kFlagUnbalanced = 4;
 constexpr std::uint8_t kFlagPushed = 8;
+constexpr std::uint8_t kFlagWeakSqueeze = 16;
 
 class Writer {
  public:
@@ -132,7 +133,8 @@ std::string encodeTrialBlock(const TrialBlock& block) {
     w.put<std::uint8_t>(static_cast<std::uint8_t>(t.status));
     const auto flags = static_cast<std::uint8_t>(
         (t.force_closure ? kFlagForceClosure : 0) | (t.grasp ? kFlagGrasp : 0) |
-        (t.unbalanced ? kFlagUnbalanced : 0) | (t.pushed ? kFlagPushed : 0));
+        (t.unbalanced ? kFlagUnbalanced : 0) | (t.pushed ? kFlagPushed : 0) |
+        (t.weak_squeeze ? kFlagWeakSqueeze : 0));
     w.put<std::uint8_t>(flags);
     w.put<double>(t.epsilon);
     w.put<double>(t.volume);
@@ -155,7 +157,8 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (status >= statuses) r.fail("unknown grasp status " + std::to_string(status));
     t.status = static_cast<GraspStatus>(status);
     const auto flags = r.get<std::uint8_t>();
-    if ((flags & ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced | kFlagPushed)) != 0)
+    if ((flags &
+         ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced | kFlagPushed | kFlagWeakSqueeze)) != 0)
       r.fail("unknown trial flags");
     t.force_closure = (flags & kFlagForceClosure) != 0;
     t.unbalanced = (flags & kFlagUnbalanced) != 0;
@@ -164,6 +167,10 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     t.pushed = (flags & kFlagPushed) != 0;
     if (t.pushed && (t.force_closure || t.unbalanced || t.status != GraspStatus::kOk))
       r.fail("pushed trial that is force closure, unbalanced or not status ok");
+    t.weak_squeeze = (flags & kFlagWeakSqueeze) != 0;
+    if (t.weak_squeeze &&
+        (t.force_closure || t.unbalanced || t.pushed || t.status != GraspStatus::kOk))
+      r.fail("weak-squeeze trial that is force closure, unbalanced, pushed or not status ok");
     if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
     t.epsilon = r.get<double>();
     t.volume = r.get<double>();
@@ -199,13 +206,11 @@ TrialRunner::TrialRunner(const ObjectModel& object, const HandModel& hand,
   requested.validate();
   if (requested.check_size) requirePlausibleSize(object, hand);
   const auto t0 = detail::Clock::now();
-  BuildTiming pilot;
-  const SamplerChoice choice = chooseSampler(object, hand, requested, {}, &pilot);
+  const SamplerChoice choice = chooseSampler(object, hand, requested);
   BuildOptions options = requested;
   options.sampler.kind = choice.kind;
   impl_ = std::make_unique<Impl>(object, hand, options);
   impl_->choice = choice;
-  impl_->timing = pilot;
   impl_->timing.setup_seconds = detail::secondsSince(t0);
 }
 

@@ -137,6 +137,16 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
   if (g.status != GraspStatus::kOk) return t;
   ++times.scored;
   const double t0 = threadCpuSeconds();
+  if (options.min_squeeze_force > 0.0 &&
+      graspSqueezeForce(simulator.hand(), g.pose, g.joints, g.contacts) <
+          options.min_squeeze_force) {
+    t.weak_squeeze = true;
+    times.quality += threadCpuSeconds() - t0;
+    if (options.stored == StoredGrasps::kAllCompleted)
+      t.grasp = std::make_unique<TrialGrasp>(
+          TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
+    return t;
+  }
   if (options.hold_filter.enabled && !holds(g)) {
     t.unbalanced = true;
     times.quality += threadCpuSeconds() - t0;

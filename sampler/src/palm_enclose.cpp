@@ -285,23 +285,60 @@ bool faceClear(const ObjectModel& object, const EncloseGeometry& g, const Eigen:
   return true;
 }
 
+/// fingersOutside's memory within one draw: the last failing points and scratch buffers.
+struct FingerHint {
+  std::size_t inside = 0;  ///< the point last found inside
+  std::size_t near = 0;    ///< the point last found within kFingerClearance of the surface
+  std::vector<std::size_t> candidates;  ///< scratch: points within the object's grown bounds
+  std::vector<Eigen::Vector3d> world;   ///< scratch: their positions in the object frame
+};
+
 /// No point of the open fingers is inside the object, nor within kFingerClearance of its
 /// surface (the inside tests first: a pose with a finger over a face fails after a few).
-/// `*first`: the index of the point found inside by the previous call of one draw, tested
-/// first (the same fingertip usually cuts the part at the next roll and point: one test instead
-/// of dozens); updated on each such failure. The answer does not depend on it.
+/// `hint`: the indices of the points found inside and near the surface by the previous calls of
+/// one draw, tested first (the same fingertip usually cuts the part at the next roll and point:
+/// one test instead of dozens); updated on each such failure. Points outside the object's
+/// bounds grown by kFingerClearance are neither (no query). The answer does not depend on the
+/// hints or the bounds test.
 bool fingersOutside(const ObjectModel& object, const Pose& palm,
-                    const std::vector<Eigen::Vector3d>& points, std::size_t* first) {
+                    const std::vector<Eigen::Vector3d>& points, FingerHint* hint) {
   const Eigen::Matrix3d r = palm.orientation.toRotationMatrix();
-  const auto inside = [&](std::size_t i) { return object.contains(palm.position + r * points[i]); };
-  if (*first < points.size() && inside(*first)) return false;
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (i != *first && inside(i)) {
-      *first = i;
+  const MassProperties& mp = object.massProperties();
+  const Eigen::Vector3d lo = mp.bounds_min.array() - kFingerClearance;
+  const Eigen::Vector3d hi = mp.bounds_max.array() + kFingerClearance;
+  const auto inBounds = [&lo, &hi](const Eigen::Vector3d& x) {
+    return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all();
+  };
+  const auto world = [&](std::size_t i) { return Eigen::Vector3d(palm.position + r * points[i]); };
+  if (hint->inside < points.size()) {
+    const Eigen::Vector3d x = world(hint->inside);
+    if (inBounds(x) && object.contains(x)) return false;
+  }
+  // The points within the grown bounds, in order, with their world positions (the rest cannot
+  // fail either test).
+  hint->candidates.clear();
+  hint->world.clear();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d x = world(i);
+    if (!inBounds(x)) continue;
+    hint->candidates.push_back(i);
+    hint->world.push_back(x);
+  }
+  const std::size_t n = hint->candidates.size();
+  for (std::size_t k = 0; k < n; ++k)
+    if (hint->candidates[k] != hint->inside && object.contains(hint->world[k])) {
+      hint->inside = hint->candidates[k];
       return false;
     }
-  for (const Eigen::Vector3d& p : points)
-    if (object.nearSurface(palm.position + r * p, kFingerClearance)) return false;
+  if (hint->near < points.size()) {
+    const Eigen::Vector3d x = world(hint->near);
+    if (inBounds(x) && object.nearSurface(x, kFingerClearance)) return false;
+  }
+  for (std::size_t k = 0; k < n; ++k)
+    if (hint->candidates[k] != hint->near && object.nearSurface(hint->world[k], kFingerClearance)) {
+      hint->near = hint->candidates[k];
+      return false;
+    }
   return true;
 }
 
@@ -312,12 +349,12 @@ struct Candidate {
 };
 
 /// One surface point: the kEncloseRolls directions across w = -n, narrowest chord first, each
-/// placed and checked; the first accepted pose. `finger_hint`: fingersOutside's `first`.
+/// placed and checked; the first accepted pose. `finger_hint`: fingersOutside's.
 std::optional<Pose> tryPoint(const ObjectModel& object, const EncloseGeometry& g,
                              const Eigen::Vector3d& a,
                              const std::vector<Eigen::Vector3d>& finger_points,
                              const SurfaceSample& q, double roll, double margin,
-                             std::size_t* finger_hint) {
+                             FingerHint* finger_hint) {
   const Eigen::Vector3d w = -q.normal;
   const auto at_q = throughDepth(object, q.point, w, g.probe_depth);
   if (!at_q) return std::nullopt;
@@ -415,7 +452,7 @@ std::optional<Pose> drawPalmEnclose(const ObjectModel& object, const EncloseGeom
                                     const Eigen::Vector3d& approach_axis,
                                     const std::vector<Eigen::Vector3d>& finger_points, int attempts,
                                     double margin, Rng& rng) {
-  std::size_t finger_hint = 0;
+  FingerHint finger_hint;
   for (int k = 0; k < attempts; ++k) {
     const SurfaceSample q = object.sampleSurface(rng);
     const double roll = rng.uniform(0.0, 2.0 * M_PI);

@@ -58,8 +58,9 @@ class MpiBuild : public ::testing::Test {
   // The build arguments of every run: the basket with the three-finger hand, small.
   static std::string buildArgs(const std::string& out, int threads) {
     return " build --object " + std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj --hand " +
-           std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf --valid 60 --seed 3 -o " + out +
-           " --threads " + std::to_string(threads);
+           std::string(TASKMAP_HANDS_DIR) +
+           "/barrett/barrett.urdf --valid 60 --seed 3 --sampler mixed -o " + out + " --threads " +
+           std::to_string(threads);
   }
   static std::string taskmap() { return std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap"; }
   // taskmap-mpi on `ranks` ranks over loopback TCP, blocks of 64 trials.

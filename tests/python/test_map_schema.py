@@ -269,7 +269,8 @@ class MapSchemaTest(unittest.TestCase):
             s = f["sampling"].attrs
             self.assertEqual(len(fc), int(s["outcome_force_closure"]) +
                              int(s.get("outcome_not_force_closure", 0)) +
-                             int(s.get("outcome_unbalanced", 0)))
+                             int(s.get("outcome_unbalanced", 0)) +
+                             int(s.get("outcome_weak_squeeze", 0)))
 
     def test_bad_arguments_give_clear_errors(self):
         out = os.path.join(self.tmp, "never.h5")

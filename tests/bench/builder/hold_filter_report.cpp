@@ -7,7 +7,8 @@
 //   hold_filter_report [--tolerance T] [--push-tolerance T] [--joint-weight W] [--no-push]
 //                      [--kp-gripper] MAP.h5 ...
 // --kp-gripper drives a one-joint revolute gripper with kp_revolute, as before 2026-11-27
-// (HoldFilterOptions::revolute_gripper_force false).
+// (HoldFilterOptions::revolute_gripper_force false). Each row ends with the grasp's squeeze force
+// in newtons (graspSqueezeForce, the build's squeeze-force test: docs/METHOD.md §4e).
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -54,9 +55,10 @@ void report(const std::string& path, const taskmap::HoldFilterOptions& options) 
     quality_s += std::chrono::duration<double>(t2 - t1).count();
     const bool pass = r.balanced;
     (hold ? (pass ? tp : fn) : (pass ? fp : tn))++;
-    std::printf("row,%s,%zu,%d,%d,%.4f,%.4f,%d,%d,%.5f,%zu\n", path.c_str(), i, int(hold),
+    const double squeeze = taskmap::graspSqueezeForce(hand, map.grasps.poseAt(i), q, contacts);
+    std::printf("row,%s,%zu,%d,%d,%.4f,%.4f,%d,%d,%.5f,%zu,%.4f\n", path.c_str(), i, int(hold),
                 int(map.validation->status[i]), r.squeeze_residual, r.push_residual, r.failed_push,
-                int(pass), map.grasps.epsilon[i], contacts.size());
+                int(pass), map.grasps.epsilon[i], contacts.size(), squeeze);
   }
   std::printf("map,%s,TP %d,FP %d,FN %d,TN %d,filter us/grasp %.1f,quality us/grasp %.1f\n",
               path.c_str(), tp, fp, fn, tn, 1e6 * filter_s / std::max(1, tp + fp + fn + tn),

@@ -22,7 +22,7 @@ TEST(BuildKnobs, NamesAreUniqueSnakeCaseAndEveryKnobHasHelp) {
     for (char c : name) EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '_');
     EXPECT_GT(std::string(info.help).size(), 10u) << name;
   });
-  EXPECT_EQ(names.size(), 19u);
+  EXPECT_EQ(names.size(), 20u);
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kCommandLine), "--cone-edges");
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kPython), "cone_edges");
 }

@@ -25,6 +25,7 @@ TEST(ClosingCheckBuild, StoresOnlyGraspsThatPassAndCountsTheOthers) {
   o.valid_target = 4;
   o.threads = 1;
   o.closing_check.mode = ClosingCheckMode::kClosing;
+  o.sampler.kind = SamplerKind::kMixed;  // mixed grasps: most are pushed
   const BuildResult one = buildMap(testing::boxObject(), hand, o);
   ASSERT_EQ(one.status, BuildStatus::kComplete) << one.message;
   EXPECT_GT(one.map.sampling.outcomes.at("pushed"), 0u);

@@ -49,8 +49,8 @@ class DistributedBuildTest : public ::testing::Test {
     EXPECT_TRUE(build.run().written);
     return bytesOf((dir_ / "one.h5").string());
   }
-  /// The real Allegro on the reference box: the default sampler comes from the pilot.
-  FileBuildOptions pilotRequest(const std::string& name) const {
+  /// The real Allegro on the reference box: the default sampler is palm_enclose.
+  FileBuildOptions encloseRequest(const std::string& name) const {
     FileBuildOptions o = request(name);
     o.hand = std::string(TEST_DATA_DIR) +
              "/real/hands/allegro_right/allegro_hand_description_right.urdf";
@@ -83,19 +83,19 @@ TEST_F(DistributedBuildTest, TwoRanksOutOfOrderWriteTheOneProcessMap) {
   EXPECT_FALSE(fs::exists(dir_ / "two.h5.ckpt"));
 }
 
-TEST_F(DistributedBuildTest, ThePilotsSamplerGivesTheOneProcessMap) {
-  MapFileBuild one(pilotRequest("one.h5"));
+TEST_F(DistributedBuildTest, TheDefaultSamplerGivesTheOneProcessMap) {
+  MapFileBuild one(encloseRequest("one.h5"));
   const FileBuildResult single = one.run();
   ASSERT_TRUE(single.written) << single.build.message;
   EXPECT_EQ(single.build.sampler_choice.kind, SamplerKind::kPalmEnclose);
-  const BuildRank coordinator(pilotRequest("two.h5"), true);
-  const BuildRank worker(pilotRequest("two.h5"), false);
+  const BuildRank coordinator(encloseRequest("two.h5"), true);
+  const BuildRank worker(encloseRequest("two.h5"), false);
   EXPECT_EQ(worker.samplerChoice().kind, SamplerKind::kPalmEnclose);
   DistributedBuild book(coordinator, 5);
   for (std::uint64_t b; book.next(&b);) book.accept(b, worker.runBlock(b, 5));
   const FileBuildResult r = book.finish(coordinator.timing());
   ASSERT_TRUE(r.written) << r.build.message;
-  EXPECT_TRUE(r.build.sampler_choice.piloted);
+  EXPECT_FALSE(r.build.sampler_choice.enclose_refused);
   EXPECT_EQ(r.build.map.sampling.sampler, "palm_enclose");
   EXPECT_EQ(bytesOf((dir_ / "two.h5").string()), bytesOf((dir_ / "one.h5").string()));
 }

@@ -1,7 +1,9 @@
 // The build's hold filter: contact Jacobians against finite differences of the hand's
 // kinematics (revolute chains and mimic couplings), efforts from the squeeze target, and a
 // build with the filter on stores only grasps it passes, counts the others as `unbalanced`, and
-// gives the same map for any thread count.
+// gives the same map for any thread count. The squeeze-force test (on by default): its formula on
+// a hand-made drive, against finite differences of the hand's kinematics on real grasps, and a
+// build that refuses weak squeezes as `weak_squeeze` and records its threshold.
 #include "taskmap/builder/hold_filter.hpp"
 
 #include <gtest/gtest.h>
@@ -13,6 +15,7 @@
 
 #include "build_fixtures.hpp"
 #include "error_matchers.hpp"
+#include "taskmap/builder/build_params.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/mapstore/grasp_contacts.hpp"
@@ -159,6 +162,120 @@ TEST(HoldFilter, UnbalancedTrialsRoundTripThroughBlocks) {
   EXPECT_TRUE(back.trials[0].unbalanced);
   EXPECT_FALSE(back.trials[1].unbalanced);
   EXPECT_EQ(back.valid(), 0u);
+}
+
+TEST(HoldFilter, SqueezeForceIsTheEffortOverTheLeverOfAPressingJoint) {
+  Contact c;
+  c.normal = Eigen::Vector3d::UnitZ();  // outward: pressing is along -z
+  SqueezeDrive d;
+  d.effort = Eigen::Vector3d(0.2, 1.0, 3.0);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> jac(3, 3);
+  jac << 0.0, 0.0, -0.05,  // presses: 0.2 N m over 0.05 m
+      0.0, 0.0, 0.1,       // pulls the contact out of the object: no force
+      0.1, 0.0, 0.0;       // slides it along the surface: no force
+  d.jacobians = {jac};
+  EXPECT_NEAR(squeezeForce({c}, d), 4.0, 1e-12);
+  d.effort(1) = -1.0;  // now the second joint presses, 1 N m over 0.1 m
+  EXPECT_NEAR(squeezeForce({c}, d), 10.0, 1e-12);
+  d.effort.setZero();
+  EXPECT_EQ(squeezeForce({c}, d), 0.0);
+  EXPECT_TRUE(testing::throwsError(
+      [&] {
+        squeezeForce({c, c}, d);
+      },
+      {"squeeze force", "1 Jacobians for 2 contacts"}));
+}
+
+// An independent oracle on real grasps: the lever of each contact about each actuated joint from
+// finite differences of the hand's forward kinematics, the effort from the squeeze target.
+double squeezeForceByFiniteDifferences(const HandModel& hand, const Pose& palm,
+                                       const Eigen::VectorXd& q,
+                                       const std::vector<Contact>& contacts) {
+  const Eigen::Isometry3d to_object = palm.toIsometry();
+  const std::vector<Eigen::Isometry3d> poses = hand.linkPoses(q);
+  const Eigen::VectorXd q0 = hand.preshape();
+  const double h = 1e-6;
+  double force = 0.0;
+  for (Eigen::Index a = 0; a < q.size(); ++a) {
+    // The hold test's servo at the grasp: kp (q0 + 1.1 (q - q0) - q), clamped target.
+    const double target =
+        std::clamp(q0(a) + 1.1 * (q(a) - q0(a)), hand.lowerLimits()(a), hand.upperLimits()(a));
+    const double effort = 5.0 * (target - q(a));
+    Eigen::VectorXd qp = q, qm = q;
+    qp(a) += h;
+    qm(a) -= h;
+    const auto pp = hand.linkPoses(qp), pm = hand.linkPoses(qm);
+    for (const Contact& c : contacts) {
+      const auto l = static_cast<std::size_t>(c.link);
+      const Eigen::Vector3d local = (to_object * poses[l]).inverse() * c.point;
+      const Eigen::Vector3d v = (to_object * pp[l] * local - to_object * pm[l] * local) / (2 * h);
+      if (v.norm() < 1e-9 || effort * v.dot(c.normal) >= 0.0) continue;
+      force = std::max(force, std::abs(effort) / v.norm());
+    }
+  }
+  return force;
+}
+
+TEST(HoldFilter, ABuildRefusesWeakSqueezesAndRecordsTheThreshold) {
+  // The barrett on the reference cylinder with palm_enclose: its proximal links often touch at
+  // once, 0.04-0.13 rad from the preshape (docs/METHOD.md §4e).
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const ObjectModel cylinder =
+      ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj");
+  BuildOptions o;
+  o.sampler.kind = SamplerKind::kPalmEnclose;
+  o.seed = 1;
+  o.valid_target = 12;
+  o.threads = 1;
+  o.cluster = false;
+  EXPECT_NEAR(o.min_squeeze_force, 1.0 / 1.2, 1e-15);
+  const BuildResult on = buildMap(cylinder, barrett, o);
+  ASSERT_EQ(on.status, BuildStatus::kComplete) << on.message;
+  EXPECT_GT(on.map.sampling.outcomes.at("weak_squeeze"), 0u);
+  o.min_squeeze_force = 0.0;
+  const BuildResult off = buildMap(cylinder, barrett, o);
+  EXPECT_EQ(off.map.sampling.outcomes.count("weak_squeeze"), 0u);
+  int weak = 0;
+  for (const BuildResult* r : {&on, &off}) {
+    const MapGrasps& g = r->map.grasps;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      const std::vector<Contact> contacts = graspContacts(g, i);
+      const Eigen::VectorXd q = g.joints.row(static_cast<Eigen::Index>(i)).transpose();
+      const double f = graspSqueezeForce(barrett, g.poseAt(i), q, contacts);
+      EXPECT_NEAR(f, squeezeForceByFiniteDifferences(barrett, g.poseAt(i), q, contacts),
+                  1e-6 * std::max(1.0, f))
+          << "grasp " << i;
+      if (r == &on) {
+        EXPECT_GE(f, 1.0 / 1.2) << "a stored grasp of the default build";
+      }
+      weak += f < 1.0 / 1.2 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(weak, 0) << "without the test the build stores weak squeezes";
+  // The threshold is in the map's parameters; a map without it was built without the test.
+  EXPECT_NEAR(buildParamsFromJson(on.map.sampling.params_json).options.min_squeeze_force, 1.0 / 1.2,
+              1e-15);
+  EXPECT_EQ(buildParamsFromJson("{}").options.min_squeeze_force, 0.0);
+  o.min_squeeze_force = -1.0;
+  EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"min_squeeze_force", ">= 0"}));
+}
+
+TEST(HoldFilter, WeakSqueezeTrialsRoundTripThroughBlocks) {
+  TrialBlock block;
+  block.first = 3;
+  block.trials.resize(2);
+  block.trials[0].status = GraspStatus::kOk;
+  block.trials[0].weak_squeeze = true;
+  block.trials[1].status = GraspStatus::kOk;
+  block.trials[1].force_closure = true;
+  TrialBlock back = decodeTrialBlock(encodeTrialBlock(block), 2, "block");
+  EXPECT_TRUE(back.trials[0].weak_squeeze);
+  EXPECT_FALSE(back.trials[1].weak_squeeze);
+  EXPECT_EQ(back.valid(), 1u);
+  block.trials[1].weak_squeeze = true;  // a weak squeeze cannot be force closure
+  EXPECT_TRUE(testing::throwsError(
+      [&] { back = decodeTrialBlock(encodeTrialBlock(block), 2, "block"); }, {"weak-squeeze"}));
 }
 
 }  // namespace

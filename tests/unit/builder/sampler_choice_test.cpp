@@ -1,10 +1,9 @@
-// The default sampler's pilot (builder/sampler_choice.hpp): on the real Allegro hand the
-// reference box, where mixed trials rarely find a grasp, gets palm_enclose and the YCB banana
-// keeps mixed; a default build's map is then the explicit sampler's; the choice does not depend
-// on threads or the build seed; jaws, fingertip grasps and an explicit kind run no pilot.
+// The default sampler (builder/sampler_choice.hpp): a multi-finger hand that palm_enclose can
+// place runs palm_enclose (the real Allegro on the reference box and the YCB banana); where its
+// probe cannot place the hand the build runs mixed; a default build's map is the explicit
+// sampler's; jaws, fingertip grasps and an explicit kind keep theirs.
 #include "taskmap/builder/sampler_choice.hpp"
 
-#include <atomic>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -36,60 +35,36 @@ BuildOptions defaultBuild(int threads, std::uint64_t seed = 3) {
   return o;
 }
 
-TEST(SamplerChoiceTest, MixedTrialsThatRarelyFindAGraspGivePalmEnclose) {
-  BuildTiming pilot;
-  const SamplerChoice c = chooseSampler(referenceBox(), allegro(), defaultBuild(2), {}, &pilot);
-  EXPECT_TRUE(c.piloted);
-  EXPECT_EQ(c.kind, SamplerKind::kPalmEnclose);
-  EXPECT_EQ(c.pilot_trials, kPilotTrials);
-  EXPECT_LT(c.pilot_found, kPilotFound);
-  EXPECT_FALSE(c.enclose_refused);
-  EXPECT_GT(pilot.simulation_seconds, 0.0) << "the pilot's CPU is reported";
+TEST(SamplerChoiceTest, AHandThatEnclosesRunsPalmEnclose) {
+  for (const ObjectModel* object : {&referenceBox(), &banana()}) {
+    const SamplerChoice c = chooseSampler(*object, allegro(), defaultBuild(2));
+    EXPECT_EQ(c.kind, SamplerKind::kPalmEnclose);
+    EXPECT_FALSE(c.enclose_refused);
+  }
 }
 
-TEST(SamplerChoiceTest, MixedTrialsThatFindGraspsKeepMixedAndStopEarly) {
-  const SamplerChoice c = chooseSampler(banana(), allegro(), defaultBuild(2));
-  EXPECT_TRUE(c.piloted);
-  EXPECT_EQ(c.kind, SamplerKind::kMixed);
-  EXPECT_EQ(c.pilot_found, kPilotFound);
-  EXPECT_LT(c.pilot_trials, kPilotTrials) << "the pilot ends at the grasp that decides";
-}
-
-TEST(SamplerChoiceTest, PalmEncloseThatCannotPlaceTheHandKeepsMixed) {
-  // The barrett on the reference mug: mixed finds nothing in the pilot, and palm_enclose's probe
-  // finds the mug wider than the hand nearly everywhere (its trials would be mixed's).
+TEST(SamplerChoiceTest, PalmEncloseThatCannotPlaceTheHandGivesMixed) {
+  // The barrett on the reference mug: palm_enclose's probe finds the mug wider than the hand
+  // nearly everywhere (its trials would be mixed's).
   const HandModel barrett =
       HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
   const ObjectModel mug = ObjectModel::load(std::string(TASKMAP_OBJECTS_DIR) + "/mug.obj");
   const SamplerChoice c = chooseSampler(mug, barrett, defaultBuild(2));
-  EXPECT_TRUE(c.piloted);
-  EXPECT_LT(c.pilot_found, kPilotFound);
   EXPECT_TRUE(c.enclose_refused);
   EXPECT_EQ(c.kind, SamplerKind::kMixed);
-}
-
-TEST(SamplerChoiceTest, SameChoiceForAnyThreadCountAndBuildSeed) {
-  const SamplerChoice one = chooseSampler(referenceBox(), allegro(), defaultBuild(1, 1));
-  for (const auto& [threads, seed] : {std::pair{2, 1}, std::pair{1, 9}, std::pair{2, 9}}) {
-    const SamplerChoice c = chooseSampler(referenceBox(), allegro(), defaultBuild(threads, seed));
-    EXPECT_EQ(c.kind, one.kind) << threads << " threads, seed " << seed;
-    EXPECT_EQ(c.pilot_trials, one.pilot_trials);
-    EXPECT_EQ(c.pilot_found, one.pilot_found);
-  }
 }
 
 TEST(SamplerChoiceTest, DefaultBuildIsTheChosenSamplersBuild) {
   for (const ObjectModel* object : {&referenceBox(), &banana()}) {
     const BuildResult chosen = buildMap(*object, allegro(), defaultBuild(2));
     ASSERT_EQ(chosen.status, BuildStatus::kComplete) << chosen.message;
-    EXPECT_TRUE(chosen.sampler_choice.piloted);
+    EXPECT_EQ(chosen.sampler_choice.kind, SamplerKind::kPalmEnclose);
     BuildOptions explicit_kind = defaultBuild(2);
     explicit_kind.sampler.kind = chosen.sampler_choice.kind;
     const BuildResult given = buildMap(*object, allegro(), explicit_kind);
-    EXPECT_FALSE(given.sampler_choice.piloted);
     EXPECT_EQ(chosen.map.sampling.sampler, toString(chosen.sampler_choice.kind));
     testing::expectSameMapContent(chosen.map, given.map);
-    // The map's parameters name the sampler: rebuilding from them runs no pilot.
+    // The map's parameters name the sampler: rebuilding from them makes no choice.
     EXPECT_EQ(chosen.map.sampling.params_json, given.map.sampling.params_json);
   }
 }
@@ -97,41 +72,23 @@ TEST(SamplerChoiceTest, DefaultBuildIsTheChosenSamplersBuild) {
 TEST(SamplerChoiceTest, TrialRunnerRunsTheSameChoice) {
   const TrialRunner runner(referenceBox(), allegro(), defaultBuild(1));
   EXPECT_EQ(runner.samplerChoice().kind, SamplerKind::kPalmEnclose);
-  EXPECT_EQ(runner.samplerChoice().pilot_trials, kPilotTrials);
-  EXPECT_GT(runner.timing().simulation_seconds, 0.0) << "the pilot's CPU is in the timing";
 }
 
-TEST(SamplerChoiceTest, NoPilotForAGivenKindJawsASmallBudgetOrFingertipGrasps) {
+TEST(SamplerChoiceTest, AGivenKindJawsAndFingertipGraspsKeepTheirs) {
   BuildOptions given = defaultBuild(1);
   given.sampler.kind = SamplerKind::kVolume;
-  const SamplerChoice g = chooseSampler(referenceBox(), allegro(), given);
-  EXPECT_FALSE(g.piloted);
-  EXPECT_EQ(g.kind, SamplerKind::kVolume);
+  EXPECT_EQ(chooseSampler(referenceBox(), allegro(), given).kind, SamplerKind::kVolume);
 
   const SamplerChoice jaws =
       chooseSampler(testing::boxObject(), testing::pandaHand(), defaultBuild(1));
-  EXPECT_FALSE(jaws.piloted);
   EXPECT_EQ(jaws.kind, SamplerKind::kAntipodalPalm);
-
-  BuildOptions small = defaultBuild(1);
-  small.max_trials = kPilotTrials - 1;  // a budget below the pilot's
-  const SamplerChoice b = chooseSampler(referenceBox(), allegro(), small);
-  EXPECT_FALSE(b.piloted);
-  EXPECT_EQ(b.kind, SamplerKind::kMixed);
+  EXPECT_FALSE(jaws.enclose_refused);
 
   BuildOptions tips = defaultBuild(1);
   tips.simulation.grasp_mode = GraspMode::kFingertip;
   const SamplerChoice t = chooseSampler(referenceBox(), allegro(), tips);
-  EXPECT_FALSE(t.piloted);
   EXPECT_EQ(t.kind, SamplerKind::kMixed);
-}
-
-TEST(SamplerChoiceTest, InterruptedPilotKeepsMixed) {
-  const std::atomic<bool> stop{true};
-  BuildControl control;
-  control.stop = &stop;
-  const SamplerChoice c = chooseSampler(referenceBox(), allegro(), defaultBuild(1), control);
-  EXPECT_EQ(c.kind, SamplerKind::kMixed);
+  EXPECT_FALSE(t.enclose_refused);
 }
 
 }  // namespace

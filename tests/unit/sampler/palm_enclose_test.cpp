@@ -7,6 +7,7 @@
 // then determinism on another thread and the option errors.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -284,6 +285,30 @@ TEST(PalmEnclose, ProbeFallsBackFastWhereTheHandRarelyEnclosesTheObject) {
   std::thread th([&] { other = Sampler(mug, encloseOptions(barrett())).attemptsInForce(); });
   th.join();
   EXPECT_EQ(other, 0);
+}
+
+// The finger test skips points outside the object's grown bounds and tests remembered points
+// first; an accepted pose must still pass the brute-force test: every open finger point outside
+// the scanned banana and at least 0.5 mm off its surface, by the object's own queries.
+TEST(PalmEnclose, AcceptedPosesKeepEveryFingerPointOffAScannedObject) {
+  const ObjectModel banana =
+      ObjectModel::load(std::string(TEST_DATA_DIR) + "/real/objects/ycb_011_banana.obj");
+  const SamplerOptions o = encloseOptions(allegro());
+  int accepted = 0;
+  for (std::uint64_t trial = 0; trial < 40; ++trial) {
+    Rng rng(7, trial);
+    const std::optional<Pose> pose = drawPalmEnclose(banana, *o.enclose, o.approach_axis,
+                                                     o.finger_points, 16, o.enclose_margin, rng);
+    if (!pose) continue;
+    ++accepted;
+    const Eigen::Matrix3d r = pose->orientation.toRotationMatrix();
+    for (const Eigen::Vector3d& p : o.finger_points) {
+      const Eigen::Vector3d x = pose->position + r * p;
+      ASSERT_FALSE(banana.contains(x)) << "trial " << trial;
+      ASSERT_FALSE(banana.nearSurface(x, 5e-4)) << "trial " << trial;
+    }
+  }
+  EXPECT_GT(accepted, 20);
 }
 
 TEST(PalmEnclose, PureFunctionOfSeedAndTrialOnAnyThread) {

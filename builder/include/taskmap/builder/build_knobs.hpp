@@ -36,6 +36,8 @@ struct BuildKnobs {
   bool validate = false;          ///< label the grasps with the physics hold test
   bool keep_holding = false;      ///< with validate: store only the grasps that hold
   bool hold_filter = false;       ///< refuse grasps the squeeze-balance filter finds unbalanced
+  /// N: refuse grasps whose squeeze presses no contact this hard (0: off)
+  double min_squeeze_force = kDefaultMinSqueezeForce;
   /// "off", "closing", "pushes" (ClosingCheckMode) or "pushes_early" (earlyVerdict settings)
   std::string closing_check = "off";
   bool timestamp = false;  ///< store the current time as created_utc
@@ -178,6 +180,14 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "position-controlled hand presses the free object into equilibrium and resists 1 N "
              "pushes (docs/METHOD.md 4b; costs trials)"},
     k.hold_filter);
+  v(KnobInfo{"min_squeeze_force",
+             "N: store only grasps whose squeeze (the hold test's position servos driven 1.1 "
+             "of the way from the preshape) presses some contact with at least this force; the "
+             "default, 1 N / (2 x 0.6), lets friction on two opposing contacts resist the hold "
+             "test's 1 N push (docs/METHOD.md 4e); 0: off",
+             {},
+             C::kNonNegative},
+    k.min_squeeze_force);
   v(KnobInfo{"closing_check",
              "closing: store only force-closure grasps whose closing, simulated in Bullet with "
              "the object free to move (the hold test's drive, 0.1 kg, friction 0.6), leaves the "

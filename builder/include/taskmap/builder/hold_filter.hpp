@@ -50,4 +50,22 @@ struct HoldFilterOptions {
 SqueezeDrive squeezeDrive(const HandModel& hand, const Pose& palm, const Eigen::VectorXd& joints,
                           const std::vector<Contact>& contacts, const HoldFilterOptions& options);
 
+/// N: the default least squeeze force of a build (BuildOptions::min_squeeze_force): the hold
+/// test's 1 N push over twice its friction 0.6, the force two opposing contacts must be pressed
+/// with for their friction to resist the push (docs/METHOD.md §4e).
+inline constexpr double kDefaultMinSqueezeForce = 1.0 / (2.0 * 0.6);
+
+/// N: the largest force with which the squeeze presses one contact into the object. Over the
+/// contacts c (outward normals n_c) and actuated joints a whose effort e_a moves c into the
+/// object (e_a J_c,a . n_c < 0), the effort over the contact's lever about the joint,
+/// |e_a| / |J_c,a|; 0 when no effort presses a contact. `drive` from squeezeDrive for the same
+/// contacts (docs/METHOD.md §4e).
+double squeezeForce(const std::vector<Contact>& contacts, const SqueezeDrive& drive);
+
+/// The squeeze force (squeezeForce) of a grasp with the hold test's drive (HoldFilterOptions'
+/// defaults, a one-joint revolute gripper pressing each tip with the jaw force): palm in the
+/// object frame, joints in HandModel::jointNames() order, contacts in the object frame.
+double graspSqueezeForce(const HandModel& hand, const Pose& palm, const Eigen::VectorXd& joints,
+                         const std::vector<Contact>& contacts);
+
 }  // namespace taskmap

@@ -54,6 +54,11 @@ struct BuildOptions {
   /// The hold filter run before quality (off by default): grasps whose squeeze cannot hold the
   /// free object are not stored (outcome `unbalanced`); hold_filter.hpp, docs/METHOD.md §4b.
   HoldFilterOptions hold_filter;
+  /// N, >= 0: a simulated grasp whose squeeze presses no contact with at least this force
+  /// (graspSqueezeForce: the hold test's drive) is not stored (outcome `weak_squeeze`): the
+  /// fingers stopped so close to their preshape that the hold test's squeeze cannot press.
+  /// 0: off (maps built before 2026-11-27, whose params lack the key). docs/METHOD.md §4e.
+  double min_squeeze_force = kDefaultMinSqueezeForce;
   /// The closing check run on force-closure grasps (off by default): grasps whose closing, with
   /// the object free to move, pushes it away are not stored (outcome `pushed`);
   /// grasp_sim/closing_check.hpp, docs/METHOD.md §4d.
@@ -132,20 +137,17 @@ using BuildControl = RunControl<BuildProgress>;
 /// How a build's sampler was chosen (chooseSampler, sampler_choice.hpp).
 struct SamplerChoice {
   SamplerKind kind = SamplerKind::kMixed;  ///< the sampler the build runs
-  bool piloted = false;                    ///< a pilot of mixed trials decided
-  std::uint64_t pilot_trials = 0;          ///< mixed trials the pilot simulated
-  std::uint64_t pilot_found = 0;           ///< force-closure grasps among them
-  /// The pilot asked for palm_enclose, whose probe found that it cannot place the hand here
+  /// The hand's default is palm_enclose, whose probe found that it cannot place the hand on
+  /// this object: the build runs mixed (sampler_choice.hpp)
   bool enclose_refused = false;
 };
 
 /// Result of a build.
 struct BuildResult {
   BuildStatus status = BuildStatus::kComplete;
-  std::string message;  ///< one line for the user
-  TaskMapData map;      ///< ready for writeMap (generator, created_utc filled in)
-  /// The stage CPU seconds include the sampler choice's pilot (sampler_choice.hpp)
-  BuildTiming timing;
+  std::string message;           ///< one line for the user
+  TaskMapData map;               ///< ready for writeMap (generator, created_utc filled in)
+  BuildTiming timing;            ///< wall and CPU seconds of the stages
   SamplerChoice sampler_choice;  ///< the sampler the build ran and how it was chosen
 };
 

@@ -33,6 +33,8 @@ struct TrialOutcome {
   GraspStatus status = GraspStatus::kNoFingerContact;  ///< simulator outcome
   bool force_closure = false;                          ///< status ok and force closure
   bool unbalanced = false;  ///< status ok, refused by the hold filter (no quality computed)
+  /// Status ok, refused by the squeeze-force test (BuildOptions::min_squeeze_force; no quality)
+  bool weak_squeeze = false;
   /// Force closure by its contacts, refused by the closing check (the closing pushed the free
   /// object away); force_closure is then false and the trial does not count as valid.
   bool pushed = false;
@@ -62,7 +64,7 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
 class TrialRunner {
  public:
   /// Throws Error on invalid options. object and hand must outlive the runner. An unset sampler
-  /// kind is chosen as buildMap chooses it (chooseSampler; its pilot's CPU is in timing()).
+  /// kind is chosen as buildMap chooses it (chooseSampler).
   TrialRunner(const ObjectModel& object, const HandModel& hand, const BuildOptions& options);
   ~TrialRunner();
   TrialRunner(const TrialRunner&) = delete;
