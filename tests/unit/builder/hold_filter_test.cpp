@@ -257,6 +257,12 @@ TEST(HoldFilter, ABuildRefusesWeakSqueezesAndRecordsTheThreshold) {
   EXPECT_NEAR(buildParamsFromJson(on.map.sampling.params_json).options.min_squeeze_force, 1.0 / 1.2,
               1e-15);
   EXPECT_EQ(buildParamsFromJson("{}").options.min_squeeze_force, 0.0);
+  // A threshold no grasp meets: nothing is stored, and the message names the option.
+  o.min_squeeze_force = 1e6;
+  o.max_trials = 40;
+  const BuildResult none = buildMap(cylinder, barrett, o);
+  EXPECT_EQ(none.status, BuildStatus::kNoGrasps);
+  EXPECT_NE(none.message.find("--min-squeeze-force"), std::string::npos) << none.message;
   o.min_squeeze_force = -1.0;
   EXPECT_TRUE(testing::throwsError([&] { o.validate(); }, {"min_squeeze_force", ">= 0"}));
 }

@@ -89,10 +89,11 @@ double coverageThreshold(const LinkageMatrix& linkage, int min_size, double outl
 /// pose that no grasp has: measured on real maps (the YCB mug with the humanoid hand, ACRONYM's
 /// mug), the handle grasps then fall into clusters of their own, mixed with body grasps only
 /// where orientations overlap. Measured on the paper's basket map (1000 grasps, Barrett hand,
-/// seed 1, average linkage, min size 30): 12 clusters and 88 outliers, each cluster on one bar
-/// of the handle or the rim (docs/METHOD.md, "Default cut"). The bars split into several clusters
-/// each because rho weighs orientation: grasps on one bar with different approach directions are
-/// further apart than the bars' spacing.
+/// seed 1, average linkage, min size 30; the mixed sampler's): 12 clusters and 88 outliers, each
+/// cluster on one bar of the handle or the rim; with palm_enclose, the default since 2026-11-27,
+/// 18 clusters and 87 outliers (docs/METHOD.md, "Default cut"). The bars split into several
+/// clusters each because rho weighs orientation: grasps on one bar with different approach
+/// directions are further apart than the bars' spacing.
 double defaultCut(const LinkageMatrix& linkage, int min_size, double outlier_budget);
 
 /// Largest number of points average and complete linkage accept (memory O(n^2)).
