@@ -141,19 +141,11 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
       graspSqueezeForce(simulator.hand(), g.pose, g.joints, g.contacts) <
           options.min_squeeze_force) {
     t.weak_squeeze = true;
-    times.quality += threadCpuSeconds() - t0;
-    if (options.stored == StoredGrasps::kAllCompleted)
-      t.grasp = std::make_unique<TrialGrasp>(
-          TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
-    return t;
+    return refused(std::move(t), g, t0);
   }
   if (options.hold_filter.enabled && !holds(g)) {
     t.unbalanced = true;
-    times.quality += threadCpuSeconds() - t0;
-    if (options.stored == StoredGrasps::kAllCompleted)
-      t.grasp = std::make_unique<TrialGrasp>(
-          TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
-    return t;
+    return refused(std::move(t), g, t0);
   }
   const QualityResult q = evaluateGrasp(g.contacts, com, torque_scale, options.quality);
   t.force_closure = q.force_closure;
@@ -167,9 +159,18 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
     ++times.closing_checks;
   }
   times.quality += threadCpuSeconds() - t0;
-  if (t.force_closure || options.stored == StoredGrasps::kAllCompleted)
-    t.grasp = std::make_unique<TrialGrasp>(
-        TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
+  if (t.force_closure || options.stored == StoredGrasps::kAllCompleted) t.grasp = takeGrasp(g);
+  return t;
+}
+
+std::unique_ptr<TrialGrasp> Worker::takeGrasp(GraspResult& g) {
+  return std::make_unique<TrialGrasp>(
+      TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
+}
+
+TrialOutcome Worker::refused(TrialOutcome t, GraspResult& g, double t0) {
+  times.quality += threadCpuSeconds() - t0;
+  if (options.stored == StoredGrasps::kAllCompleted) t.grasp = takeGrasp(g);
   return t;
 }
 

@@ -176,6 +176,12 @@ struct Worker {
   TrialOutcome scoreTrial(GraspResult g);
   /// The hold filter's verdict on a simulated (status ok) grasp.
   bool holds(const GraspResult& g) const;
+  /// The part of g a map stores, moved out of g.
+  static std::unique_ptr<TrialGrasp> takeGrasp(GraspResult& g);
+  /// Ends a trial refused before its quality (squeeze-force test, hold filter; t's flag set):
+  /// its CPU since t0 counts as quality, and a build that stores every completed trial keeps
+  /// its grasp.
+  TrialOutcome refused(TrialOutcome t, GraspResult& g, double t0);
 };
 
 /// Everything runTrialPool needs.
