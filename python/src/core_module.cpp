@@ -223,6 +223,7 @@ TaskMap fromArrays(const PoseRows& poses, const std::vector<double>& epsilon,
 }
 
 void bindTaskMapQueries(py::class_<TaskMap>& cls);
+void bindClusterRanking(py::class_<TaskMap>& cls);
 
 /// taskmap.TaskMap: load, save, from_arrays, the stored arrays, then the queries.
 void bindTaskMap(py::module_& m) {
@@ -285,9 +286,54 @@ void bindTaskMap(py::module_& m) {
           py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)");
   bindTaskMapArrays(cls);
   bindTaskMapQueries(cls);
+  bindClusterRanking(cls);
 }
 
-/// TaskMap's queries: neighbours, proximity, quality, evaluate, cluster ranking.
+/// TaskMap.rank_clusters: the paper's initial cluster with the caller's IK and comfort.
+void bindClusterRanking(py::class_<TaskMap>& cls) {
+  cls.def(
+      "rank_clusters",
+      [](const TaskMap& t, const Vec7& object, py::function ik, py::function comfort,
+         int member_tries) {
+        IkFunction f = [&](const Pose& target) {
+          py::object r = ik(fromPose(target));
+          IkSolution s;
+          if (r.is_none()) {
+            s.message = "inverse kinematics returned None";
+          } else {
+            s.success = true;
+            s.q = r.cast<Eigen::VectorXd>();
+          }
+          return s;
+        };
+        ComfortFunction g = [&](const Eigen::VectorXd& q) { return comfort(q).cast<double>(); };
+        py::list out;
+        RankOptions options;
+        options.member_tries = member_tries;
+        for (const ClusterRank& r : rankClusters(t, toPose(object), f, g, options)) {
+          py::dict d;
+          d["cluster"] = r.cluster;
+          d["representative"] = r.representative;
+          d["target"] = r.target;
+          d["tried"] = r.tried;
+          d["target_object"] = fromPose(r.target_object);
+          d["target_world"] = fromPose(r.target_world);
+          d["reachable"] = r.reachable;
+          d["q"] = r.q;
+          d["comfort"] = r.comfort;
+          d["message"] = r.message;
+          out.append(d);
+        }
+        return out;
+      },
+      py::arg("object_world"), py::arg("ik"), py::arg("comfort"), py::arg("member_tries") = 0,
+      "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost. "
+      "member_tries > 0: when no representative is reachable, up to that many other members "
+      "of each cluster are tried ('target' the grasp reached, 'tried' the IK calls), then "
+      "as many outliers (cluster -1).");
+}
+
+/// TaskMap's queries: neighbours, proximity, quality, evaluate.
 void bindTaskMapQueries(py::class_<TaskMap>& cls) {
   cls.def(
          "knn",
@@ -369,39 +415,7 @@ void bindTaskMapQueries(py::class_<TaskMap>& cls) {
             }
             return py::make_tuple(idx, dist);
           },
-          py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)")
-      .def(
-          "rank_clusters",
-          [](const TaskMap& t, const Vec7& object, py::function ik, py::function comfort) {
-            IkFunction f = [&](const Pose& target) {
-              py::object r = ik(fromPose(target));
-              IkSolution s;
-              if (r.is_none()) {
-                s.message = "inverse kinematics returned None";
-              } else {
-                s.success = true;
-                s.q = r.cast<Eigen::VectorXd>();
-              }
-              return s;
-            };
-            ComfortFunction g = [&](const Eigen::VectorXd& q) { return comfort(q).cast<double>(); };
-            py::list out;
-            for (const ClusterRank& r : rankClusters(t, toPose(object), f, g)) {
-              py::dict d;
-              d["cluster"] = r.cluster;
-              d["representative"] = r.representative;
-              d["target_object"] = fromPose(r.target_object);
-              d["target_world"] = fromPose(r.target_world);
-              d["reachable"] = r.reachable;
-              d["q"] = r.q;
-              d["comfort"] = r.comfort;
-              d["message"] = r.message;
-              out.append(d);
-            }
-            return out;
-          },
-          py::arg("object_world"), py::arg("ik"), py::arg("comfort"),
-          "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost.");
+          py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)");
 }
 
 /// taskmap.Session: cached evaluation for an optimizer run.

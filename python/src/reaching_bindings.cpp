@@ -229,7 +229,7 @@ void bindPlanning(py::module_& m) {
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
          bool all_clusters, int iterations, double proximity_weight, double quality_weight,
          int steps, double dt, const std::string& descent, std::optional<bool> resimulate_arg,
-         bool hold_test) {
+         bool hold_test, int member_tries) {
         if (hold_test && resimulate_arg == false)
           throw Error("reach: hold_test tests the re-simulated grasp: drop resimulate=False");
         // As the CLI: a built map (its hand and object recorded) is re-simulated by default.
@@ -247,6 +247,7 @@ void bindPlanning(py::module_& m) {
           throw Error(std::string("reach: ") + e.what());
         }
         o.all_clusters = all_clusters;
+        o.ranking.member_tries = member_tries;
         o.optimizer.max_iterations = iterations;
         o.map_weights.proximity = proximity_weight;
         o.map_weights.quality = quality_weight;
@@ -265,6 +266,7 @@ void bindPlanning(py::module_& m) {
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
       py::arg("descent") = "bfgs", py::arg("resimulate") = py::none(), py::arg("hold_test") = false,
+      py::arg("member_tries") = 16,
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
       "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
       "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
@@ -275,16 +277,20 @@ void bindPlanning(py::module_& m) {
       "CLI's JSON: the final palm pose re-simulated with the map's own hand, object and build "
       "options. resimulate: None (default, as the CLI) re-simulates a built map and skips a map "
       "from arrays (no object to simulate); True requires it, False skips it. hold_test=True "
-      "also tests that grasp with the physics hold test (key 'resimulated'.'hold').");
+      "also tests that grasp with the physics hold test (key 'resimulated'.'hold'). "
+      "member_tries: members of a cluster tried when its representative is out of reach "
+      "(then outliers, when no cluster is reachable; 0: representatives only).");
 
   m.def(
       "plan_grasp",
       [](const PyRobot& r, const TaskMap& map, const std::optional<Eigen::VectorXd>& q0,
-         bool all_clusters, int iterations, double proximity_weight, double quality_weight) {
+         bool all_clusters, int iterations, double proximity_weight, double quality_weight,
+         int member_tries) {
         const GraspProblem g = graspProblem(r, q0, "plan_grasp");
         const TrajectoryProblem& p = g.problem;
         GraspPlanOptions o;
         o.all_clusters = all_clusters;
+        o.ranking.member_tries = member_tries;
         o.optimizer.max_iterations = iterations;
         o.map_weights.proximity = proximity_weight;
         o.map_weights.quality = quality_weight;
@@ -292,7 +298,7 @@ void bindPlanning(py::module_& m) {
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
-      py::arg("quality_weight") = 1.0,
+      py::arg("quality_weight") = 1.0, py::arg("member_tries") = 16,
       "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
       "planning): clusters ranked by comfort, trajectory over attractor points optimised with "
       "the map's proximity and quality terms. Returns a dict: status, message, cluster, "

@@ -31,6 +31,7 @@ void GraspPlanOptions::validate() const {
   if (screen_iterations < 0)
     throw Error("grasp plan options: screen_iterations must be >= 0 (0 = no screening)");
   if (end_steps < 1) throw Error("grasp plan options: end_steps must be >= 1");
+  ranking.validate();
 }
 
 namespace {
@@ -224,7 +225,8 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
   Kinematics kin(*problem.robot);
   kin.update(problem.q0);
   const Pose object_world = bodyPose(kin, problem.reference);
-  plan.ranking = rankClusters(map, object_world, rolloutIk(problem), comfort(problem));
+  plan.ranking =
+      rankClusters(map, object_world, rolloutIk(problem), comfort(problem), options.ranking);
   // Screening: short optimisations of every reachable cluster, the winner re-run in full.
   const int reachable = static_cast<int>(std::count_if(
       plan.ranking.begin(), plan.ranking.end(), [](const ClusterRank& r) { return r.reachable; }));

@@ -85,6 +85,8 @@ std::string graspPlanReport(const GraspPlan& plan, double plan_ms, const Movemen
   for (const ClusterRank& r : plan.ranking)
     clusters.push_back(
         {{"cluster", r.cluster},
+         {"target", r.target},
+         {"tried", r.tried},
          {"reachable", r.reachable},
          {"comfort", std::isfinite(r.comfort) ? nlohmann::json(r.comfort) : nullptr}});
   j["ranking"] = clusters;

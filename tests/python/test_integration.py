@@ -353,6 +353,26 @@ class IntegrationTest(unittest.TestCase):
         self.assertEqual(ranks[:len(reach)], reach)  # reachable ones first
         self.assertEqual([r["comfort"] for r in reach], sorted(r["comfort"] for r in reach))
 
+    def test_rank_clusters_tries_members_when_no_representative_is_reachable(self):
+        obj = np.array([0.0, 0, 0, 1, 0, 0, 0])
+        reps = [r["representative"] for r in self.map.rank_clusters(obj, lambda t: t[:3].copy(),
+                                                                     lambda q: 0.0)]
+        rep_poses = [self.map.pose(i) for i in reps]
+
+        def ik(target):  # out of reach: the representatives' poses
+            return None if any(np.allclose(target, p) for p in rep_poses) else target[:3].copy()
+
+        ranks = self.map.rank_clusters(obj, ik, lambda q: float(np.linalg.norm(q)))
+        self.assertFalse(any(r["reachable"] for r in ranks))
+        ranks = self.map.rank_clusters(obj, ik, lambda q: float(np.linalg.norm(q)), member_tries=3)
+        for r in ranks:
+            self.assertTrue(r["reachable"], r)
+            self.assertNotEqual(r["target"], r["representative"])
+            self.assertEqual(r["tried"], 2)
+            np.testing.assert_allclose(r["target_object"], self.map.pose(r["target"]))
+        with self.assertRaisesRegex(taskmap.Error, "member_tries must be >= 0"):
+            self.map.rank_clusters(obj, ik, lambda q: 0.0, member_tries=-1)
+
     def test_map_built_by_the_cli(self):
         cli = os.environ.get("TASKMAP_CLI")
         src = os.environ.get("TASKMAP_SOURCE_DIR", "")

@@ -39,8 +39,8 @@ class SummaryTest(unittest.TestCase):
         self.assertEqual(code, 0, err)
         s = taskmap.summary(MAP)
         self.assertEqual(s, json.loads(out))
-        self.assertEqual(s["grasps"]["count"], 118)
-        self.assertEqual(len(s["clustering"]["clusters"]), 10)
+        self.assertEqual(s["grasps"]["count"], 182)
+        self.assertEqual(len(s["clustering"]["clusters"]), 8)
         # A loaded TaskMap gives the same numbers; it has no path.
         from_map = taskmap.summary(taskmap.load(MAP))
         self.assertEqual(from_map["path"], "")

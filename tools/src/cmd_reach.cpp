@@ -177,6 +177,12 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
                   "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
   cmd->add_flag("--all-clusters", args->map.all_clusters,
                 "with --map: optimise from every reachable cluster and keep the cheapest");
+  cmd->add_option("--member-tries", args->map.member_tries,
+                  "with --map: when no cluster's representative grasp is in reach, try at most "
+                  "this many other members of each cluster, then as many outliers (0: the "
+                  "representatives only)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--iterations", args->map.iterations, "with --map: optimiser iterations")
       ->capture_default_str();
   cmd->add_option("--proximity-weight", args->map.proximity_weight, "with --map: w_map,p")

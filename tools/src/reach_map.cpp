@@ -51,6 +51,7 @@ GraspPlanOptions planOptions(const MapReachArgs& args) {
   }();
   GraspPlanOptions o;
   o.all_clusters = args.all_clusters;
+  o.ranking.member_tries = args.member_tries;
   o.descent = descent;
   o.optimizer.max_iterations = args.iterations;
   o.map_weights.proximity = args.proximity_weight;

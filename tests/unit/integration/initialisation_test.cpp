@@ -2,7 +2,10 @@
 // comfort costs themselves: tests/unit/reaching/robot_costs_test.cpp).
 #include "taskmap/integration/initialisation.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -64,6 +67,162 @@ TEST(RankClusters, BestComfortFirstUnreachableLast) {
   EXPECT_EQ(
       testing::errorMessage([&] { rankClusters(TaskMap::fromData(plain), object, ik, comfort); }),
       "rankClusters: the map has no clusters; cluster the map first");
+}
+
+/// A fake arm for the fallbacks: posture = target position; out of reach unless reach(i) for
+/// the grasp i whose pose the target is (object at the origin). Counts the grasps asked.
+struct FakeArm {
+  const TaskMap* map;
+  std::function<bool(std::size_t)> reach;
+  std::vector<std::size_t> asked;
+  IkFunction ik() {
+    return [this](const Pose& target) {
+      IkSolution s;
+      for (std::size_t i = 0; i < map->size(); ++i)
+        if (poseDistance(target, map->pose(i), 0.1) < 1e-9) {
+          asked.push_back(i);
+          if (reach(i)) {
+            s.success = true;
+            s.q = target.position;
+          } else {
+            s.message = "out of reach";
+          }
+          return s;
+        }
+      ADD_FAILURE() << "the IK was asked for a pose that is no grasp of the map";
+      return s;
+    };
+  }
+};
+
+std::size_t representative(const TaskMap& map, int c) {
+  return static_cast<std::size_t>(
+      map.data().clustering->clusters[static_cast<std::size_t>(c)].representative);
+}
+
+int label(const TaskMap& map, std::size_t i) {
+  return map.data().clustering->labels[i];
+}
+
+bool isRepresentative(const TaskMap& map, std::size_t i) {
+  for (int c = 0; c < map.numClusters(); ++c)
+    if (representative(map, c) == i) return true;
+  return false;
+}
+
+double distanceToRepresentative(const TaskMap& map, std::size_t i) {
+  return poseDistance(map.pose(i), map.pose(representative(map, label(map, i))),
+                      map.rotationScale());
+}
+
+TEST(RankClusters, MembersStandInWhenNoRepresentativeIsReachable) {
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(300));
+  const ComfortFunction comfort = [](const Eigen::VectorXd& q) { return q.norm(); };
+  FakeArm arm{&map, [&](std::size_t i) { return !isRepresentative(map, i); }, {}};
+  // Without member tries no cluster is reachable (the paper's rule).
+  auto ranks = rankClusters(map, Pose{}, arm.ik(), comfort);
+  ASSERT_EQ(ranks.size(), 3u);
+  for (const ClusterRank& r : ranks) {
+    EXPECT_FALSE(r.reachable);
+    EXPECT_EQ(r.target, r.representative);
+    EXPECT_EQ(r.tried, 1);
+    EXPECT_EQ(r.message, "out of reach");
+  }
+  // With them, each cluster's farthest member from its representative is tried next, reached.
+  arm.asked.clear();
+  ranks = rankClusters(map, Pose{}, arm.ik(), comfort, RankOptions{4});
+  ASSERT_EQ(ranks.size(), 3u);
+  for (const ClusterRank& r : ranks) {
+    EXPECT_TRUE(r.reachable) << r.cluster;
+    EXPECT_EQ(label(map, r.target), r.cluster);
+    EXPECT_EQ(r.representative, representative(map, r.cluster));
+    EXPECT_NE(r.target, r.representative);
+    EXPECT_EQ(r.tried, 2);
+    EXPECT_LT(poseDistance(r.target_world, map.pose(r.target), 0.1), 1e-12);
+    EXPECT_TRUE(r.message.empty()) << r.message;
+    double farthest = 0.0;
+    for (std::size_t i = 0; i < map.size(); ++i)
+      if (label(map, i) == r.cluster)
+        farthest = std::max(farthest, distanceToRepresentative(map, i));
+    EXPECT_DOUBLE_EQ(distanceToRepresentative(map, r.target), farthest);
+  }
+  EXPECT_EQ(arm.asked.size(), 6u);
+}
+
+TEST(RankClusters, NoMemberIsTriedWhileARepresentativeIsReachable) {
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(300));
+  const std::size_t rep1 = representative(map, 1);
+  const ComfortFunction comfort = [](const Eigen::VectorXd& q) { return q.norm(); };
+  FakeArm arm{&map, [&](std::size_t i) { return i != rep1; }, {}};
+  const auto ranks = rankClusters(map, Pose{}, arm.ik(), comfort, RankOptions{16});
+  ASSERT_EQ(ranks.size(), 3u);
+  EXPECT_EQ(arm.asked.size(), 3u);
+  EXPECT_EQ(ranks[2].cluster, 1);
+  EXPECT_FALSE(ranks[2].reachable);
+  EXPECT_EQ(ranks[2].target, rep1);
+}
+
+TEST(RankClusters, MemberTriesAreBoundedAndSpreadOverTheCluster) {
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(300));
+  const ComfortFunction comfort = [](const Eigen::VectorXd& q) { return q.norm(); };
+  FakeArm arm{
+      &map, [&](std::size_t i) { return label(map, i) != 2 && !isRepresentative(map, i); }, {}};
+  const auto ranks = rankClusters(map, Pose{}, arm.ik(), comfort, RankOptions{5});
+  ASSERT_EQ(ranks.size(), 3u);
+  EXPECT_EQ(ranks[2].cluster, 2);
+  EXPECT_FALSE(ranks[2].reachable);
+  EXPECT_EQ(ranks[2].tried, 6);  // the representative and five members
+  EXPECT_EQ(ranks[2].target, representative(map, 2));
+  EXPECT_EQ(ranks[2].message, "out of reach");
+  // The five members run from the farthest to the nearest of the representative.
+  std::vector<double> d;
+  for (std::size_t i : arm.asked)
+    if (label(map, i) == 2 && i != representative(map, 2))
+      d.push_back(poseDistance(map.pose(i), map.pose(representative(map, 2)), map.rotationScale()));
+  ASSERT_EQ(d.size(), 5u);
+  EXPECT_TRUE(std::is_sorted(d.rbegin(), d.rend()));
+  double nearest = 1e9;
+  for (std::size_t i = 0; i < map.size(); ++i)
+    if (label(map, i) == 2 && i != representative(map, 2))
+      nearest = std::min(nearest, poseDistance(map.pose(i), map.pose(representative(map, 2)),
+                                               map.rotationScale()));
+  EXPECT_DOUBLE_EQ(d.back(), nearest);
+}
+
+TEST(RankClusters, OutliersAreTheLastResortWhenNoClusterIsReachable) {
+  TaskMapData data = testing::syntheticMap(300);
+  for (std::size_t i = 0; i < 300; i += 50) data.clustering->labels[i] = -1;  // six outliers
+  const TaskMap map = TaskMap::fromData(std::move(data));
+  const ComfortFunction comfort = [](const Eigen::VectorXd& q) { return q.norm(); };
+  FakeArm arm{&map, [&](std::size_t i) { return i == 250; }, {}};
+  auto ranks = rankClusters(map, Pose{}, arm.ik(), comfort, RankOptions{8});
+  ASSERT_EQ(ranks.size(), 4u);
+  EXPECT_EQ(ranks[0].cluster, -1);
+  EXPECT_TRUE(ranks[0].reachable);
+  EXPECT_EQ(ranks[0].target, 250u);
+  EXPECT_EQ(ranks[0].representative, 250u);
+  EXPECT_EQ(ranks[0].tried, 6);  // outliers 0, 50, ..., 250 in index order
+  for (int k = 1; k < 4; ++k) EXPECT_FALSE(ranks[static_cast<std::size_t>(k)].reachable);
+  // Without member tries, or with a reachable cluster, no outlier is tried.
+  arm.asked.clear();
+  ranks = rankClusters(map, Pose{}, arm.ik(), comfort);
+  EXPECT_EQ(ranks.size(), 3u);
+  for (std::size_t i : arm.asked) EXPECT_GE(label(map, i), 0);
+  FakeArm easy{&map, [](std::size_t) { return true; }, {}};
+  ranks = rankClusters(map, Pose{}, easy.ik(), comfort, RankOptions{8});
+  EXPECT_EQ(ranks.size(), 3u);
+  EXPECT_EQ(easy.asked.size(), 3u);
+}
+
+TEST(RankClusters, RefusesNegativeMemberTries) {
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(30));
+  FakeArm arm{&map, [](std::size_t) { return true; }, {}};
+  EXPECT_EQ(testing::errorMessage([&] {
+              rankClusters(
+                  map, Pose{}, arm.ik(), [](const Eigen::VectorXd&) { return 0.0; },
+                  RankOptions{-1});
+            }),
+            "rank options: member_tries must be >= 0 (0 = the representative only)");
 }
 
 }  // namespace

@@ -32,18 +32,36 @@ using ComfortFunction = std::function<double(const Eigen::VectorXd& q)>;
 struct ClusterRank {
   int cluster = -1;                ///< cluster id (0..K-1)
   std::size_t representative = 0;  ///< grasp index (ClusterSummary::representative)
-  Pose target_object;              ///< representative pose, object frame
-  Pose target_world;               ///< representative pose, world frame (the IK target)
-  bool reachable = false;          ///< IK succeeded
-  Eigen::VectorXd q;               ///< IK posture
-  double comfort = 0.0;            ///< comfort cost (infinity if unreachable)
-  std::string message;             ///< IK message when unreachable
+  /// Grasp index of the target: the representative, or the member reached in its place
+  /// (RankOptions::member_tries); the representative when none is reachable.
+  std::size_t target = 0;
+  int tried = 0;           ///< targets given to the IK: the representative, then members
+  Pose target_object;      ///< the target grasp's palm pose, object frame
+  Pose target_world;       ///< the target grasp's palm pose, world frame (the IK target)
+  bool reachable = false;  ///< IK succeeded
+  Eigen::VectorXd q;       ///< IK posture
+  double comfort = 0.0;    ///< comfort cost (infinity if unreachable)
+  std::string message;     ///< IK message when unreachable (the representative's)
+};
+
+/// How rankClusters chooses each cluster's target.
+struct RankOptions {
+  /// When no cluster's representative is reachable, at most this many other members of each
+  /// cluster are given to the IK, spread over the cluster (sorted by pose distance to the
+  /// representative, farthest first, taken at evenly spaced ranks), the first reachable one
+  /// the cluster's target; when none is reachable either, at most this many outliers (grasps
+  /// in no cluster, index order, evenly spaced), the first reachable one ranked as cluster -1.
+  /// 0: the representatives only (the paper's rule). >= 0.
+  int member_tries = 0;
+  /// Throws Error when member_tries < 0.
+  void validate() const;
 };
 
 /// Ranks every cluster of the map: reachable ones first by increasing comfort cost, then the
 /// unreachable ones; ties by cluster id. Throws Error if the map has no clustering or a
-/// function is empty; a comfort that is not finite ranks the cluster as unreachable.
+/// function is empty; a comfort that is not finite ranks the target as unreachable.
 std::vector<ClusterRank> rankClusters(const TaskMap& map, const Pose& object_world,
-                                      const IkFunction& ik, const ComfortFunction& comfort);
+                                      const IkFunction& ik, const ComfortFunction& comfort,
+                                      const RankOptions& options = {});
 
 }  // namespace taskmap

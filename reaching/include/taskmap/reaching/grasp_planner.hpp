@@ -44,6 +44,11 @@ struct GraspPlanOptions {
   /// re-run the cheapest (safe first) with the full optimizer.max_iterations (docs/REACHING.md
   /// "Screening"). 0 = off (every cluster optimised fully); >= 0. Default 5.
   int screen_iterations = 5;
+  /// Which grasp of each cluster the plan starts from (rankClusters): the representatives, or,
+  /// when none is reachable, one of at most ranking.member_tries other members of each cluster,
+  /// then of as many outliers. Default 16 (docs/REACHING.md "When no representative is
+  /// reachable").
+  RankOptions ranking{16};
   /// End each plan on its final nearest sample (docs/REACHING.md "Ending on the sample"): the
   /// last end_steps steps of the optimised trajectory are bent (smoothstep) onto the joint
   /// configuration whose palm pose relative to the object is the sample's (damped
