@@ -30,14 +30,16 @@ using ComfortFunction = std::function<double(const Eigen::VectorXd& q)>;
 
 /// One ranked cluster.
 struct ClusterRank {
-  int cluster = -1;                ///< cluster id (0..K-1)
-  std::size_t representative = 0;  ///< grasp index (ClusterSummary::representative)
+  int cluster = -1;  ///< cluster id (0..K-1); -1 for an outlier (RankOptions::member_tries)
+  /// Grasp index of the cluster's representative (ClusterSummary::representative); for
+  /// cluster -1 the outlier reached.
+  std::size_t representative = 0;
   /// Grasp index of the target: the representative, or the member reached in its place
   /// (RankOptions::member_tries); the representative when none is reachable.
   std::size_t target = 0;
-  int tried = 0;           ///< targets given to the IK: the representative, then members
-  Pose target_object;      ///< the target grasp's palm pose, object frame
-  Pose target_world;       ///< the target grasp's palm pose, world frame (the IK target)
+  int tried = 0;       ///< targets given to the IK: the representative, then members (or outliers)
+  Pose target_object;  ///< the target grasp's palm pose, object frame
+  Pose target_world;   ///< the target grasp's palm pose, world frame (the IK target)
   bool reachable = false;  ///< IK succeeded
   Eigen::VectorXd q;       ///< IK posture
   double comfort = 0.0;    ///< comfort cost (infinity if unreachable)
