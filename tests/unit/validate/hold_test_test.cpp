@@ -7,7 +7,10 @@
 
 #include <set>
 
+#include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "build_fixtures.hpp"
@@ -244,6 +247,11 @@ struct HandCase {
   int mimic;
 };
 
+/// GoogleTest prints a parameter in the test's listing: the URDF, not the struct's bytes.
+void PrintTo(const HandCase& c, std::ostream* os) {
+  *os << c.urdf;
+}
+
 class EveryHand : public ::testing::TestWithParam<HandCase> {};
 
 TEST_P(EveryHand, ModelCompilesWithOneActuatorPerJoint) {
@@ -271,7 +279,15 @@ INSTANTIATE_TEST_SUITE_P(
         HandCase{std::string(TEST_DATA_DIR) + "/hands/knuckle_jaw/knuckle_jaw.urdf", 3},
         HandCase{std::string(TEST_DATA_DIR) +
                      "/real/hands/allegro_right/allegro_hand_description_right.urdf",
-                 0}));
+                 0}),
+    // Test names from the URDF's stem (e.g. Hands/EveryHand.ModelCompiles.../barrett), not the
+    // struct's bytes.
+    [](const ::testing::TestParamInfo<HandCase>& param) {
+      std::string stem = std::filesystem::path(param.param.urdf).stem().string();
+      for (char& ch : stem)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      return stem;
+    });
 
 }  // namespace
 }  // namespace taskmap
