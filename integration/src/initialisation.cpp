@@ -41,21 +41,29 @@ std::vector<std::size_t> membersToTry(const TaskMap& map, int c, std::size_t rep
   return spread(members, tries);
 }
 
-/// Makes grasp the rank's target: its palm pose in the object and in the world frame.
-void setTarget(const TaskMap& map, const Pose& object_world, std::size_t grasp, ClusterRank& r) {
+/// A pose given in the object frame, in the world frame.
+Pose inWorld(const Pose& object_world, const Pose& in_object) {
   const Eigen::Quaterniond qo = object_world.orientation.normalized();
-  r.target = grasp;
-  r.target_object = map.pose(grasp);
-  r.target_world.position = object_world.position + qo * r.target_object.position;
-  r.target_world.orientation = (qo * r.target_object.orientation).normalized();
+  Pose p;
+  p.position = object_world.position + qo * in_object.position;
+  p.orientation = (qo * in_object.orientation).normalized();
+  return p;
 }
 
-/// IK and comfort of one target grasp; true when reachable with a finite comfort.
+/// Makes grasp the rank's target: its palm pose in the object and in the world frame.
+void setTarget(const TaskMap& map, const Pose& object_world, std::size_t grasp, ClusterRank& r) {
+  r.target = grasp;
+  r.target_object = map.pose(grasp);
+  r.target_world = inWorld(object_world, r.target_object);
+}
+
+/// IK and comfort of one grasp; when reachable with a finite comfort, the grasp becomes the
+/// rank's target (posture and comfort with it) and true is returned. A failure leaves the
+/// target as it was and keeps the first failure's message.
 bool tryTarget(const TaskMap& map, const Pose& object_world, std::size_t grasp,
                const IkFunction& ik, const ComfortFunction& comfort, ClusterRank& r) {
-  setTarget(map, object_world, grasp, r);
   ++r.tried;
-  const IkSolution s = ik(r.target_world);
+  const IkSolution s = ik(inWorld(object_world, map.pose(grasp)));
   if (!s.success) {
     if (r.message.empty()) r.message = s.message.empty() ? "inverse kinematics failed" : s.message;
     return false;
@@ -65,6 +73,7 @@ bool tryTarget(const TaskMap& map, const Pose& object_world, std::size_t grasp,
     if (r.message.empty()) r.message = "comfort cost is not finite";
     return false;
   }
+  setTarget(map, object_world, grasp, r);
   r.q = s.q;
   r.reachable = true;
   r.comfort = c_value;
@@ -109,17 +118,15 @@ std::vector<ClusterRank> rankClusters(const TaskMap& map, const Pose& object_wor
     r.representative = static_cast<std::size_t>(
         map.data().clustering->clusters[static_cast<std::size_t>(c)].representative);
     r.comfort = std::numeric_limits<double>::infinity();
+    setTarget(map, object_world, r.representative, r);  // kept when nothing is reachable
     tryTarget(map, object_world, r.representative, ik, comfort, r);
     out.push_back(std::move(r));
   }
   // Fallbacks, only when no representative is reachable: members, then the outliers.
   if (options.member_tries > 0 && std::none_of(out.begin(), out.end(), reachable)) {
-    for (ClusterRank& r : out) {
-      bool found = false;
+    for (ClusterRank& r : out)
       for (std::size_t m : membersToTry(map, r.cluster, r.representative, options.member_tries))
-        if ((found = tryTarget(map, object_world, m, ik, comfort, r))) break;
-      if (!found) setTarget(map, object_world, r.representative, r);
-    }
+        if (tryTarget(map, object_world, m, ik, comfort, r)) break;
     if (std::none_of(out.begin(), out.end(), reachable)) {
       ClusterRank r = rankOutliers(map, object_world, ik, comfort, options.member_tries);
       if (r.reachable) out.push_back(std::move(r));
