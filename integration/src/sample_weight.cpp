@@ -65,11 +65,39 @@ SampleWeight resolveSampleWeight(const TaskMapData& map, SampleWeight requested)
   return requested;
 }
 
+namespace {
+
+/// A JSON object from text, or an empty one when the text is not one.
+nlohmann::json objectOf(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  return j.is_object() ? j : nlohmann::json::object();
+}
+
+/// The robust label's margins: 0 for a grasp that is not robust, else how much of the margin
+/// its pushes left, min(1 - d_c / d_m, 1 - a_c / a_m), d_c and a_c measured from the closed
+/// state over every variant.
+std::vector<double> robustMargins(const MapValidation& v) {
+  const nlohmann::json robust = objectOf(v.robust_json);
+  const double d_max = holdLimit(robust, "margin_translation", 0.01);
+  const double a_max = holdLimit(robust, "margin_rotation", 5.0 * M_PI / 180.0);
+  std::vector<double> margin(v.robust.size(), 0.0);
+  for (std::size_t i = 0; i < margin.size(); ++i) {
+    if (v.robust[i] != 1) continue;
+    const double d = std::max(0.0, v.push_translation[i]), a = std::max(0.0, v.push_rotation[i]);
+    margin[i] = std::clamp(std::min(1.0 - d / d_max, 1.0 - a / a_max), 0.0, 1.0);
+  }
+  return margin;
+}
+
+}  // namespace
+
 std::vector<double> holdMargins(const TaskMapData& map) {
   assert(fullyValidated(map));
   const MapValidation& v = *map.validation;
-  const nlohmann::json params = nlohmann::json::parse(v.params_json, nullptr, false);
-  const nlohmann::json object = params.is_object() ? params : nlohmann::json::object();
+  if (!v.robust_json.empty() && v.robust.size() == v.hold.size() &&
+      std::find(v.robust.begin(), v.robust.end(), MapValidation::kNotTested) == v.robust.end())
+    return robustMargins(v);
+  const nlohmann::json object = objectOf(v.params_json);
   // The protocol's defaults (validate/hold_test.hpp) for labels that do not record them.
   const double d_max = holdLimit(object, "max_translation", 0.05);
   const double a_max = holdLimit(object, "max_rotation", 15.0 * M_PI / 180.0);

@@ -154,6 +154,14 @@ void writeValidation(hid_t file, const TaskMapData& map) {
   h5::writeAttr(vg, "params_json", v.params_json);
   h5::writeAttrUInt(vg, "tested", v.tested());
   h5::writeAttrUInt(vg, "holding", v.holding());
+  if (v.robust_json.empty()) return;
+  h5::writeVector(g, "robust", h5::Type::kU8, v.robust.data(), n);
+  h5::writeVector(g, "robust_share", h5::Type::kF64, v.robust_share.data(), n);
+  h5::writeVector(g, "hold_push_translation", h5::Type::kF64, v.push_translation.data(), n);
+  h5::writeVector(g, "hold_push_rotation", h5::Type::kF64, v.push_rotation.data(), n);
+  h5::writeDataset(g, "robust_variants", h5::Type::kU8, v.variant_held.data(), n, v.variantCount());
+  h5::writeAttr(vg, "robust_json", v.robust_json);
+  h5::writeAttrUInt(vg, "robust", v.robustCount());
 }
 
 void writeFile(const std::string& tmp, const TaskMapData& map) {
@@ -351,6 +359,21 @@ void readValidation(hid_t file, TaskMapData& map) {
   v.translation = vectorOf(h5::readF64(file, "/grasps/hold_translation", 1));
   v.rotation = vectorOf(h5::readF64(file, "/grasps/hold_rotation", 1));
   v.direction = readIntsIn<std::int32_t>(file, "/grasps/hold_direction", -1, 5);
+  if (h5::hasAttr(vg, "robust_json")) {
+    v.robust_json = h5::readAttrString(vg, "/validation", "robust_json");
+    v.robust = readIntsIn<std::uint8_t>(file, "/grasps/robust", 0, 255);
+    v.robust_share = vectorOf(h5::readF64(file, "/grasps/robust_share", 1));
+    v.push_translation = vectorOf(h5::readF64(file, "/grasps/hold_push_translation", 1));
+    v.push_rotation = vectorOf(h5::readF64(file, "/grasps/hold_push_rotation", 1));
+    const std::size_t variants = v.variantCount();
+    if (variants == 0) throw Error("/validation attribute robust_json names no variants");
+    const auto held = h5::readI64(file, "/grasps/robust_variants", 2, variants);
+    for (std::size_t i = 0; i < held.values.size(); ++i) {
+      if (held.values[i] < 0 || held.values[i] > 255)
+        throw Error("/grasps/robust_variants: entry " + std::to_string(i) + " is out of range");
+      v.variant_held.push_back(static_cast<std::uint8_t>(held.values[i]));
+    }
+  }
   map.validation = std::move(v);
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/grasp_contacts.hpp"
 
@@ -174,6 +176,39 @@ void validateClustering(const ClusteringResult& c, std::size_t n) {
   if (c.min_size < 0) fail("/clustering attribute min_size", "must not be negative");
 }
 
+void validateRobust(const MapValidation& v, std::size_t n) {
+  const std::size_t variants = v.variantCount();
+  if (variants == 0) fail("/validation attribute robust_json", "names no variants");
+  requireRows(v.robust.size(), n, "/grasps/robust", "one per grasp");
+  requireRows(v.robust_share.size(), n, "/grasps/robust_share", "one per grasp");
+  requireRows(v.push_translation.size(), n, "/grasps/hold_push_translation", "one per grasp");
+  requireRows(v.push_rotation.size(), n, "/grasps/hold_push_rotation", "one per grasp");
+  requireRows(v.variant_held.size(), n * variants, "/grasps/robust_variants",
+              "one row per grasp, one column per variant");
+  requireFinite(v.robust_share, "/grasps/robust_share");
+  requireFinite(v.push_translation, "/grasps/hold_push_translation");
+  requireFinite(v.push_rotation, "/grasps/hold_push_rotation");
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::string e = "entry " + std::to_string(i);
+    const bool untested = v.robust[i] == MapValidation::kNotTested;
+    if (v.robust[i] > 1 && !untested) fail("/grasps/robust", e + " is not 0, 1 or 255");
+    if (v.robust[i] == 1 && v.hold[i] != 1)
+      fail("/grasps/robust", e + " is robust but does not hold (/grasps/hold)");
+    const double share = v.robust_share[i];
+    if (untested ? share != -1.0 : !(share >= 0.0 && share <= 1.0))
+      fail("/grasps/robust_share", e + " is not in [0, 1] (-1 when not tested)");
+    if (v.robust[i] == 1 && share != 1.0)
+      fail("/grasps/robust_share", e + " of a robust grasp is not 1");
+    for (std::size_t k = 0; k < variants; ++k) {
+      const auto h = v.variant_held[i * variants + k];
+      if (h > 1 && h != MapValidation::kNotTested)
+        fail("/grasps/robust_variants", e + " holds a value other than 0, 1 or 255");
+      if (v.robust[i] == 1 && h != 1)
+        fail("/grasps/robust_variants", e + " of a robust grasp has a variant that failed");
+    }
+  }
+}
+
 void validateValidation(const MapValidation& v, std::size_t n) {
   requireRows(v.hold.size(), n, "/grasps/hold", "one per grasp");
   requireRows(v.status.size(), n, "/grasps/hold_status", "one per grasp");
@@ -193,6 +228,13 @@ void validateValidation(const MapValidation& v, std::size_t n) {
     if (v.direction[i] < -1 || v.direction[i] > 5)
       fail("/grasps/hold_direction", e + " is outside [-1, 5]");
   }
+  if (v.robust_json.empty()) {
+    if (!v.robust.empty() || !v.robust_share.empty() || !v.push_translation.empty() ||
+        !v.push_rotation.empty() || !v.variant_held.empty())
+      fail("/grasps/robust", "robust labels without /validation attribute robust_json");
+    return;
+  }
+  validateRobust(v, n);
 }
 
 }  // namespace
@@ -201,6 +243,19 @@ std::size_t MapValidation::tested() const {
   std::size_t n = 0;
   for (auto h : hold) n += h != kNotTested;
   return n;
+}
+
+std::size_t MapValidation::robustCount() const {
+  std::size_t n = 0;
+  for (auto r : robust) n += r == 1;
+  return n;
+}
+
+std::size_t MapValidation::variantCount() const {
+  if (robust_json.empty()) return 0;
+  const nlohmann::json j = nlohmann::json::parse(robust_json, nullptr, false);
+  if (!j.is_object() || !j.contains("variants") || !j["variants"].is_array()) return 0;
+  return j["variants"].size();
 }
 
 std::size_t MapValidation::holding() const {

@@ -61,6 +61,65 @@ py::dict contactsOf(const TaskMap& t, std::size_t i) {
   return d;
 }
 
+/// The robust hold labels (the default build's, `taskmap validate --robust`), None without them.
+void bindRobustLabels(py::class_<TaskMap>& cls) {
+  cls.def_property_readonly(
+         "robust",
+         [](const TaskMap& t) -> py::object {
+           const MapValidation* v = labels(t);
+           if (!v || v->robust_json.empty()) return py::none();
+           return array(v->robust);
+         },
+         "N robust hold labels (built maps, taskmap.validate(robust=True)): 1 the grasp holds "
+         "under every variant within the margin, 0 not, 255 not tested; None without them.")
+      .def_property_readonly(
+          "robust_share",
+          [](const TaskMap& t) -> py::object {
+            const MapValidation* v = labels(t);
+            if (!v || v->robust_json.empty()) return py::none();
+            return array(v->robust_share);
+          },
+          "N shares of the robust label's variants held (-1 not tested), or None.")
+      .def_property_readonly(
+          "hold_margin",
+          [](const TaskMap& t) -> py::object {
+            const MapValidation* v = labels(t);
+            if (!v || v->robust_json.empty()) return py::none();
+            py::array_t<double> a({static_cast<py::ssize_t>(v->robust.size()), py::ssize_t{2}});
+            auto m = a.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < v->robust.size(); ++i) {
+              m(static_cast<py::ssize_t>(i), 0) = v->push_translation[i];
+              m(static_cast<py::ssize_t>(i), 1) = v->push_rotation[i];
+            }
+            return std::move(a);
+          },
+          "N x 2: the object's largest displacement (metres) and rotation (radians) from its "
+          "closed state under the pushes, over the robust label's variants (-1 not tested); "
+          "or None.")
+      .def_property_readonly(
+          "robust_variants",
+          [](const TaskMap& t) -> py::object {
+            const MapValidation* v = labels(t);
+            if (!v || v->robust_json.empty()) return py::none();
+            const auto k = static_cast<py::ssize_t>(v->variantCount());
+            py::array_t<std::uint8_t> a({static_cast<py::ssize_t>(v->robust.size()), k});
+            std::copy(v->variant_held.begin(), v->variant_held.end(), a.mutable_data());
+            return std::move(a);
+          },
+          "N x V: per grasp and robust variant (names: robust_params['variants']), 1 held, 0 "
+          "failed, 255 not tested; or None.")
+      .def_property_readonly(
+          "robust_params",
+          [](const TaskMap& t) -> py::object {
+            const MapValidation* v = labels(t);
+            if (!v || v->robust_json.empty()) return py::none();
+            return py::module_::import("json").attr("loads")(v->robust_json);
+          },
+          "The robust label's variants (names, test order) and thresholds as a dict "
+          "(/validation robust_json), or None.");
+  ;
+}
+
 }  // namespace
 
 void bindTaskMapArrays(py::class_<TaskMap>& cls) {
@@ -130,6 +189,7 @@ void bindTaskMapArrays(py::class_<TaskMap>& cls) {
           },
           "N first failing pushes 0..5 (-x +x -y +y -z +z of the object frame), -1 none; or "
           "None.");
+  bindRobustLabels(cls);
 }
 
 }  // namespace taskmap

@@ -33,7 +33,7 @@ std::string handUrdf(const TaskMapData& map, const std::string& hand, const std:
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
                       double object_mass, double friction, double jaw_force, double contact_patch,
-                      py::object progress) {
+                      bool robust, bool full, py::object progress) {
   TaskMapData map = readMap(map_path);
   const std::string urdf = handUrdf(map, hand, map_path, "validate");
   ValidateOptions o;
@@ -43,6 +43,8 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   o.hold.sliding_friction = friction;
   o.hold.jaw_force = jaw_force;
   o.hold.contact_patch = contact_patch;
+  o.hold.settle_stop = !full;
+  o.robust = robust;
   PythonRun run(std::move(progress));
   ValidationSummary s;
   {
@@ -93,19 +95,26 @@ void bindValidate(py::module_& m) {
   m.def("validate", &validatePath, py::arg("map"), py::arg("hand") = "", py::arg("output") = "",
         py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
         py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
-        py::arg("contact_patch") = d.contact_patch, py::arg("progress") = py::none(),
+        py::arg("contact_patch") = d.contact_patch, py::arg("robust") = false,
+        py::arg("full") = false, py::arg("progress") = py::none(),
         "Tests whether the grasps of the map at `map` hold the object in physics "
         "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
         "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
         "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
         "was built with, at its recorded path or a bundled hand with the same SHA-256); threads: "
         "0 all cores; grasps: test only the first N (0 all); jaw_force: N per parallel jaw; "
-        "contact_patch: metres (0: one contact per shape); progress: called about every 0.25 s "
+        "contact_patch: metres (0: one contact per shape); robust: also the robust label "
+        "(`taskmap validate --robust`: every grasp again with the palm 1 mm and 2 degrees off "
+        "along and about each palm axis, friction 0.5 and a second decomposition, each within "
+        "1 cm and 5 degrees; /grasps/robust, robust_share, robust_variants); full: every push "
+        "its whole 2 s (default: a push ends once the object settled); progress: called about "
+        "every 0.25 s "
         "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
         "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
         "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
         "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
-        "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps.");
+        "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps; with robust also robust, "
+        "robust_rate and variant_failures (by variant).");
   m.def("trace_hold", &tracePath, py::arg("map"), py::arg("grasp"), py::arg("hand") = "",
         py::arg("object_mass") = d.object_mass, py::arg("friction") = d.sliding_friction,
         py::arg("jaw_force") = d.jaw_force, py::arg("contact_patch") = d.contact_patch,

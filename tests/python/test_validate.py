@@ -20,7 +20,8 @@ class ValidateTest(unittest.TestCase):
         cls.dir = tempfile.TemporaryDirectory()
         cls.map = os.path.join(cls.dir.name, "box.h5")
         subprocess.run([CLI, "build", "--object", os.path.join(SRC, "meshes/objects/box.obj"),
-                        "--hand", "panda", "--valid", "6", "--seed", "5", "-q", "-o", cls.map],
+                        "--hand", "panda", "--valid", "6", "--seed", "5", "--hold-test", "off", "-q", "-o",
+                        cls.map],
                        check=True)
 
     @classmethod
@@ -51,6 +52,31 @@ class ValidateTest(unittest.TestCase):
             self.assertEqual(a["validation"].attrs["protocol"], b"dexgraspbench_fc")
         # The labelled map reads back through the verified reader.
         self.assertEqual(len(taskmap.load(py_out)), 6)
+
+    def test_robust_labels_match_the_command_line(self):
+        py_out = os.path.join(self.dir.name, "robust_py.h5")
+        cli_out = os.path.join(self.dir.name, "robust_cli.h5")
+        s = taskmap.validate(self.map, output=py_out, grasps=2, threads=1, robust=True)
+        report = json.loads(subprocess.run(
+            [CLI, "validate", self.map, "--grasps", "2", "--robust", "--json", "-o", cli_out],
+            check=True, capture_output=True, text=True).stdout)
+        for key in ("robust", "variant_failures", "holding"):
+            self.assertEqual(report[key], s[key], key)
+        m = taskmap.load(py_out)
+        names = m.robust_params["variants"]
+        self.assertEqual(names[0], "nominal")
+        self.assertEqual(m.robust_variants.shape, (6, len(names)))
+        np.testing.assert_array_equal(m.robust[2:], 255)  # grasps 2.. not tested
+        self.assertEqual(int((m.robust == 1).sum()), s["robust"])
+        self.assertTrue(((m.robust_share[:2] >= 0) & (m.robust_share[:2] <= 1)).all())
+        self.assertEqual(m.hold_margin.shape, (6, 2))
+        with h5py.File(py_out, "r") as a, h5py.File(cli_out, "r") as b:
+            np.testing.assert_array_equal(a["grasps/robust_variants"][:],
+                                          b["grasps/robust_variants"][:])
+            np.testing.assert_array_equal(a["grasps/hold_push_translation"][:],
+                                          b["grasps/hold_push_translation"][:])
+        # A map without robust labels has none to show.
+        self.assertIsNone(taskmap.load(self.map).robust)
 
     def test_trace_is_the_command_lines(self):
         t = taskmap.trace_hold(self.map, 0)

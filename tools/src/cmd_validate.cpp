@@ -24,7 +24,7 @@ namespace {
 struct ValidateArgs {
   std::string map, output, hand;
   ValidateOptions options;
-  bool json = false, quiet = false, force = false;
+  bool json = false, quiet = false, force = false, full = false;
   long long trace = -1;  ///< >= 0: trace this grasp instead of labelling the map
 };
 
@@ -124,6 +124,14 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
       ->capture_default_str();
+  cmd->add_flag("--robust", a->options.robust,
+                "also the robust label: every grasp again with the palm moved 1 mm and turned 2 "
+                "deg along and about each palm axis, friction 0.5 and a second decomposition of "
+                "the object, each within a margin of 1 cm and 5 deg (docs/VALIDATION.md, \"The "
+                "robust label\")");
+  cmd->add_flag("--full", a->full,
+                "run every push its whole 2 s, as DexGraspBench publishes the protocol (default: "
+                "a push ends once the object has settled; same labels, docs/VALIDATION.md)");
   cmd->add_option("--trace", a->trace,
                   "test only grasp I (index from 0) and print where the object goes and which "
                   "links press it, stage by stage; writes nothing")
@@ -131,7 +139,10 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
   cmd->add_flag("--json", a->json, "print the summary (or the --trace) as JSON");
   cmd->add_flag("--force", a->force, "replace an existing -o file that is not a task map");
   cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
-  cmd->callback([a]() { runValidate(*a); });
+  cmd->callback([a]() {
+    a->options.hold.settle_stop = !a->full;
+    runValidate(*a);
+  });
 });
 
 }  // namespace

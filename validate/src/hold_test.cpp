@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -160,11 +161,21 @@ void HoldTestOptions::validate() const {
   if (!(pregrasp_fraction >= 0.0 && pregrasp_fraction <= 1.0) || !(squeeze_fraction >= 1.0) ||
       !(squeeze_fraction <= 2.0))
     throw Error("hold test: pregrasp_fraction must be in [0, 1] and squeeze_fraction in [1, 2]");
+  if (solver_iterations < 1) throw Error("hold test option solver_iterations must be >= 1");
+  positive(solver_tolerance, "solver_tolerance");
   if (interpolation_stages < 1 || steps_per_stage < 1 || check_every < 1 || noslip_iterations < 0)
     throw Error("hold test: interpolation_stages, steps_per_stage and check_every must be >= 1");
   if (!(contact_patch >= 0.0)) throw Error("hold test option contact_patch must be >= 0 metres");
   if (object_max_pieces < 1 || object_max_pieces > 64)
     throw Error("hold test option object_max_pieces must be in [1, 64]");
+  if (object_max_faces < 50 || object_max_faces > 5000)
+    throw Error("hold test option object_max_faces must be in [50, 5000]");
+  if (!(margin_translation >= 0.0) || !(margin_rotation >= 0.0))
+    throw Error("hold test options margin_translation and margin_rotation must be >= 0 (0: off)");
+  if (settle_window < 1) throw Error("hold test option settle_window must be >= 1");
+  positive(settle_joint_speed, "settle_joint_speed");
+  if (!(settle_envelope > 0.0 && settle_envelope <= 1.0))
+    throw Error("hold test option settle_envelope must be in (0, 1]");
 }
 
 std::string physicsEngine() {
@@ -231,6 +242,18 @@ struct HoldTester::Impl {
     const Eigen::Quaterniond a(start[3], start[4], start[5], start[6]);
     const Eigen::Quaterniond b(q[3], q[4], q[5], q[6]);
     return {dp.norm(), a.normalized().angularDistance(b.normalized())};
+  }
+
+  /// The fastest hand joint, rad/s (a slide's m/s times 10: a 10 cm lever).
+  double handSpeed(const mjData* d) const {
+    double fastest = 0.0;
+    for (int j = 0; j < model->njnt; ++j) {
+      const int type = model->jnt_type[j];
+      if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+      const double v = std::abs(d->qvel[model->jnt_dofadr[j]]);
+      fastest = std::max(fastest, type == mjJNT_SLIDE ? 10.0 * v : v);
+    }
+    return fastest;
   }
 
   bool finite(const mjData* d) const {
@@ -317,22 +340,116 @@ bool HoldTester::Impl::close(mjData* d, const Eigen::VectorXd& from, const Eigen
   return true;
 }
 
+namespace {
+
+/// Where the object is during a push, against its start and its closed state.
+struct PushReading {
+  double from_start_t = 0.0, from_start_r = 0.0;    // protocol: from the start, m and rad
+  double from_closed_t = 0.0, from_closed_r = 0.0;  // margin: from the closed state
+};
+
+/// The object's drift over the last settle window and whether the push may end held: the drift
+/// does not grow, and twice the drift over each of the `remaining` windows keeps every measure
+/// inside its threshold (docs/VALIDATION.md, "Settled pushes").
+struct SettleWatch {
+  double last_t = -1.0, last_r = -1.0;  // drift of the previous window, -1 before the first
+  Eigen::Vector3d where = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond turn = Eigen::Quaterniond::Identity();
+  int steady_windows = 0;  // consecutive windows that passed
+
+  /// A window ends at the object's pose p, q; `remaining` windows of the push are left; `hand`:
+  /// the hand is slow enough (or not asked about).
+  bool settled(const Eigen::Vector3d& p, const Eigen::Quaterniond& q, const PushReading& r,
+               double remaining, bool hand, const HoldTestOptions& o) {
+    const double dt = (p - where).norm(), dr = turn.angularDistance(q);
+    const bool steady = last_t >= 0.0 && dt <= last_t + 1e-9 && dr <= last_r + 1e-9 && hand &&
+                        within(dt, dr, r, remaining, o);
+    last_t = dt, last_r = dr, where = p, turn = q;
+    steady_windows = steady ? steady_windows + 1 : 0;
+    return steady_windows >= 2;
+  }
+
+  /// Twice the drift over every remaining window keeps the object inside the protocol's
+  /// thresholds and, from its closed state, inside the settle envelope (a fraction of them, or
+  /// the margin when smaller).
+  static bool within(double dt, double dr, const PushReading& r, double remaining,
+                     const HoldTestOptions& o) {
+    const double reach_t = 2.0 * remaining * dt, reach_r = 2.0 * remaining * dr;
+    if (r.from_start_t + reach_t >= o.max_translation) return false;
+    if (r.from_start_r + reach_r >= o.max_rotation) return false;
+    double envelope_t = o.settle_envelope * o.max_translation;
+    double envelope_r = o.settle_envelope * o.max_rotation;
+    if (o.margin_translation > 0.0) envelope_t = std::min(envelope_t, o.margin_translation);
+    if (o.margin_rotation > 0.0) envelope_r = std::min(envelope_r, o.margin_rotation);
+    return r.from_closed_t + reach_t < envelope_t && r.from_closed_r + reach_r < envelope_r;
+  }
+};
+
+/// Whether a push whose object jitters in place (a chattering contact never comes to rest) or
+/// creeps at a steady rate (MuJoCo's soft friction lets a pushed object slide slowly) may end
+/// held: at the protocol's checks, the running maxima of the object's displacement and rotation
+/// from its closed state grow, over the last check, by no more than 1.5 times their mean growth
+/// since the first check (no acceleration), and twice the larger of the two over every check
+/// left keeps them inside every threshold and the settle envelope (SettleWatch::within); two
+/// checks in a row.
+struct EnvelopeWatch {
+  PushReading most;   // running maxima over the checks so far
+  PushReading first;  // the maxima at the first check (the push's transient)
+  int checks = 0, steady_checks = 0;
+
+  bool settled(const PushReading& now, double remaining, const HoldTestOptions& o) {
+    const PushReading before = most;
+    most.from_start_t = std::max(most.from_start_t, now.from_start_t);
+    most.from_start_r = std::max(most.from_start_r, now.from_start_r);
+    most.from_closed_t = std::max(most.from_closed_t, now.from_closed_t);
+    most.from_closed_r = std::max(most.from_closed_r, now.from_closed_r);
+    if (++checks == 1) first = most;
+    if (checks < 3) return false;
+    const double gt = most.from_closed_t - before.from_closed_t;
+    const double gr = most.from_closed_r - before.from_closed_r;
+    const double mean_t = (most.from_closed_t - first.from_closed_t) / (checks - 1);
+    const double mean_r = (most.from_closed_r - first.from_closed_r) / (checks - 1);
+    const bool steady =
+        gt <= 1.5 * mean_t + 1e-9 && gr <= 1.5 * mean_r + 1e-9 &&
+        SettleWatch::within(std::max(gt, mean_t), std::max(gr, mean_r), most, remaining, o);
+    steady_checks = steady ? steady_checks + 1 : 0;
+    return steady_checks >= 2;
+  }
+};
+
+Eigen::Vector3d objectPosition(const mjtNum* q) {
+  return {q[0], q[1], q[2]};
+}
+Eigen::Quaterniond objectTurn(const mjtNum* q) {
+  return Eigen::Quaterniond(q[3], q[4], q[5], q[6]).normalized();
+}
+
+}  // namespace
+
 HoldResult HoldTester::Impl::push(mjData* d, const mjData* closed, const mjtNum* start,
                                   HoldResult r, HoldTrace* trace) const {
-  const Eigen::Quaterniond r0(start[3], start[4], start[5], start[6]);
-  const double force = options.push_per_mass * options.object_mass;
-  const auto lost = displacement(closed, start);
+  const mjtNum* c = closed->qpos + object_qpos;
+  const Eigen::Vector3d p0 = objectPosition(start), pc = objectPosition(c);
+  const Eigen::Quaterniond q0 = objectTurn(start), qc = objectTurn(c);
   const bool lost_in_closing =
-      lost.first >= options.max_translation || lost.second >= options.max_rotation;
+      (pc - p0).norm() >= options.max_translation || q0.angularDistance(qc) >= options.max_rotation;
   const int total = static_cast<int>(std::lround(options.push_duration / options.timestep));
+  // The protocol's checks every check_every steps decide; with settle_stop the drift is also
+  // measured every settle_window steps, and a settled push ends before its last check.
+  const int every = options.settle_stop ? std::gcd(options.settle_window, options.check_every)
+                                        : options.check_every;
   for (int dir = 0; dir < 6; ++dir) {
     copyState(model, d, closed);
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     axis[dir / 2] = dir % 2 == 0 ? -1.0 : 1.0;
-    const Eigen::Vector3d f = force * (r0.normalized() * axis);
+    const Eigen::Vector3d f = options.push_per_mass * options.object_mass * (q0 * axis);
     for (int k = 0; k < 3; ++k) d->xfrc_applied[6 * object_body + k] = f[k];
+    // At rest: short windows, the hand still. Bounded: the net drift from check to check
+    // (a chattering contact that keeps the object in place never comes to rest).
+    SettleWatch rest{-1.0, -1.0, pc, qc};
+    EnvelopeWatch bounded;
     for (int done = 0; done < total;) {
-      const int n = std::min(options.check_every, total - done);
+      const int n = std::min(every, total - done);
       for (int s = 0; s < n; ++s) mj_step(model, d);
       done += n;
       r.steps += n;
@@ -341,15 +458,36 @@ HoldResult HoldTester::Impl::push(mjData* d, const mjData* closed, const mjtNum*
         r.failed_direction = dir;
         return r;
       }
+      const mjtNum* q = d->qpos + object_qpos;
+      const Eigen::Vector3d p = objectPosition(q);
+      const Eigen::Quaterniond o = objectTurn(q);
+      const PushReading now{(p - p0).norm(), q0.angularDistance(o), (p - pc).norm(),
+                            qc.angularDistance(o)};
+      const bool check = done % options.check_every == 0 || done == total;
+      const auto left = [&](int window) { return static_cast<double>(total - done) / window; };
+      const bool at_rest = options.settle_stop && done % options.settle_window == 0 &&
+                           rest.settled(p, o, now, left(options.settle_window),
+                                        handSpeed(d) < options.settle_joint_speed, options);
+      const bool settled = at_rest || (options.settle_stop && check &&
+                                       bounded.settled(now, left(options.check_every), options));
+      if (!check && !settled) continue;
       record(d, start, pushDirectionNames()[static_cast<std::size_t>(dir)], r.steps, trace);
-      const auto [dp, da] = displacement(d, start);
-      r.max_translation = std::max(r.max_translation, dp);
-      r.max_rotation = std::max(r.max_rotation, da);
-      if (dp >= options.max_translation || da >= options.max_rotation) {
+      r.max_translation = std::max(r.max_translation, now.from_start_t);
+      r.max_rotation = std::max(r.max_rotation, now.from_start_r);
+      r.push_translation = std::max(r.push_translation, now.from_closed_t);
+      r.push_rotation = std::max(r.push_rotation, now.from_closed_r);
+      const bool protocol =
+          now.from_start_t >= options.max_translation || now.from_start_r >= options.max_rotation;
+      const bool margin =
+          (options.margin_translation > 0.0 && now.from_closed_t >= options.margin_translation) ||
+          (options.margin_rotation > 0.0 && now.from_closed_r >= options.margin_rotation);
+      if (check && (protocol || margin)) {
         r.status = lost_in_closing ? HoldStatus::kLostInClosing : HoldStatus::kSlipped;
+        r.margin_exceeded = !protocol;
         r.failed_direction = dir;
         return r;
       }
+      if (settled) break;
     }
   }
   r.status = HoldStatus::kHolds;
@@ -367,6 +505,7 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
   s.options = options;
   ConvexPiecesOptions po;
   po.max_pieces = options.object_max_pieces;
+  po.max_faces = options.object_max_faces;
   bool cached = false;
   const ConvexPieces pieces =
       pieceCache().get(object.mesh(), po, "object '" + object.name() + "'", &cached);

@@ -285,7 +285,8 @@ MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const Conv
     << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
     << "<option timestep=\"" << num(o.timestep) << "\" gravity=\"0 0 0\" integrator=\"implicit\""
     << " cone=\"elliptic\" impratio=\"" << num(o.impratio) << "\" noslip_iterations=\""
-    << o.noslip_iterations << "\"/>\n"
+    << o.noslip_iterations << "\" iterations=\"" << o.solver_iterations << "\" tolerance=\""
+    << num(o.solver_tolerance) << "\"/>\n"
     << "<size njmax=\"1000\" nconmax=\"250\"/>\n"
     << "<default>\n"
     // Hand geoms collide with the object only (contype 1 / conaffinity 2 against 2 / 1).

@@ -22,6 +22,12 @@ std::string summaryText(const ValidationSummary& s, const std::string& written_t
   os << "taskmap validate: " << s.holding << " of " << s.tested << " grasps hold ("
      << percent(s.holding, s.tested) << "); force-closure grasps: " << s.fc_holding << " of "
      << s.fc_tested << " (" << percent(s.fc_holding, s.fc_tested) << ")\n";
+  if (!s.variant_failures.empty()) {
+    os << "  robust (every variant holds within the margin): " << s.robust << " of " << s.tested
+       << " (" << percent(s.robust, s.tested) << ")\n  variants failing where the nominal held:";
+    for (const auto& [name, n] : s.variant_failures) os << " " << name << " " << n;
+    os << "\n";
+  }
   os << "  outcomes:";
   for (const auto& [name, n] : s.statuses) os << " " << name << " " << n;
   os << "\n  slipped under push:";

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -30,10 +31,11 @@ void checkHand(const TaskMapData& map, const HandModel& hand) {
                 "'; pass the hand the map was built with");
 }
 
-/// Runs the tests of grasps [0, n) on `threads` workers; results[i] is grasp i's.
-bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, int threads,
-              std::vector<HoldResult>* results, const ValidateControl& control) {
-  results->assign(n, HoldResult{});
+/// Runs `test` on grasps [0, n) on `threads` workers; results[i] is grasp i's.
+template <typename Test>
+bool runTests(const Test& test, const TaskMapData& map, std::size_t n, int threads,
+              std::vector<RobustHoldResult>* results, const ValidateControl& control) {
+  results->assign(n, RobustHoldResult{});
   std::atomic<std::size_t> next{0}, done{0}, holding{0};
   std::atomic<bool> failed{false};
   std::string error;
@@ -45,13 +47,13 @@ bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, i
       if (i >= n) return;
       try {
         const Eigen::VectorXd q = map.grasps.joints.row(static_cast<Eigen::Index>(i)).transpose();
-        (*results)[i] = tester.test(map.grasps.poseAt(i), q);
+        (*results)[i] = test(map.grasps.poseAt(i), q);
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(error_mutex);
         if (!failed.exchange(true)) error = "grasp " + std::to_string(i) + ": " + e.what();
         return;
       }
-      holding += (*results)[i].holds ? 1 : 0;
+      holding += (*results)[i].nominal.holds ? 1 : 0;
       ++done;
     }
   };
@@ -74,28 +76,6 @@ bool runTests(const HoldTester& tester, const TaskMapData& map, std::size_t n, i
   if (failed) throw Error("validate: " + error);
   report();
   return done.load() == n;
-}
-
-MapValidation labels(const std::vector<HoldResult>& results, std::size_t n,
-                     const HoldTestOptions& options) {
-  MapValidation v;
-  v.hold.assign(n, MapValidation::kNotTested);
-  v.status.assign(n, MapValidation::kNotTested);
-  v.translation.assign(n, -1.0);
-  v.rotation.assign(n, -1.0);
-  v.direction.assign(n, -1);
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const HoldResult& r = results[i];
-    v.hold[i] = r.holds ? 1 : 0;
-    v.status[i] = static_cast<std::uint8_t>(r.status);
-    v.translation[i] = r.max_translation;
-    v.rotation[i] = r.max_rotation;
-    v.direction[i] = r.failed_direction;
-  }
-  v.protocol = "dexgraspbench_fc";
-  v.engine = physicsEngine();
-  v.params_json = holdParamsJson(options);
-  return v;
 }
 
 }  // namespace
@@ -124,6 +104,14 @@ std::string summaryJson(const ValidationSummary& s) {
   j["grasps_per_cpu_second"] =
       s.cpu_seconds > 0 ? static_cast<double>(s.tested) / s.cpu_seconds : 0.0;
   j["steps"] = s.steps;
+  if (!s.variant_failures.empty()) {
+    j["robust"] = s.robust;
+    j["robust_rate"] =
+        s.tested ? static_cast<double>(s.robust) / static_cast<double>(s.tested) : 0.0;
+    nlohmann::ordered_json v;
+    for (const auto& [name, n] : s.variant_failures) v[name] = n;
+    j["variant_failures"] = v;
+  }
   return j.dump();
 }
 
@@ -137,6 +125,8 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["cone"] = "elliptic";
   j["impratio"] = o.impratio;
   j["noslip_iterations"] = o.noslip_iterations;
+  j["solver_iterations"] = o.solver_iterations;
+  j["solver_tolerance"] = o.solver_tolerance;
   j["kp_revolute"] = o.kp_revolute;
   j["joint_damping"] = o.joint_damping;
   j["link_density"] = o.link_density;
@@ -159,6 +149,15 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["max_penetration"] = o.max_penetration;
   j["contact_patch"] = o.contact_patch;
   j["object_max_pieces"] = o.object_max_pieces;
+  j["object_max_faces"] = o.object_max_faces;
+  j["settle_stop"] = o.settle_stop;
+  if (o.settle_stop) {
+    j["settle_window"] = o.settle_window;
+    j["settle_joint_speed"] = o.settle_joint_speed;
+    j["settle_envelope"] = o.settle_envelope;
+  }
+  if (o.margin_translation > 0.0) j["margin_translation"] = o.margin_translation;
+  if (o.margin_rotation > 0.0) j["margin_rotation"] = o.margin_rotation;
   return j.dump();
 }
 
@@ -186,6 +185,76 @@ void appendRow(const MapGrasps& in, std::size_t i, MapGrasps* out, Eigen::Index 
 
 }  // namespace
 
+MapValidation holdLabels(const std::vector<const RobustHoldResult*>& results,
+                         const HoldTestOptions& protocol, const RobustHoldOptions* robust,
+                         const std::vector<HoldVariant>& variants_run) {
+  const std::size_t n = results.size();
+  MapValidation v;
+  v.hold.assign(n, MapValidation::kNotTested);
+  v.status.assign(n, MapValidation::kNotTested);
+  v.translation.assign(n, -1.0);
+  v.rotation.assign(n, -1.0);
+  v.direction.assign(n, -1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!results[i]) continue;
+    const HoldResult& r = results[i]->nominal;
+    v.hold[i] = r.holds ? 1 : 0;
+    v.status[i] = static_cast<std::uint8_t>(r.status);
+    v.translation[i] = r.max_translation;
+    v.rotation[i] = r.max_rotation;
+    v.direction[i] = r.failed_direction;
+  }
+  v.protocol = "dexgraspbench_fc";
+  v.engine = physicsEngine();
+  v.params_json = holdParamsJson(protocol);
+  if (!robust) return v;
+  const std::size_t variants = variants_run.size();
+  v.robust_json = robustParamsJson(*robust, variants_run);
+  v.robust.assign(n, MapValidation::kNotTested);
+  v.robust_share.assign(n, -1.0);
+  v.push_translation.assign(n, -1.0);
+  v.push_rotation.assign(n, -1.0);
+  v.variant_held.assign(n * variants, MapValidation::kNotTested);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!results[i]) continue;
+    const RobustHoldResult& r = *results[i];
+    if (r.variant_held.size() != variants)
+      throw Error("hold labels: grasp " + std::to_string(i) + " ran " +
+                  std::to_string(r.variant_held.size()) + " variants, not the " +
+                  std::to_string(variants) + " named");
+    v.robust[i] = r.robust ? 1 : 0;
+    v.robust_share[i] = r.share();
+    v.push_translation[i] = r.push_translation;
+    v.push_rotation[i] = r.push_rotation;
+    std::copy(r.variant_held.begin(), r.variant_held.end(), v.variant_held.begin() + i * variants);
+  }
+  return v;
+}
+
+MapValidation subsetLabels(const MapValidation& v, const std::vector<std::size_t>& keep) {
+  MapValidation out = v;
+  auto pick = [&keep](const auto& from, auto* to) {
+    to->clear();
+    for (std::size_t i : keep) to->push_back(from[i]);
+  };
+  pick(v.hold, &out.hold);
+  pick(v.status, &out.status);
+  pick(v.translation, &out.translation);
+  pick(v.rotation, &out.rotation);
+  pick(v.direction, &out.direction);
+  if (v.robust_json.empty()) return out;
+  pick(v.robust, &out.robust);
+  pick(v.robust_share, &out.robust_share);
+  pick(v.push_translation, &out.push_translation);
+  pick(v.push_rotation, &out.push_rotation);
+  const std::size_t m = v.variantCount();
+  out.variant_held.clear();
+  for (std::size_t i : keep)
+    out.variant_held.insert(out.variant_held.end(), v.variant_held.begin() + i * m,
+                            v.variant_held.begin() + (i + 1) * m);
+  return out;
+}
+
 std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& clustering) {
   if (!map->validation)
     throw Error("keep holding grasps: the map has no hold labels; validate it first");
@@ -202,21 +271,9 @@ std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& cluster
   out.contact_points.resize(0, 3);
   out.contact_normals.resize(0, 3);
   out.contact_offsets = {0};
-  MapValidation labels = v;
-  labels.hold.clear();
-  labels.status.clear();
-  labels.translation.clear();
-  labels.rotation.clear();
-  labels.direction.clear();
-  for (std::size_t k = 0; k < keep.size(); ++k) {
-    const std::size_t i = keep[k];
-    appendRow(in, i, &out, static_cast<Eigen::Index>(k));
-    labels.hold.push_back(v.hold[i]);
-    labels.status.push_back(v.status[i]);
-    labels.translation.push_back(v.translation[i]);
-    labels.rotation.push_back(v.rotation[i]);
-    labels.direction.push_back(v.direction[i]);
-  }
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    appendRow(in, keep[k], &out, static_cast<Eigen::Index>(k));
+  MapValidation labels = subsetLabels(v, keep);
   const bool clustered = map->clustering.has_value();
   map->grasps = std::move(out);
   map->validation = std::move(labels);
@@ -254,23 +311,74 @@ HoldTrace traceGrasp(const TaskMapData& map, const HandModel& hand, std::size_t 
   return tester.trace(map.grasps.poseAt(grasp), q);
 }
 
+namespace {
+
+/// The summary's counts over the results of grasps [0, n).
+void summarise(const std::vector<RobustHoldResult>& results, const TaskMapData& map,
+               const RobustHoldTester* robust, ValidationSummary* s) {
+  if (robust)
+    for (const HoldVariant& v : robust->variants()) s->variant_failures.emplace_back(v.name(), 0);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const HoldResult& r = results[i].nominal;
+    ++s->tested;
+    s->holding += r.holds;
+    ++s->statuses[holdStatusName(r.status)];
+    if (r.status == HoldStatus::kSlipped)
+      ++s->failed_by_direction[static_cast<std::size_t>(r.failed_direction)];
+    if (map.grasps.force_closure[i]) {
+      ++s->fc_tested;
+      s->fc_holding += r.holds;
+    }
+    s->steps += results[i].steps;
+    if (!robust) continue;
+    s->robust += results[i].robust;
+    // The nominal variant's entry counts protocol holds outside the margin; the others count
+    // failures where the nominal variant held within it.
+    const auto& held = results[i].variant_held;
+    s->variant_failures[0].second += r.holds && held[0] == 0;
+    if (held[0] != 1) continue;
+    for (std::size_t k = 1; k < held.size(); ++k) s->variant_failures[k].second += held[k] == 0;
+  }
+}
+
+}  // namespace
+
 ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
                               const ValidateOptions& options, const ValidateControl& control) {
   options.validate();
   control.validate();
   checkHand(*map, hand);
   ValidationSummary s;
-  const HoldTester tester(hand, mapObjectModel(*map), options.hold);
-  s.model = tester.info();
+  const ObjectModel object = mapObjectModel(*map);
+  std::unique_ptr<RobustHoldTester> robust;
+  std::unique_ptr<HoldTester> tester;
+  if (options.robust) {
+    RobustHoldOptions ro = options.robust_variants;
+    ro.hold = options.hold;
+    ro.all_variants = true;
+    ro.protocol_label = true;
+    robust = std::make_unique<RobustHoldTester>(hand, object, ro);
+    s.model = robust->nominal().info();
+  } else {
+    tester = std::make_unique<HoldTester>(hand, object, options.hold);
+    s.model = tester->info();
+  }
   const std::size_t n =
       options.grasps == 0 ? map->grasps.size() : std::min(options.grasps, map->grasps.size());
   const int threads = options.threads > 0
                           ? options.threads
                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<HoldResult> results;
+  std::vector<RobustHoldResult> results;
   const double cpu0 = cpuSeconds();
   const auto wall0 = std::chrono::steady_clock::now();
-  const bool complete = runTests(tester, *map, n, threads, &results, control);
+  const auto test = [&](const Pose& palm, const Eigen::VectorXd& q) {
+    if (robust) return robust->test(palm, q);
+    RobustHoldResult r;
+    r.nominal = tester->test(palm, q);
+    r.steps = r.nominal.steps;
+    return r;
+  };
+  const bool complete = runTests(test, *map, n, threads, &results, control);
   s.cpu_seconds = cpuSeconds() - cpu0;
   s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   if (!complete) {
@@ -278,21 +386,14 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
     s.message = "validation interrupted; the map is unchanged";
     return s;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const HoldResult& r = results[i];
-    ++s.tested;
-    s.holding += r.holds;
-    ++s.statuses[holdStatusName(r.status)];
-    if (r.status == HoldStatus::kSlipped)
-      ++s.failed_by_direction[static_cast<std::size_t>(r.failed_direction)];
-    if (map->grasps.force_closure[i]) {
-      ++s.fc_tested;
-      s.fc_holding += r.holds;
-    }
-    s.steps += r.steps;
-  }
-  map->validation = labels(results, map->grasps.size(), options.hold);
+  summarise(results, *map, robust.get(), &s);
+  std::vector<const RobustHoldResult*> tested(map->grasps.size(), nullptr);
+  for (std::size_t i = 0; i < n; ++i) tested[i] = &results[i];
+  map->validation = robust
+                        ? holdLabels(tested, options.hold, &robust->options(), robust->variants())
+                        : holdLabels(tested, options.hold);
   s.message = std::to_string(s.holding) + " of " + std::to_string(s.tested) + " grasps hold";
+  if (robust) s.message += ", " + std::to_string(s.robust) + " robustly";
   return s;
 }
 

@@ -77,6 +77,44 @@ TEST(SampleWeight, HoldMarginWeighsEachSampleByEpsilonTimesItsMargin) {
   }
 }
 
+// With robust labels the margin is the robust test's: 0 for a grasp that is not robust (here
+// every fourth of the holding ones), else how much of the margin (recorded in robust_json) the
+// pushes from the closed state left.
+TEST(SampleWeight, RobustLabelsWeighByTheMarginOfTheVariants) {
+  TaskMapData data = validatedMap();
+  MapValidation& v = *data.validation;
+  constexpr double kMargin = 0.02, kMarginTurn = 0.1;
+  v.robust_json =
+      "{\"variants\": [\"nominal\", \"friction\"], \"margin_translation\": 0.02, "
+      "\"margin_rotation\": 0.1}";
+  Rng rng(12, 0);
+  for (std::size_t i = 0; i < kMapSize; ++i) {
+    const bool robust = v.hold[i] == 1 && i % 4 != 0;
+    v.robust.push_back(robust ? 1 : 0);
+    v.robust_share.push_back(robust ? 1.0 : 0.5);
+    v.push_translation.push_back(robust ? rng.uniform(0.0, kMargin) : 0.03);
+    v.push_rotation.push_back(robust ? rng.uniform(0.0, kMarginTurn) : 0.2);
+    v.variant_held.insert(v.variant_held.end(), {robust ? std::uint8_t{1} : std::uint8_t{0},
+                                                 robust ? std::uint8_t{1} : std::uint8_t{255}});
+  }
+  ASSERT_NO_THROW(data.validate());
+  const TaskMap map = TaskMap::fromData(data);
+  EXPECT_EQ(map.options().sample_weight, SampleWeight::kHoldMargin);
+  const auto weight = [&](std::size_t i) {
+    if (v.robust[i] != 1) return 0.0;
+    const double m =
+        std::min(1.0 - v.push_translation[i] / kMargin, 1.0 - v.push_rotation[i] / kMarginTurn);
+    return data.grasps.epsilon[i] * std::max(0.0, m);
+  };
+  Rng poses(6, 0);
+  for (int k = 0; k < 20; ++k) {
+    const Pose x = randomPose(poses);
+    const double want = oracleQuality(map, x, weight);
+    const QualityCriterion q = map.quality(x, std::nullopt, QualityMode::kExact);
+    EXPECT_NEAR(q.value, want, 1e-10 * std::abs(want) + 1e-300);
+  }
+}
+
 TEST(SampleWeight, EpsilonIgnoresTheLabels) {
   const TaskMapData data = validatedMap();
   TaskMapOptions o;

@@ -94,10 +94,25 @@ struct MapValidation {
   std::string protocol;                 ///< protocol name, e.g. "dexgraspbench_fc"
   std::string engine;                   ///< physics engine and version, e.g. "MuJoCo 2.2.2"
   std::string params_json = "{}";       ///< every protocol parameter, JSON object
+  /// The robust label's variants and thresholds (JSON object; "variants" names them in test
+  /// order), or "" when the map has no robust labels: then the five robust vectors are empty.
+  std::string robust_json;
+  std::vector<std::uint8_t> robust;  ///< 1 robust, 0 not, kNotTested
+  std::vector<double> robust_share;  ///< variants held / variants tested; -1 not tested
+  /// Largest displacement of the object from its closed state under the pushes, over the
+  /// variants tested, metres; -1 not tested.
+  std::vector<double> push_translation;
+  std::vector<double> push_rotation;  ///< the same for its rotation, radians; -1 not tested
+  /// Grasps x variants, row-major: 1 the variant held, 0 it failed, kNotTested.
+  std::vector<std::uint8_t> variant_held;
   /// Grasps tested (hold != kNotTested).
   std::size_t tested() const;
   /// Grasps that hold (hold == 1).
   std::size_t holding() const;
+  /// Grasps that hold robustly (robust == 1; 0 without robust labels).
+  std::size_t robustCount() const;
+  /// Variants of the robust label (the length of robust_json's "variants"; 0 without).
+  std::size_t variantCount() const;
 };
 
 /// A whole task map.

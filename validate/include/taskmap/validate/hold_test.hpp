@@ -29,6 +29,8 @@ struct HoldTestOptions {
   double timestep = 0.004;           ///< s
   double impratio = 10.0;            ///< MuJoCo's frictional-to-normal impedance ratio
   int noslip_iterations = 2;         ///< MuJoCo's no-slip solver iterations
+  int solver_iterations = 100;       ///< MuJoCo's constraint solver iterations (its default)
+  double solver_tolerance = 1e-8;    ///< MuJoCo's solver tolerance (its default)
   double kp_revolute = 5.0;          ///< N m / rad, position gain of revolute joints
   double joint_damping = 0.1;        ///< N m s / rad, damping of revolute joints
   double link_density = 800.0;       ///< kg / m^3, hand links' mass from their shapes
@@ -74,6 +76,32 @@ struct HoldTestOptions {
   double contact_patch = 0.01;
   /// Convex pieces of a non-convex object (MuJoCo collides each mesh geom as its hull).
   int object_max_pieces = 64;
+  /// Faces the object mesh is simplified to before its convex decomposition, in [50, 5000]
+  /// (ConvexPiecesOptions::max_faces); a second decomposition varies it (robust_hold.hpp).
+  int object_max_faces = 600;
+  /// The robustness margin (0: off, the protocol as published): under a push the object must
+  /// stay within this distance of where the closing left it (its closed state), metres, or the
+  /// grasp fails (HoldResult::margin_exceeded). The robust test sets it (robust_hold.hpp).
+  double margin_translation = 0.0;
+  /// The margin's rotation: under a push the object turns less than this from its closed state,
+  /// radians (0: off).
+  double margin_rotation = 0.0;
+  /// Stop a push once it has settled (docs/VALIDATION.md, "Settled pushes"): the push ends held
+  /// after two windows in a row in which the object's drift did not grow (at rest: windows of
+  /// settle_window steps, every hand joint slower than settle_joint_speed) or grew steadily
+  /// (jitter and creep: windows of check_every steps, no faster than 1.5 times its mean) and
+  /// twice that drift over every remaining window keeps it inside every threshold and the settle
+  /// envelope. The verdicts are the protocol's checks, every check_every steps. false: every
+  /// push runs push_duration (`--full`, the protocol as published).
+  bool settle_stop = true;
+  int settle_window = 10;  ///< steps between the drift measurements of settle_stop (>= 1)
+  /// settle_stop ends a push only while every hand joint is slower than this, rad/s (a slide's
+  /// m/s times 10): a hand still moving has not settled.
+  double settle_joint_speed = 0.01;
+  /// settle_stop ends a push only while the object stays, extrapolated, within this fraction of
+  /// the protocol's thresholds from its closed state (or within the margin, when smaller): an
+  /// object that slid or turned far has not settled (0, 1].
+  double settle_envelope = 0.2;
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -104,6 +132,14 @@ struct HoldResult {
   double max_translation = 0.0;
   /// Largest rotation of the object from its start over the pushes simulated, radians.
   double max_rotation = 0.0;
+  /// Largest displacement of the object from its closed state (after the squeeze) under the
+  /// pushes simulated, metres: what HoldTestOptions::margin_translation bounds.
+  double push_translation = 0.0;
+  /// Largest rotation of the object from its closed state under the pushes simulated, radians.
+  double push_rotation = 0.0;
+  /// The object stayed within the protocol's thresholds but left the margin under a push
+  /// (status kSlipped); false without a margin.
+  bool margin_exceeded = false;
   /// Index into pushDirectionNames() of the push under which the grasp failed; -1 when it
   /// holds or failed before any push (penetration).
   int failed_direction = -1;

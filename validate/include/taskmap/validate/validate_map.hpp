@@ -10,11 +10,14 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "taskmap/core/run_control.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
+#include "taskmap/validate/robust_hold.hpp"
 
 namespace taskmap {
 
@@ -23,6 +26,11 @@ struct ValidateOptions {
   HoldTestOptions hold;    ///< the protocol's numbers
   int threads = 0;         ///< worker threads, 0: all cores
   std::size_t grasps = 0;  ///< test the first this many grasps (0: all); the rest stay untested
+  /// Also the robust label (`validate --robust`, robust_hold.hpp): every variant of every grasp
+  /// (robust_variants.all_variants is set), the share held and the margin stored per grasp.
+  bool robust = false;
+  /// The variants and thresholds of the robust label; its `hold` is replaced by `hold` above.
+  RobustHoldOptions robust_variants;
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -48,7 +56,12 @@ struct ValidationSummary {
   std::size_t fc_tested = 0, fc_holding = 0;
   std::map<std::string, std::size_t> statuses;       ///< grasps per holdStatusName()
   std::array<std::size_t, 6> failed_by_direction{};  ///< slipped grasps per push direction
-  HoldModelInfo model;                               ///< the simulation model
+  /// With ValidateOptions::robust: grasps that hold robustly.
+  std::size_t robust = 0;
+  /// With ValidateOptions::robust: per variant (test order), its name and the grasps whose
+  /// nominal variant held (within the margin) where it failed: what each variant adds.
+  std::vector<std::pair<std::string, std::size_t>> variant_failures;
+  HoldModelInfo model;        ///< the simulation model
   double cpu_seconds = 0.0;   ///< CPU time of the process during the tests, s
   double wall_seconds = 0.0;  ///< wall-clock time of the tests, s
   long long steps = 0;        ///< simulation steps taken
@@ -69,7 +82,9 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
 /// (`taskmap.validate`) report: tested, holding, hold_rate, force_closure_tested,
 /// force_closure_holding, statuses, slipped_by_direction (by push direction name),
 /// object_pieces, object_volume_error, object_note, cpu_seconds, wall_seconds (s),
-/// grasps_per_cpu_second, steps.
+/// grasps_per_cpu_second, steps; with robust labels also robust, robust_rate and
+/// variant_failures (by variant name: for "nominal" the protocol holds outside the margin, for
+/// the others the failures where the nominal variant held within it).
 std::string summaryJson(const ValidationSummary& summary);
 
 /// The summary as `taskmap validate` prints it: the hold rate (all grasps and force-closure
@@ -84,6 +99,17 @@ std::string summaryText(const ValidationSummary& summary, const std::string& wri
 /// fewer leave the map unclustered. Returns the grasps kept. Throws Error when the map has no
 /// labels (validate it first).
 std::size_t keepHoldingGrasps(TaskMapData* map, const ClusteringOptions& clustering = {});
+
+/// The labels of grasps `keep` (indices into `labels`' grasps, in the order given): every
+/// per-grasp vector of `labels` subset, the JSON attributes kept.
+MapValidation subsetLabels(const MapValidation& labels, const std::vector<std::size_t>& keep);
+
+/// The map labels of `results` (results[i] is grasp i's, null when it was not tested), the
+/// protocol's label from each nominal; robust labels too when `robust` is given with the
+/// `variants` the results ran (RobustHoldTester::options(), variants()).
+MapValidation holdLabels(const std::vector<const RobustHoldResult*>& results,
+                         const HoldTestOptions& protocol, const RobustHoldOptions* robust = nullptr,
+                         const std::vector<HoldVariant>& variants = {});
 
 /// The protocol's parameters as a JSON object (what /validation params_json stores).
 std::string holdParamsJson(const HoldTestOptions& options);
