@@ -52,6 +52,10 @@ std::string adviceFor(const std::string& outcome) {
     return "grasps reached force closure but the closing check found none whose closing keeps "
            "the free object in place: check the preshape and closing against the object size, "
            "or build without --closing-check";
+  if (outcome == "not_holding")
+    return "grasps reached force closure but none held in the physics hold test: raise "
+           "--trials, try --hold-test nominal, or build the untested force-closure map with "
+           "--hold-test off (`taskmap validate --trace` shows why a grasp fails)";
   return "check the hand sidecar and the object";
 }
 
@@ -68,8 +72,12 @@ std::string noGraspMessage(const std::map<std::string, std::uint64_t>& outcomes,
     }
   const double share = trials > 0 ? 100.0 * static_cast<double>(most) / trials : 0.0;
   const std::string head = "no grasp stored after " + std::to_string(trials) + " trials: ";
-  const std::string outcome =
-      num(share, "%.0f") + "% ended " + dominant + "; " + adviceFor(dominant);
+  std::string outcome = num(share, "%.0f") + "% ended " + dominant + "; " + adviceFor(dominant);
+  const auto tested = outcomes.find("not_holding");
+  if (dominant != "not_holding" && tested != outcomes.end() && tested->second > 0)
+    outcome +=
+        "; " + std::to_string(tested->second) + " reached force closure, and " +
+        adviceFor("not_holding").substr(std::string("grasps reached force closure but ").size());
   // Suspects ranked by evidence: an object that dwarfs the hand (or is thinner than its
   // fingers) explains any outcome, so its size comes first; otherwise the outcome's advice.
   const ObjectSizeCheck size = checkObjectSize(object, hand);

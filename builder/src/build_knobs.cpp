@@ -107,6 +107,7 @@ BuildOptions buildOptionsOf(const BuildKnobs& k, KnobStyle style) {
     o.closing_check = ClosingCheckOptions::earlyVerdict();
   else
     o.closing_check.mode = closingCheckModeFromString(k.closing_check);
+  o.hold_test = buildHoldTestFromString(k.hold_test);
   o.check_size = !k.allow_size;
   if (k.grasp == "palm") o.simulation.grasp_mode = GraspMode::kPalm;
   if (k.grasp == "fingertip") o.simulation.grasp_mode = GraspMode::kFingertip;
@@ -118,6 +119,12 @@ HoldValidation holdValidationOf(const BuildKnobs& k, KnobStyle style) {
   if (k.keep_holding && !k.validate)
     throw Error(knobName("keep_holding", style) + " needs " + knobName("validate", style) +
                 " (the hold labels decide what is kept)");
+  if (k.validate && k.hold_test != "off")
+    throw Error(knobName("validate", style) + " labels the grasps of a build without the hold " +
+                "test; this build tests every grasp already (" + knobName("hold_test", style) +
+                " " + k.hold_test + ") and stores its labels: leave " +
+                knobName("validate", style) + " out, or add " + knobName("hold_test", style) +
+                " off");
   if (!k.validate) return HoldValidation::kOff;
   return k.keep_holding ? HoldValidation::kKeepHolding : HoldValidation::kLabel;
 }

@@ -224,6 +224,38 @@ void visitClosingCheck(Io& io, P& p) {
   io("closing_push_bound_creep", c.push_bound_creep);
 }
 
+constexpr const char* kHoldTest = "hold_test";
+
+// The build's physics hold test: present only when it is on (maps built without it, and before
+// it existed, read as off); the protocol's own numbers are in /validation params_json.
+template <class Io, class P>
+void visitHoldTest(Io& io, P& p) {
+  auto& o = p.options;
+  if constexpr (Io::kWriting) {
+    if (o.hold_test == BuildHoldTest::kOff) return;
+    io.j[kHoldTest] = toString(o.hold_test);
+  } else {
+    const auto it = io.j.find(kHoldTest);
+    if (it == io.j.end()) return;
+    if (!it->is_string()) wrongValue(kHoldTest, "must be \"robust\" or \"nominal\"");
+    try {
+      o.hold_test = buildHoldTestFromString(it->template get<std::string>());
+    } catch (const Error&) {
+      wrongValue(kHoldTest, "must be \"robust\" or \"nominal\"");
+    }
+    io.j.erase(it);
+  }
+  if (o.hold_test != BuildHoldTest::kRobust) return;
+  auto& r = o.hold_test_options;
+  io("hold_palm_shift", r.palm_shift);
+  io("hold_palm_turn", r.palm_turn);
+  io("hold_friction", r.friction);
+  io("hold_decomposition_faces", r.decomposition_faces);
+  io("hold_decomposition_pieces", r.decomposition_pieces);
+  io("hold_margin_translation", r.margin_translation);
+  io("hold_margin_rotation", r.margin_rotation);
+}
+
 // The antipodal and enclosing samplers' parameters: present only for those samplers (maps of
 // the other samplers stay the same bytes); the jaws' widths are written for the record (derived
 // from the hand, read back as extra keys).
@@ -287,6 +319,7 @@ void visitParams(Io& io, P& p) {
   if (!Io::kWriting || o.min_squeeze_force > 0.0) io("min_squeeze_force", o.min_squeeze_force);
   visitHoldFilter(io, p);
   visitClosingCheck(io, p);
+  visitHoldTest(io, p);
   auto& s = o.simulation;
   io("contact_tolerance", s.contact_tolerance);
   io("max_retraction", s.max_retraction);

@@ -18,19 +18,22 @@ using ull = unsigned long long;
 
 /// The time line and the work line of a summary.
 std::string timingText(const BuildTiming& t, double write_seconds) {
-  const double stages = t.sampling_seconds + t.simulation_seconds + t.quality_seconds;
+  const double stages =
+      t.sampling_seconds + t.simulation_seconds + t.quality_seconds + t.hold_test_seconds;
   const double trial_wall = t.wall_seconds - t.setup_seconds - t.clustering_seconds;
   char line[512];
   std::snprintf(line, sizeof line,
                 "  time      wall %.2f s: setup %.2f s, trials %.2f s (%llu simulated, %.1f "
                 "trials/s), clustering %.2f s, writing %.2f s\n"
-                "  work      sampling %s, simulation %s, quality %s (CPU seconds %.2f)\n",
+                "  work      sampling %s, simulation %s, quality %s, hold test %s (CPU seconds "
+                "%.2f)\n",
                 t.wall_seconds + write_seconds, t.setup_seconds, trial_wall,
                 static_cast<ull>(t.trials_simulated),
                 trial_wall > 0 ? static_cast<double>(t.trials_simulated) / trial_wall : 0.0,
                 t.clustering_seconds, write_seconds, percent(t.sampling_seconds, stages).c_str(),
                 percent(t.simulation_seconds, stages).c_str(),
-                percent(t.quality_seconds, stages).c_str(), stages);
+                percent(t.quality_seconds, stages).c_str(),
+                percent(t.hold_test_seconds, stages).c_str(), stages);
   std::string text = line;
   if (t.closing_checks > 0) {
     std::snprintf(line, sizeof line,
@@ -40,7 +43,33 @@ std::string timingText(const BuildTiming& t, double write_seconds) {
                   1e3 * t.closing_check_seconds / static_cast<double>(t.closing_checks));
     text += line;
   }
+  if (t.hold_tests > 0) {
+    std::snprintf(line, sizeof line,
+                  "  physics   %llu force-closure grasps tested in MuJoCo, %.1f ms CPU and %.0f "
+                  "steps each\n",
+                  static_cast<ull>(t.hold_tests),
+                  1e3 * t.hold_test_seconds / static_cast<double>(t.hold_tests),
+                  static_cast<double>(t.hold_test_steps) / static_cast<double>(t.hold_tests));
+    text += line;
+  }
   return text;
+}
+
+/// The funnel of a build that tested its grasps in physics: trials simulated, force closure,
+/// tested, kept (the map's outcome counts over its counted trials).
+std::string funnelText(const TaskMapData& map) {
+  const auto count = [&map](const char* name) -> unsigned long long {
+    const auto it = map.sampling.outcomes.find(name);
+    return it == map.sampling.outcomes.end() ? 0ULL : it->second;
+  };
+  const unsigned long long kept = count("force_closure"), refused = count("not_holding");
+  if (refused == 0 && !map.validation) return "";
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "  funnel    %llu trials, %llu force closure, %llu tested in physics, %llu kept "
+                "(they hold)\n",
+                static_cast<ull>(map.sampling.trials), kept + refused, kept + refused, kept);
+  return line;
 }
 
 /// Why a default build runs mixed where the hand's default is palm_enclose.
@@ -108,6 +137,7 @@ std::string buildSummaryText(const std::string& label, const BuildResult& result
   os << "  outcomes ";
   for (const auto& [name, count] : map.sampling.outcomes) os << " " << name << " " << count;
   os << "\n";
+  os << funnelText(map);
   os << "  stored    " << map.grasps.size() << " grasps";
   if (map.clustering) {
     std::size_t outliers = 0;

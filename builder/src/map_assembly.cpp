@@ -9,6 +9,7 @@
 #include "taskmap/builder/trial_block.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/validate/validate_map.hpp"
 #include "trial_pool.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -24,12 +25,14 @@ constexpr const char* kNotForceClosure = "not_force_closure";
 constexpr const char* kUnbalanced = "unbalanced";
 constexpr const char* kPushed = "pushed";
 constexpr const char* kWeakSqueeze = "weak_squeeze";
+constexpr const char* kNotHolding = "not_holding";
 
 std::string outcomeName(const TrialOutcome& t) {
   if (t.status != GraspStatus::kOk) return toString(t.status);
   if (t.weak_squeeze) return kWeakSqueeze;
   if (t.unbalanced) return kUnbalanced;
   if (t.pushed) return kPushed;
+  if (t.not_holding) return kNotHolding;
   return t.force_closure ? kForceClosure : kNotForceClosure;
 }
 
@@ -120,6 +123,27 @@ void fillGrasps(const Prefix& prefix, double rho, TaskMapData& map) {
   }
 }
 
+// The hold labels of the stored grasps the build's hold test ran on (BuildOptions::hold_test):
+// the protocol's for kNominal, the robust label's too for kRobust (its variants: every
+// tested grasp ran the same list, the second decomposition's included or not).
+void labelGrasps(const Prefix& prefix, const BuildOptions& options, TaskMapData& map) {
+  if (options.hold_test == BuildHoldTest::kOff) return;
+  std::vector<const RobustHoldResult*> results;
+  std::size_t variants = 0;
+  for (const TrialOutcome* t : prefix.stored) {
+    results.push_back(t->grasp->hold ? &*t->grasp->hold : nullptr);
+    if (t->grasp->hold) variants = t->grasp->hold->variant_held.size();
+  }
+  const HoldTestOptions& protocol = options.hold_test_options.hold;
+  if (options.hold_test == BuildHoldTest::kNominal || variants == 0) {
+    map.validation = holdLabels(results, protocol);
+    return;
+  }
+  const RobustHoldOptions& ro = options.hold_test_options;
+  const bool decomposition = robustVariants(ro, true).size() == variants;
+  map.validation = holdLabels(results, protocol, &ro, robustVariants(ro, decomposition));
+}
+
 // Clusters the stored grasps (paper 1.6.1) in the hand's pose metric.
 void clusterMap(const ClusteringOptions& options, double rho, TaskMapData& map) {
   const MapGrasps& g = map.grasps;
@@ -131,22 +155,35 @@ void clusterMap(const ClusteringOptions& options, double rho, TaskMapData& map) 
   map.clustering = clusterGrasps(poses, g.epsilon, co);
 }
 
+// What valid_target counts, for messages.
+std::string validName(const BuildOptions& options) {
+  switch (options.hold_test) {
+    case BuildHoldTest::kRobust:
+      return "grasps that hold robustly";
+    case BuildHoldTest::kNominal:
+      return "grasps that hold";
+    case BuildHoldTest::kOff:
+      break;
+  }
+  return "force-closure grasps";
+}
+
 // The build's status and its one-line message.
 void setStatus(bool interrupted, const Prefix& p, const BuildOptions& options, BuildResult& r) {
   if (interrupted) {
     r.status = BuildStatus::kInterrupted;
     r.message = "interrupted after " + std::to_string(p.trials) + " trials with " +
-                std::to_string(p.valid) + " force-closure grasps";
+                std::to_string(p.valid) + " " + validName(options);
   } else if (p.stored.empty()) {
     r.status = BuildStatus::kNoGrasps;  // message: noGraspMessage (needs object and hand)
   } else if (p.valid < options.valid_target) {
     r.status = BuildStatus::kTrialBudgetExhausted;
     r.message = "trial budget of " + std::to_string(options.max_trials) + " spent: found " +
-                std::to_string(p.valid) + " of " + std::to_string(options.valid_target) +
-                " force-closure grasps";
+                std::to_string(p.valid) + " of " + std::to_string(options.valid_target) + " " +
+                validName(options);
   } else {
     r.status = BuildStatus::kComplete;
-    r.message = "found " + std::to_string(p.valid) + " force-closure grasps in " +
+    r.message = "found " + std::to_string(p.valid) + " " + validName(options) + " in " +
                 std::to_string(p.trials) + " trials";
   }
 }
@@ -194,6 +231,7 @@ BuildResult assembleMap(const ObjectModel& object, const HandModel& hand,
   const Prefix prefix = takePrefix(blocks, options.valid_target, map);
   const double rho = hand.rotationScale() > 0.0 ? hand.rotationScale() : kDefaultRotationScale;
   fillGrasps(prefix, rho, map);
+  labelGrasps(prefix, options, map);
   if (options.cluster && prefix.stored.size() >= 2 && !interrupted) {
     const auto t_cluster = detail::Clock::now();
     clusterMap(options.clustering, rho, map);

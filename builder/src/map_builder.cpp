@@ -23,6 +23,7 @@ void BuildOptions::validate() const {
   quality.validate();
   hold_filter.validate();
   closing_check.validate();
+  if (hold_test != BuildHoldTest::kOff) hold_test_options.validate();
   if (!(min_squeeze_force >= 0.0) || !std::isfinite(min_squeeze_force))
     throw Error("min_squeeze_force must be finite and >= 0 (N; 0 turns the test off)");
   if (valid_target < 1) throw Error("valid must be at least 1");
@@ -53,6 +54,24 @@ QualityOptions buildQualityDefaults() {
   QualityOptions o;
   o.volume = VolumeMode::kNever;
   return o;
+}
+
+const char* toString(BuildHoldTest test) {
+  switch (test) {
+    case BuildHoldTest::kOff:
+      return "off";
+    case BuildHoldTest::kNominal:
+      return "nominal";
+    case BuildHoldTest::kRobust:
+      return "robust";
+  }
+  return "off";
+}
+
+BuildHoldTest buildHoldTestFromString(const std::string& name) {
+  for (BuildHoldTest t : {BuildHoldTest::kOff, BuildHoldTest::kNominal, BuildHoldTest::kRobust})
+    if (name == toString(t)) return t;
+  throw Error("hold test '" + name + "' is unknown; use 'robust', 'nominal' or 'off'");
 }
 
 const char* toString(BuildStatus status) {
@@ -97,13 +116,17 @@ BuildResult buildMap(const ObjectModel& object, const HandModel& hand,
   const GraspSimulator simulator(object, hand, options.simulation);
   const std::unique_ptr<const ClosingChecker> closing =
       detail::makeClosingChecker(object, hand, options);
+  const std::unique_ptr<const RobustHoldTester> hold =
+      detail::makeHoldTester(object, hand, options);
   const MassProperties& mp = object.massProperties();
   timing.setup_seconds = detail::secondsSince(t_start);
 
-  detail::Scheduler scheduler(0, options.max_trials, options.block_size, options.valid_target);
+  detail::Scheduler scheduler(0, options.max_trials, detail::blockSize(options),
+                              options.valid_target);
   const detail::TrialPoolSetup setup{
-      sampler,         simulator, closing.get(), options,          mp.center_of_mass,
-      mp.torque_scale, threads,   control.stop,  control.progress, control.interval_seconds};
+      sampler,      simulator,         closing.get(),           hold.get(),
+      options,      mp.center_of_mass, mp.torque_scale,         threads,
+      control.stop, control.progress,  control.interval_seconds};
   detail::runTrialPool(setup, scheduler, timing);
   const bool interrupted = control.stopRequested() && !scheduler.done();
   BuildResult result =

@@ -30,6 +30,7 @@ constexpr std::uint8_t kFlagGrasp = 2;
 constexpr std::uint8_t kFlagUnbalanced = 4;
 constexpr std::uint8_t kFlagPushed = 8;
 constexpr std::uint8_t kFlagWeakSqueeze = 16;
+constexpr std::uint8_t kFlagNotHolding = 32;
 
 class Writer {
  public:
@@ -85,6 +86,68 @@ class Reader {
   std::size_t pos_ = 0;
 };
 
+// A hold test's result: u8 status, u8 bits (1 holds, 2 margin exceeded, 4 robust), f64 max
+// translation, rotation, push translation, rotation, initial penetration, i32 failed direction,
+// i32 steps; then i32 tested, i32 held, f64 push translation, rotation, i64 steps, u64 variants,
+// u8 per variant.
+void encodeHold(const RobustHoldResult& r, Writer& w) {
+  const HoldResult& n = r.nominal;
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(n.status));
+  w.put<std::uint8_t>(static_cast<std::uint8_t>((n.holds ? 1 : 0) | (n.margin_exceeded ? 2 : 0) |
+                                                (r.robust ? 4 : 0)));
+  for (double v : {n.max_translation, n.max_rotation, n.push_translation, n.push_rotation,
+                   n.initial_penetration})
+    w.put<double>(v);
+  w.put<std::int32_t>(n.failed_direction);
+  w.put<std::int32_t>(n.steps);
+  w.put<std::int32_t>(r.tested);
+  w.put<std::int32_t>(r.held);
+  w.put<double>(r.push_translation);
+  w.put<double>(r.push_rotation);
+  w.put<std::int64_t>(r.steps);
+  w.put<std::uint64_t>(r.variant_held.size());
+  for (std::uint8_t h : r.variant_held) w.put<std::uint8_t>(h);
+}
+
+RobustHoldResult decodeHold(Reader& r) {
+  RobustHoldResult h;
+  HoldResult& n = h.nominal;
+  const auto status = r.get<std::uint8_t>();
+  if (status > static_cast<std::uint8_t>(HoldStatus::kUnstable))
+    r.fail("unknown hold status " + std::to_string(status));
+  n.status = static_cast<HoldStatus>(status);
+  const auto bits = r.get<std::uint8_t>();
+  if ((bits & ~7) != 0) r.fail("unknown hold bits");
+  n.holds = (bits & 1) != 0;
+  n.margin_exceeded = (bits & 2) != 0;
+  h.robust = (bits & 4) != 0;
+  if (n.holds != (n.status == HoldStatus::kHolds)) r.fail("hold flag disagrees with its status");
+  for (double* v : {&n.max_translation, &n.max_rotation, &n.push_translation, &n.push_rotation,
+                    &n.initial_penetration})
+    *v = r.get<double>();
+  n.failed_direction = r.get<std::int32_t>();
+  if (n.failed_direction < -1 || n.failed_direction > 5) r.fail("push direction out of range");
+  n.steps = r.get<std::int32_t>();
+  h.tested = r.get<std::int32_t>();
+  h.held = r.get<std::int32_t>();
+  h.push_translation = r.get<double>();
+  h.push_rotation = r.get<double>();
+  h.steps = r.get<std::int64_t>();
+  const std::uint64_t variants = r.getCount(1, "variant");
+  if (h.tested < 0 || h.held < 0 || h.held > h.tested ||
+      static_cast<std::uint64_t>(h.tested) > variants)
+    r.fail("hold variant counts out of range");
+  h.variant_held.resize(variants);
+  for (std::uint8_t& v : h.variant_held) {
+    v = r.get<std::uint8_t>();
+    if (v > 1 && v != 255) r.fail("variant label other than 0, 1 or 255");
+  }
+  const auto held = std::count(h.variant_held.begin(), h.variant_held.end(), std::uint8_t{1});
+  if (held != h.held) r.fail("hold variant count disagrees with the variants held");
+  if (h.robust && held != static_cast<long>(variants)) r.fail("robust without every variant");
+  return h;
+}
+
 void encodeGrasp(const TrialGrasp& g, Writer& w) {
   // The pose's own numbers (not toVector7, which normalises): decoding gives the same bits.
   w.putVector(g.pose.position);
@@ -99,6 +162,8 @@ void encodeGrasp(const TrialGrasp& g, Writer& w) {
     w.put<double>(c.depth);
     w.put<std::int32_t>(c.link);
   }
+  w.put<std::uint8_t>(g.hold ? 1 : 0);
+  if (g.hold) encodeHold(*g.hold, w);
 }
 
 TrialGrasp decodeGrasp(Reader& r, std::size_t joints) {
@@ -120,6 +185,9 @@ TrialGrasp decodeGrasp(Reader& r, std::size_t joints) {
     c.depth = r.get<double>();
     c.link = r.get<std::int32_t>();
   }
+  const auto hold = r.get<std::uint8_t>();
+  if (hold > 1) r.fail("hold marker other than 0 or 1");
+  if (hold == 1) g.hold = decodeHold(r);
   return g;
 }
 
@@ -134,7 +202,7 @@ std::string encodeTrialBlock(const TrialBlock& block) {
     const auto flags = static_cast<std::uint8_t>(
         (t.force_closure ? kFlagForceClosure : 0) | (t.grasp ? kFlagGrasp : 0) |
         (t.unbalanced ? kFlagUnbalanced : 0) | (t.pushed ? kFlagPushed : 0) |
-        (t.weak_squeeze ? kFlagWeakSqueeze : 0));
+        (t.weak_squeeze ? kFlagWeakSqueeze : 0) | (t.not_holding ? kFlagNotHolding : 0));
     w.put<std::uint8_t>(flags);
     w.put<double>(t.epsilon);
     w.put<double>(t.volume);
@@ -157,8 +225,8 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (status >= statuses) r.fail("unknown grasp status " + std::to_string(status));
     t.status = static_cast<GraspStatus>(status);
     const auto flags = r.get<std::uint8_t>();
-    if ((flags &
-         ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced | kFlagPushed | kFlagWeakSqueeze)) != 0)
+    if ((flags & ~(kFlagForceClosure | kFlagGrasp | kFlagUnbalanced | kFlagPushed |
+                   kFlagWeakSqueeze | kFlagNotHolding)) != 0)
       r.fail("unknown trial flags");
     t.force_closure = (flags & kFlagForceClosure) != 0;
     t.unbalanced = (flags & kFlagUnbalanced) != 0;
@@ -171,6 +239,10 @@ TrialBlock decodeTrialBlock(const std::string& bytes, std::size_t joints, const 
     if (t.weak_squeeze &&
         (t.force_closure || t.unbalanced || t.pushed || t.status != GraspStatus::kOk))
       r.fail("weak-squeeze trial that is force closure, unbalanced, pushed or not status ok");
+    t.not_holding = (flags & kFlagNotHolding) != 0;
+    if (t.not_holding && (t.force_closure || t.unbalanced || t.pushed || t.weak_squeeze ||
+                          t.status != GraspStatus::kOk))
+      r.fail("not-holding trial that is force closure, refused earlier or not status ok");
     if (t.force_closure && t.status != GraspStatus::kOk) r.fail("force closure without status ok");
     t.epsilon = r.get<double>();
     t.volume = r.get<double>();
@@ -186,6 +258,7 @@ struct TrialRunner::Impl {
   const Sampler sampler;
   const GraspSimulator simulator;
   const std::unique_ptr<const ClosingChecker> closing;
+  const std::unique_ptr<const RobustHoldTester> hold;
   const Eigen::Vector3d com;
   const double torque_scale;
   BuildTiming timing;
@@ -197,6 +270,7 @@ struct TrialRunner::Impl {
         sampler(object, detail::samplerOptionsFor(o, hand)),
         simulator(object, hand, o.simulation),
         closing(detail::makeClosingChecker(object, hand, o)),
+        hold(detail::makeHoldTester(object, hand, o)),
         com(object.massProperties().center_of_mass),
         torque_scale(object.massProperties().torque_scale) {}
 };
@@ -227,12 +301,13 @@ bool TrialRunner::run(std::uint64_t first, std::uint64_t last, TrialBlock* block
                 std::to_string(impl_->options.max_trials) + "), got [" + std::to_string(first) +
                 ", " + std::to_string(last) + ")");
   const auto t0 = detail::Clock::now();
-  detail::Scheduler scheduler(first, last, impl_->options.block_size,
+  detail::Scheduler scheduler(first, last, detail::blockSize(impl_->options),
                               std::numeric_limits<std::uint64_t>::max());
   const ProgressCallback none;
   const detail::TrialPoolSetup setup{impl_->sampler,
                                      impl_->simulator,
                                      impl_->closing.get(),
+                                     impl_->hold.get(),
                                      impl_->options,
                                      impl_->com,
                                      impl_->torque_scale,

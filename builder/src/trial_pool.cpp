@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <condition_variable>
 #include <ctime>
+#include <limits>
 #include <thread>
 
 namespace taskmap::detail {
@@ -57,6 +58,26 @@ std::unique_ptr<const ClosingChecker> makeClosingChecker(const ObjectModel& obje
                                                          const BuildOptions& options) {
   if (options.closing_check.mode == ClosingCheckMode::kOff) return nullptr;
   return std::make_unique<const ClosingChecker>(object, hand, options.closing_check);
+}
+
+std::uint64_t blockSize(const BuildOptions& options) {
+  if (options.hold_test == BuildHoldTest::kOff) return options.block_size;
+  return std::min(options.block_size, kHoldTestBlockSize);
+}
+
+std::unique_ptr<const RobustHoldTester> makeHoldTester(const ObjectModel& object,
+                                                       const HandModel& hand,
+                                                       const BuildOptions& options) {
+  if (options.hold_test == BuildHoldTest::kOff) return nullptr;
+  RobustHoldOptions o = options.hold_test_options;
+  o.all_variants = false;
+  o.protocol_label = false;
+  if (options.hold_test == BuildHoldTest::kNominal) {  // the protocol alone, no margin
+    o.palm_shift = o.palm_turn = o.friction = 0.0;
+    o.decomposition_faces = 0;
+    o.margin_translation = o.margin_rotation = std::numeric_limits<double>::infinity();
+  }
+  return std::make_unique<const RobustHoldTester>(hand, object, o);
 }
 
 // A block is simulated, then scored: each stage then runs on caches its previous trial left
@@ -132,6 +153,7 @@ GraspResult Worker::simulateTrial(std::uint64_t index) {
 }
 
 TrialOutcome Worker::scoreTrial(GraspResult g) {
+  hold_result.reset();
   TrialOutcome t;
   t.status = g.status;
   if (g.status != GraspStatus::kOk) return t;
@@ -159,13 +181,31 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
     ++times.closing_checks;
   }
   times.quality += threadCpuSeconds() - t0;
-  if (t.force_closure || options.stored == StoredGrasps::kAllCompleted) t.grasp = takeGrasp(g);
+  if (t.force_closure && hold != nullptr) holdTest(g, t);
+  if (t.force_closure || options.stored == StoredGrasps::kAllCompleted) {
+    std::optional<RobustHoldResult> result = std::move(hold_result);
+    t.grasp = takeGrasp(g);
+    t.grasp->hold = std::move(result);
+  }
   return t;
+}
+
+void Worker::holdTest(const GraspResult& g, TrialOutcome& t) {
+  const double t0 = threadCpuSeconds();
+  RobustHoldResult r = hold->test(g.pose, g.joints);
+  times.hold_test += threadCpuSeconds() - t0;
+  ++times.hold_tests;
+  times.hold_test_steps += r.steps;
+  // kNominal: the protocol alone, its one variant without a margin.
+  const bool holds = r.robust;
+  t.not_holding = !holds;
+  t.force_closure = holds;
+  hold_result = std::move(r);
 }
 
 std::unique_ptr<TrialGrasp> Worker::takeGrasp(GraspResult& g) {
   return std::make_unique<TrialGrasp>(
-      TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts)});
+      TrialGrasp{g.pose, std::move(g.joints), std::move(g.contacts), std::nullopt});
 }
 
 TrialOutcome Worker::refused(TrialOutcome t, GraspResult& g, double t0) {
@@ -192,11 +232,13 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
     workers.push_back(Worker{setup.sampler,
                              setup.simulator,
                              setup.closing,
+                             setup.hold,
                              options,
                              setup.center_of_mass,
                              setup.torque_scale,
                              scheduler,
                              stop,
+                             {},
                              {}});
   std::vector<std::thread> pool;
   std::mutex finished_mutex;
@@ -254,6 +296,9 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
     timing.quality_seconds += w.times.quality;
     timing.closing_check_seconds += w.times.closing_check;
     timing.closing_checks += w.times.closing_checks;
+    timing.hold_test_seconds += w.times.hold_test;
+    timing.hold_tests += w.times.hold_tests;
+    timing.hold_test_steps += w.times.hold_test_steps;
     timing.trials_simulated += w.times.trials;
     timing.grasps_scored += w.times.scored;
   }

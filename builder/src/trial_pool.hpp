@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -51,10 +52,23 @@ std::unique_ptr<const ClosingChecker> makeClosingChecker(const ObjectModel& obje
                                                          const HandModel& hand,
                                                          const BuildOptions& options);
 
+/// Trials per work block: options.block_size, at most kHoldTestBlockSize with the hold test (a
+/// tested grasp costs the time of thousands of trials, and a thread's block past the valid
+/// target is work thrown away). Results do not depend on it.
+std::uint64_t blockSize(const BuildOptions& options);
+constexpr std::uint64_t kHoldTestBlockSize = 4;
+
+/// The physics hold tester of a build, or null when options.hold_test is off.
+std::unique_ptr<const RobustHoldTester> makeHoldTester(const ObjectModel& object,
+                                                       const HandModel& hand,
+                                                       const BuildOptions& options);
+
 struct StageTimes {
-  double sampling = 0.0, simulation = 0.0, quality = 0.0, closing_check = 0.0;
+  double sampling = 0.0, simulation = 0.0, quality = 0.0, closing_check = 0.0, hold_test = 0.0;
   std::uint64_t trials = 0;
   std::uint64_t closing_checks = 0;  ///< grasps the closing check simulated
+  std::uint64_t hold_tests = 0;      ///< grasps the hold test simulated
+  long long hold_test_steps = 0;     ///< their MuJoCo steps
   std::uint64_t scored = 0;          ///< ok grasps scored
 };
 
@@ -157,12 +171,14 @@ struct Worker {
   const Sampler& sampler;
   const GraspSimulator& simulator;
   const ClosingChecker* closing;  ///< null when the closing check is off
+  const RobustHoldTester* hold;   ///< null when the hold test is off
   const BuildOptions& options;
   const Eigen::Vector3d com;
   const double torque_scale;
   Scheduler& scheduler;
   const std::atomic<bool>* stop;
   StageTimes times;
+  std::optional<RobustHoldResult> hold_result;  ///< the hold test of the trial being scored
 
   void run();
   /// How many of the `left` trials still to run in block b to simulate before scoring (0: the
@@ -176,6 +192,8 @@ struct Worker {
   TrialOutcome scoreTrial(GraspResult g);
   /// The hold filter's verdict on a simulated (status ok) grasp.
   bool holds(const GraspResult& g) const;
+  /// The physics hold test of a force-closure grasp into t (not_holding when it fails).
+  void holdTest(const GraspResult& g, TrialOutcome& t);
   /// The part of g a map stores, moved out of g.
   static std::unique_ptr<TrialGrasp> takeGrasp(GraspResult& g);
   /// Ends a trial refused before its quality (squeeze-force test, hold filter; t's flag set):
@@ -189,6 +207,7 @@ struct TrialPoolSetup {
   const Sampler& sampler;
   const GraspSimulator& simulator;
   const ClosingChecker* closing;  ///< null when the closing check is off
+  const RobustHoldTester* hold;   ///< null when the hold test is off
   const BuildOptions& options;
   Eigen::Vector3d center_of_mass;
   double torque_scale;

@@ -38,10 +38,11 @@ class DatasetCli : public ::testing::Test {
 
   testing::CliRun dataset(const std::string& list, const std::string& out,
                           const std::string& more = "") const {
-    return testing::runShell(std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
-                             (dir_ / list).string() + " --hands " + std::string(TASKMAP_HANDS_DIR) +
-                             "/panda/panda.urdf --valid 5 --seed 9 --threads 2 -o " +
-                             (dir_ / out).string() + more);
+    return testing::runShell(
+        std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
+        (dir_ / list).string() + " --hands " + std::string(TASKMAP_HANDS_DIR) +
+        "/panda/panda.urdf --valid 5 --seed 9 --threads 2 --hold-test off -o " +
+        (dir_ / out).string() + more);
   }
   json manifest(const std::string& out) const {
     std::ifstream in(dir_ / out / "manifest.json");
@@ -94,10 +95,10 @@ TEST_F(DatasetCli, ReRunSkipsVerifiedMapsAndRebuildsChangedOnes) {
   const testing::CliRun again = dataset("list.txt", "a");
   EXPECT_NE(again.out.find("2 finished earlier"), std::string::npos) << again.out;
   // Another --valid changes the build parameters: nothing is skipped.
-  const testing::CliRun other =
-      testing::runShell(std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
-                        (dir_ / "list.txt").string() + " --hands panda --valid 6 --seed 9 -o " +
-                        (dir_ / "a").string());
+  const testing::CliRun other = testing::runShell(
+      std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap dataset --objects " +
+      (dir_ / "list.txt").string() + " --hands panda --valid 6 --seed 9 --hold-test off -o " +
+      (dir_ / "a").string());
   EXPECT_NE(other.out.find("0 finished earlier"), std::string::npos) << other.out;
   EXPECT_EQ(manifest("a")["jobs"][0]["valid"], 6);
 }

@@ -58,7 +58,7 @@ class GraspModeCli : public ::testing::Test {
 TEST_F(GraspModeCli, FingertipGraspsFromTheSidecar) {
   const std::string map_path = out("pinch.h5");
   const CliRun run = runBuild("--object " + kCylinder + " --hand " + kRobotiq + " -o " + map_path +
-                              " --valid 40 --trials 1500 --threads 2 --no-cluster");
+                              " --valid 40 --trials 1500 --threads 2 --hold-test off --no-cluster");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const TaskMapData map = readMap(map_path);
   const auto params = nlohmann::json::parse(map.sampling.params_json);
@@ -102,7 +102,7 @@ TEST_F(GraspModeCli, OptionsOverrideAndMistakes) {
 TEST_F(GraspModeCli, AntipodalSamplerIsSelectableAndRecorded) {
   const CliRun run =
       runBuild("--object " + kCylinder + " --hand " + kRobotiq + " -o " + out("anti.h5") +
-               " --sampler antipodal --valid 5 --trials 400 --threads 2 "
+               " --sampler antipodal --valid 5 --trials 400 --threads 2 --hold-test off "
                "--no-cluster -q");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const TaskMapData map = readMap(out("anti.h5"));
@@ -121,9 +121,10 @@ TEST_F(GraspModeCli, AntipodalSamplerIsSelectableAndRecorded) {
 // and that the palm was placed; the Robotiq-style hand (fingertip grasps) keeps the pads on the
 // pair (place_palm false); a three-finger hand is refused, nothing written.
 TEST_F(GraspModeCli, AntipodalPalmSamplerIsSelectableAndRecorded) {
-  const CliRun run = runBuild("--object " + kCylinder + " --hand panda -o " + out("palm.h5") +
-                              " --sampler antipodal_palm --valid 5 --trials 400 --threads 2 "
-                              "--no-cluster -q");
+  const CliRun run =
+      runBuild("--object " + kCylinder + " --hand panda -o " + out("palm.h5") +
+               " --sampler antipodal_palm --valid 5 --trials 400 --threads 2 --hold-test off "
+               "--no-cluster -q");
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const TaskMapData map = readMap(out("palm.h5"));
   EXPECT_EQ(map.sampling.sampler, "antipodal_palm");
@@ -131,7 +132,8 @@ TEST_F(GraspModeCli, AntipodalPalmSamplerIsSelectableAndRecorded) {
   EXPECT_EQ(params.at("place_palm"), true);
   const CliRun tip =
       runBuild("--object " + kCylinder + " --hand " + kRobotiq + " -o " + out("tip.h5") +
-               " --sampler antipodal_palm --valid 3 --trials 400 --threads 2 --no-cluster -q");
+               " --sampler antipodal_palm --valid 3 --trials 400 --threads 2 --hold-test off "
+               "--no-cluster -q");
   ASSERT_EQ(tip.exit_code, 0) << tip.out;
   EXPECT_EQ(nlohmann::json::parse(readMap(out("tip.h5")).sampling.params_json).at("place_palm"),
             false);

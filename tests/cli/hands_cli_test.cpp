@@ -94,7 +94,7 @@ TEST(HandsCli, HandInitDraftBuildsAMapWithoutEdits) {
     EXPECT_NE(r.out.find("give --force"), std::string::npos) << r.out;
     const std::string map = kScratch.path("init_" + stem + ".h5");
     r = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + copy +
-                   " --valid 20 --trials 20000 --seed 1 --quiet -o " + map);
+                   " --valid 20 --trials 20000 --seed 1 --hold-test off --quiet -o " + map);
     EXPECT_EQ(r.code, 0) << stem << ": " << r.out;
     EXPECT_TRUE(fs::exists(map)) << stem;
   }
@@ -185,14 +185,16 @@ TEST(HandsCli, PalmFrameBehindThePalmIsANoteNotAWarning) {
       << run.out;
   EXPECT_EQ(run.out.find("warning:"), std::string::npos) << run.out;
   const std::string out = kScratch.path("flange.h5");
-  run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " +
-                   flange + " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  run =
+      runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + flange +
+                 " -o " + out + " --valid 1 --trials 200 --threads 1 --hold-test off -q");
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
   fs::remove(out);
   // The real hand as checked in: no warning from hand-info or build.
-  run = runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " +
-                   kFranka + " -o " + out + " --valid 1 --trials 200 --threads 1 -q");
+  run =
+      runTaskmap("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " +
+                 kFranka + " -o " + out + " --valid 1 --trials 200 --threads 1 --hold-test off -q");
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_EQ(run.out.find("warning"), std::string::npos) << run.out;
   fs::remove(out);

@@ -51,7 +51,7 @@ class HostileInputs : public ::testing::Test {
   }
   std::string build(const std::string& output, const std::string& more = "") const {
     return "build --object " + (dir_ / "mybox.obj").string() + " --hand panda --valid 5 " +
-           "--seed 3 --threads 2 -q -o " + output + more;
+           "--seed 3 --threads 2 --hold-test off -q -o " + output + more;
   }
   // A small map at dir_/map.h5 (built once per test that needs it).
   void makeMap() const {
@@ -90,7 +90,7 @@ TEST_F(HostileInputs, BuildRefusesHardAndSymbolicLinksToItsInputs) {
   const std::string sidecar = (dir_ / "hand" / "panda.hand.json").string();
   const std::string before = readAll(sidecar);
   const testing::CliRun r = taskmap("build --object " + (dir_ / "mybox.obj").string() + " --hand " +
-                                    urdf + " --valid 5 -q --force -o " + sidecar);
+                                    urdf + " --valid 5 --hold-test off -q --force -o " + sidecar);
   EXPECT_NE(r.code, 0) << r.out;
   EXPECT_EQ(readAll(sidecar), before);
 }
@@ -162,7 +162,8 @@ TEST_F(HostileInputs, DatasetDoesNotReplaceUserFilesInItsDirectory) {
   fs::create_directories(dir_ / "out");
   std::ofstream(dir_ / "out" / "manifest.json") << "{\"mine\": true}\n";
   const std::string cmd = "dataset --objects " + (dir_ / "list.txt").string() +
-                          " --hands panda --valid 5 --seed 1 -q -o " + (dir_ / "out").string();
+                          " --hands panda --valid 5 --seed 1 --hold-test off -q -o " +
+                          (dir_ / "out").string();
   const testing::CliRun r = taskmap(cmd);
   EXPECT_NE(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("not a taskmap data-set manifest"), std::string::npos) << r.out;
@@ -221,8 +222,9 @@ TEST_F(HostileInputs, FifosAreRefusedWithoutHanging) {
   // The data-set list itself.
   const fs::path list_fifo = dir_ / "pipe.txt";
   ASSERT_EQ(::mkfifo(list_fifo.c_str(), 0600), 0);
-  const testing::CliRun list = taskmap("dataset --objects " + list_fifo.string() +
-                                       " --hands panda --valid 5 -q -o " + (dir_ / "ds2").string());
+  const testing::CliRun list =
+      taskmap("dataset --objects " + list_fifo.string() +
+              " --hands panda --valid 5 --hold-test off -q -o " + (dir_ / "ds2").string());
   EXPECT_NE(list.code, 0);
   EXPECT_NE(list.code, 124);
   EXPECT_NE(list.out.find("FIFO"), std::string::npos) << list.out;
@@ -285,7 +287,7 @@ TEST_F(HostileInputs, MeshesThatCrashOrExhaustTheParserAreRefused) {
   std::ofstream(dir_ / "list.txt") << "mybox.obj\nmissing.3mf\nhuge.x\n";
   const testing::CliRun d =
       taskmap("dataset --objects " + (dir_ / "list.txt").string() +
-              " --hands panda --valid 5 --seed 1 -o " + (dir_ / "ds").string());
+              " --hands panda --valid 5 --seed 1 --hold-test off -o " + (dir_ / "ds").string());
   EXPECT_EQ(d.code, 1) << d.out;
   EXPECT_NE(d.out.find("2 of 3 jobs failed"), std::string::npos) << d.out;
   EXPECT_NE(d.out.find("mybox.obj x panda: complete"), std::string::npos) << d.out;
@@ -302,7 +304,7 @@ TEST_F(HostileInputs, SecondRunOnALockedDirectoryRefusesWithTheHolderPid) {
   const std::string pid = std::to_string(::getpid());
   ASSERT_EQ(::write(fd, pid.data(), pid.size()), static_cast<ssize_t>(pid.size()));
   const std::string cmd = "dataset --objects " + (dir_ / "list.txt").string() +
-                          " --hands panda --seed 1 -q -o " + (dir_ / "ds").string();
+                          " --hands panda --seed 1 --hold-test off -q -o " + (dir_ / "ds").string();
   const testing::CliRun r = taskmap(cmd + " --valid 5");
   EXPECT_NE(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("in use by another taskmap run (PID " + pid), std::string::npos) << r.out;

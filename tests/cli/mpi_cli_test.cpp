@@ -59,8 +59,8 @@ class MpiBuild : public ::testing::Test {
   static std::string buildArgs(const std::string& out, int threads) {
     return " build --object " + std::string(TASKMAP_OBJECTS_DIR) + "/basket.obj --hand " +
            std::string(TASKMAP_HANDS_DIR) +
-           "/barrett/barrett.urdf --valid 60 --seed 3 --sampler mixed -o " + out + " --threads " +
-           std::to_string(threads);
+           "/barrett/barrett.urdf --valid 60 --seed 3 --sampler mixed --hold-test off -o " + out +
+           " --threads " + std::to_string(threads);
   }
   static std::string taskmap() { return std::string(TASKMAP_BINARY_DIR) + "/bin/taskmap"; }
   // taskmap-mpi on `ranks` ranks over loopback TCP, blocks of 64 trials.
@@ -102,6 +102,24 @@ TEST_F(MpiBuild, SameMapAsTaskmapBuildForOneToFourRanks) {
     expectSameMap(ref, out);
     EXPECT_FALSE(fs::exists(out + ".ckpt")) << "checkpoint left behind";
   }
+}
+
+// The default build tests each force-closure grasp in physics on the rank that found it: the
+// labels travel with the blocks, and two ranks store the map and labels of one process.
+TEST_F(MpiBuild, RobustBuildOnTwoRanksIsTheSingleProcessMap) {
+  const std::string args = " build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                           "/box.obj --hand " + std::string(TASKMAP_HANDS_DIR) +
+                           "/barrett/barrett.urdf --valid 3 --seed 2 --threads 1 -o ";
+  const RunResult one = run(taskmap() + args + path("robust1.h5"));
+  ASSERT_EQ(one.code, 0) << one.out;
+  const RunResult two = run(mpi(2) + args + path("robust2.h5") + " --block-trials 8");
+  ASSERT_EQ(two.code, 0) << two.out;
+  expectSameMap(path("robust1.h5"), path("robust2.h5"));
+  const TaskMapData a = readMap(path("robust1.h5")), b = readMap(path("robust2.h5"));
+  ASSERT_TRUE(a.validation && b.validation);
+  EXPECT_EQ(a.validation->robustCount(), 3u);
+  EXPECT_EQ(a.validation->variant_held, b.validation->variant_held);
+  EXPECT_EQ(a.validation->push_translation, b.validation->push_translation);
 }
 
 TEST_F(MpiBuild, DeadRankFailsTheJobAndTheRerunResumesToTheSameMap) {
@@ -206,8 +224,9 @@ class MpiDataset : public MpiBuild {
     std::ofstream(dir_ / "reversed.txt") << "broken.obj\ncylinder.obj\nbox.obj\n";
   }
   std::string datasetArgs(const std::string& list, const std::string& out) const {
-    return " dataset --objects " + path(list) + " --hands barrett,panda --valid 10 --seed 4 -o " +
-           path(out) + " --threads 1";
+    return " dataset --objects " + path(list) +
+           " --hands barrett,panda --valid 10 --seed 4 --hold-test off -o " + path(out) +
+           " --threads 1";
   }
   nlohmann::json manifest(const std::string& out) const {
     std::ifstream in(dir_ / out / "manifest.json");

@@ -94,7 +94,7 @@ TEST_F(RosCli, PackagePathAndRosPackagePath) {
   const std::string out = (root_ / "m.h5").string();
   r = run("build --object " + realInput("objects/ycb_011_banana.obj") + " --hand " + urdf + " -o " +
           out + " --package-path " + (root_ / "src").string() +
-          " --valid 1 --trials 200 --threads 1 -q");
+          " --valid 1 --trials 200 --threads 1 --hold-test off -q");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(out));
   // ROS_PACKAGE_PATH.

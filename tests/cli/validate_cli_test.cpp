@@ -1,5 +1,6 @@
-// `taskmap validate` and `taskmap build --validate` as a user runs them: labels in the map, the
-// summary and its JSON, the same labels for one and two threads, clear refusals.
+// `taskmap validate` (and --robust) and `taskmap build` testing its grasps as a user runs them:
+// labels in the map, the summary and its JSON, the same labels for one and two threads, clear
+// refusals.
 #include <unistd.h>
 
 #include <filesystem>
@@ -26,10 +27,11 @@ class ValidateCliTest : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  /// A small map of the panda jaws on the reference box.
+  /// A small map of the panda jaws on the reference box, force-closure grasps untested.
   std::string buildBoxMap(const std::string& name, const std::string& extra = "") {
     const auto r = testing::runTaskmap("build --object " + std::string(TASKMAP_OBJECTS_DIR) +
-                                       "/box.obj --hand panda --valid 8 --seed 4 -q -o " +
+                                       "/box.obj --hand panda --valid 8 --seed 4 --hold-test "
+                                       "off -q -o " +
                                        path(name) + " " + extra);
     EXPECT_EQ(r.code, 0) << r.out;
     return path(name);
@@ -64,10 +66,66 @@ TEST_F(ValidateCliTest, BuildValidateLabelsAsItBuilds) {
   EXPECT_EQ(m.validation->tested(), m.grasps.size());
 }
 
+// The default build tests each force-closure grasp as it is found and stores N that hold
+// robustly, with their labels; the summary says how many were tested and kept, and what the
+// test cost. Validating that map again (robustly) finds every grasp robust.
+TEST_F(ValidateCliTest, TheDefaultBuildStoresGraspsThatHoldRobustly) {
+  const auto r =
+      testing::runTaskmap("build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                          "/box.obj --hand barrett --valid 4 --seed 4 -o " + path("robust.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* part : {"found 4 grasps that hold robustly", "tested in physics", "kept",
+                           "hold test", "tested in MuJoCo"})
+    EXPECT_NE(r.out.find(part), std::string::npos) << part << "\n" << r.out;
+  const TaskMapData m = readMap(path("robust.h5"));
+  ASSERT_EQ(m.grasps.size(), 4u);
+  ASSERT_TRUE(m.validation);
+  EXPECT_EQ(m.validation->robustCount(), 4u);
+  const auto again = testing::runTaskmap("validate " + path("robust.h5") + " --robust --json -o " +
+                                         path("again.h5"));
+  ASSERT_EQ(again.code, 0) << again.out;
+  const auto j = nlohmann::json::parse(again.out);
+  EXPECT_EQ(j["robust"], 4);
+  EXPECT_EQ(j["variant_failures"]["shift+z"], 0);
+  // --validate would label what the build labelled already: refused, saying why.
+  const auto twice = testing::runTaskmap("build --object " + std::string(TASKMAP_OBJECTS_DIR) +
+                                         "/box.obj --hand barrett --valid 4 -o " +
+                                         path("twice.h5") + " --validate");
+  EXPECT_NE(twice.code, 0);
+  EXPECT_NE(twice.out.find("--hold-test off"), std::string::npos) << twice.out;
+  EXPECT_FALSE(fs::exists(path("twice.h5")));
+}
+
+// validate --robust: every variant of every grasp, the share held and the margin stored per
+// grasp, the variants and thresholds in /validation; a robust grasp holds under the protocol.
+TEST_F(ValidateCliTest, RobustLabelsEveryVariantOfEveryGrasp) {
+  const std::string map = buildBoxMap("variants.h5");
+  const auto r = testing::runTaskmap("validate " + map + " --robust");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("robust (every variant holds within the margin)"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("variants failing where the nominal held: nominal"), std::string::npos)
+      << r.out;
+  const TaskMapData m = readMap(map);
+  ASSERT_TRUE(m.validation);
+  const MapValidation& v = *m.validation;
+  ASSERT_EQ(v.robust.size(), 8u);
+  EXPECT_EQ(v.variantCount(), 14u);  // the box is convex: no second decomposition
+  for (std::size_t i = 0; i < 8; ++i) {
+    EXPECT_NE(v.robust[i], MapValidation::kNotTested);
+    if (v.robust[i] == 1) {
+      EXPECT_EQ(v.hold[i], 1);
+    }
+    EXPECT_GE(v.robust_share[i], 0.0);
+    for (std::size_t k = 0; k < 14; ++k) EXPECT_NE(v.variant_held[i * 14 + k], 255);
+  }
+}
+
 TEST_F(ValidateCliTest, BuildKeepHoldingStoresOnlyGraspsThatHold) {
   // Barrett on the box: about a third of its force-closure grasps hold (docs/VALIDATION.md).
   const std::string args = "build --object " + std::string(TASKMAP_OBJECTS_DIR) +
-                           "/box.obj --hand barrett --valid 8 --seed 4 --threads 1 -o ";
+                           "/box.obj --hand barrett --valid 8 --seed 4 --threads 1 "
+                           "--hold-test off -o ";
   const auto r = testing::runTaskmap(args + path("kept.h5") + " --validate --keep-holding");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("--keep-holding: kept"), std::string::npos) << r.out;

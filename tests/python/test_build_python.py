@@ -58,17 +58,20 @@ class BuildPythonTest(unittest.TestCase):
             return f.read()
 
     def test_same_map_bytes_as_the_cli(self):
-        knobs = ["--valid", "12", "--seed", "7", "--sampler", "surface", "--friction", "0.6"]
+        # The default build: its grasps tested in physics, their labels stored (same bytes).
+        knobs = ["--valid", "4", "--seed", "7", "--sampler", "surface", "--friction", "0.6"]
         subprocess.run([CLI, "build", "--object", self.obj, "--hand", "panda", "-q", "-o",
                         self.path("cli.h5")] + knobs, check=True)
         reports = []
-        m = taskmap.build(object=self.obj, hand="panda", output=self.path("py.h5"), valid=12,
+        m = taskmap.build(object=self.obj, hand="panda", output=self.path("py.h5"), valid=4,
                           seed=7, sampler="surface", friction=0.6, threads=2,
                           progress=reports.append)
         self.assertEqual(self.bytes_of("py.h5"), self.bytes_of("cli.h5"))
         self.assertEqual(len(m), len(taskmap.load(self.path("cli.h5"))))
         self.assertGreaterEqual(len(reports), 1)
-        self.assertEqual(reports[-1]["valid_target"], 12)
+        self.assertEqual(reports[-1]["valid_target"], 4)
+        self.assertIsNotNone(m.robust)
+        self.assertEqual(int(m.robust.sum()), 4)
         self.assertLessEqual(reports[-1]["trials_done"], reports[-1]["max_trials"])
 
     def test_same_data_set_as_the_cli(self):

@@ -120,7 +120,7 @@ class StoredCutTest(unittest.TestCase):
         path = os.path.join(cls.tmp.name, "basket.h5")
         subprocess.run([CLI, "build", "--object",
                         os.path.join(SOURCE, "meshes", "objects", "basket.obj"),
-                        "--hand", "barrett", "--valid", "300", "--seed", "1", "--quiet",
+                        "--hand", "barrett", "--valid", "300", "--seed", "1", "--hold-test", "off", "--quiet",
                         "-o", path], check=True)
         with h5py.File(path, "r") as f:
             cls.z = f["clustering/linkage"][:]

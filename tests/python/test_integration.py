@@ -387,7 +387,7 @@ class IntegrationTest(unittest.TestCase):
             self.skipTest("the CLI has no build subcommand yet")
         out = os.path.join(self.tmp, "cli_map.h5")
         r = subprocess.run([cli, "build", "--object", obj, "--hand", hand, "--valid", "30", "--seed", "1",
-                            "-o", out], capture_output=True, text=True, timeout=900)
+                            "--hold-test", "off", "-o", out], capture_output=True, text=True, timeout=900)
         self.assertEqual(r.returncode, 0, r.stderr)
         m = taskmap.load(out)
         self.assertGreaterEqual(len(m), 30)

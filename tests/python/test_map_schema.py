@@ -1,6 +1,7 @@
 """Schema of a map built by `taskmap build`, read with Debian's h5py (mapstore/SCHEMA.md).
 
-Builds a small map (box, panda hand, 20 valid grasps) with the CLI, then checks every group,
+Builds a small map (box, panda hand, 6 grasps that hold, the default) with the CLI, then checks
+every group,
 dataset and attribute, their types, shapes and invariants; also checks that 1 and 8 threads
 give identical files, and that corrupt or edited maps give a clear error from the CLI.
 Strings are fixed-length (no HDF5 global heap): h5py returns them as bytes, hence text().
@@ -16,7 +17,7 @@ import h5py
 import numpy as np
 
 CLI = os.environ.get("TASKMAP_CLI", "taskmap")
-VALID = 20
+VALID = 6
 
 
 def write_box_obj(path, sx=0.04, sy=0.05, sz=0.12):
@@ -158,6 +159,7 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(g["volume"].shape, (n,))
             # Not computed by default (docs/METHOD.md 4c): 0, and the params say so.
             self.assertTrue((g["volume"][()] == 0).all())
+
             params = json.loads(f["sampling"].attrs["params_json"])
             self.assertEqual(params["volume"], "never")
             off = g["contact_offsets"][()]
@@ -186,6 +188,28 @@ class MapSchemaTest(unittest.TestCase):
             self.assertTrue(g["pose"].shuffle)
             self.assertTrue(g["pose"].fletcher32)
             self.assertIsNotNone(g["pose"].chunks)
+
+    def test_robust_hold_labels(self):
+        # The default build tests every grasp in physics and keeps the robust ones, with labels.
+        with h5py.File(self.map, "r") as f:
+            g, v = f["grasps"], f["validation"]
+            self.assertEqual(text(v.attrs["protocol"]), "dexgraspbench_fc")
+            robust = json.loads(text(v.attrs["robust_json"]))
+            names = robust["variants"]
+            self.assertEqual(names[0], "nominal")
+            self.assertIn("shift+z", names)
+            self.assertEqual(robust["margin_translation"], 0.01)
+            self.assertEqual(int(v.attrs["robust"]), VALID)
+            self.assertEqual(g["robust"].dtype, np.uint8)
+            self.assertTrue((g["robust"][()] == 1).all())
+            self.assertTrue((g["hold"][()] == 1).all())
+            np.testing.assert_array_equal(g["robust_share"][()], 1.0)
+            self.assertEqual(g["robust_variants"].shape, (VALID, len(names)))
+            self.assertTrue((g["robust_variants"][()] == 1).all())
+            push = g["hold_push_translation"][()]
+            self.assertTrue(((push >= 0) & (push < robust["margin_translation"])).all())
+            params = json.loads(f["sampling"].attrs["params_json"])
+            self.assertEqual(params["hold_test"], "robust")
 
     def test_clustering(self):
         with h5py.File(self.map, "r") as f:
@@ -270,7 +294,8 @@ class MapSchemaTest(unittest.TestCase):
             self.assertEqual(len(fc), int(s["outcome_force_closure"]) +
                              int(s.get("outcome_not_force_closure", 0)) +
                              int(s.get("outcome_unbalanced", 0)) +
-                             int(s.get("outcome_weak_squeeze", 0)))
+                             int(s.get("outcome_weak_squeeze", 0)) +
+                             int(s.get("outcome_not_holding", 0)))
 
     def test_bad_arguments_give_clear_errors(self):
         out = os.path.join(self.tmp, "never.h5")

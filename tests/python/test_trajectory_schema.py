@@ -50,7 +50,7 @@ class TrajectorySchemaTest(unittest.TestCase):
         # representative is reachable at this pose, and reach then writes no trajectory.
         subprocess.run([CLI, "build", "--object", os.path.join(SRC, "meshes", "objects",
                                                                "basket.obj"),
-                        "--hand", "humanoid", "--valid", "80", "--seed", "1", "--threads", "1",
+                        "--hand", "humanoid", "--valid", "80", "--seed", "1", "--threads", "1", "--hold-test", "off",
                         "-o", cls.map], check=True, capture_output=True)
         run = subprocess.run([CLI, "reach", "--map", cls.map, "--scene",
                               os.path.join(SRC, "reaching", "scenes", "basket_reference.json"),

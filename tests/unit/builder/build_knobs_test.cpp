@@ -22,7 +22,7 @@ TEST(BuildKnobs, NamesAreUniqueSnakeCaseAndEveryKnobHasHelp) {
     for (char c : name) EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '_');
     EXPECT_GT(std::string(info.help).size(), 10u) << name;
   });
-  EXPECT_EQ(names.size(), 20u);
+  EXPECT_EQ(names.size(), 21u);
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kCommandLine), "--cone-edges");
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kPython), "cone_edges");
 }
@@ -46,6 +46,9 @@ TEST(BuildKnobs, DefaultsGiveTheDefaultBuildOptions) {
   EXPECT_FALSE(o.simulation.grasp_mode.has_value());
   EXPECT_LT(o.simulation.standoff, 0.0);
   EXPECT_EQ(holdValidationOf(BuildKnobs{}, KnobStyle::kPython), HoldValidation::kOff);
+  // The front ends' one difference from the library: grasps are tested in physics, robustly.
+  EXPECT_EQ(d.hold_test, BuildHoldTest::kOff);
+  EXPECT_EQ(o.hold_test, BuildHoldTest::kRobust);
 }
 
 TEST(BuildKnobs, EachKnobReachesItsOption) {
@@ -78,6 +81,10 @@ TEST(BuildKnobs, EachKnobReachesItsOption) {
   EXPECT_FALSE(o.cluster);
   EXPECT_TRUE(o.hold_filter.enabled);
   EXPECT_FALSE(o.check_size);
+  k.hold_test = "nominal";
+  EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).hold_test, BuildHoldTest::kNominal);
+  k.hold_test = "off";
+  EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).hold_test, BuildHoldTest::kOff);
   k.validate = true;
   EXPECT_EQ(holdValidationOf(k, KnobStyle::kPython), HoldValidation::kLabel);
   k.keep_holding = true;
@@ -130,6 +137,15 @@ TEST(BuildKnobs, ErrorsNameTheKnobAsTheFrontEndSpellsIt) {
                                    {"--keep-holding needs --validate"}));
   EXPECT_TRUE(testing::throwsError([&] { holdValidationOf(k, KnobStyle::kPython); },
                                    {"keep_holding needs validate"}));
+  // Labelling after the build is for builds that did not test their grasps already.
+  k = BuildKnobs{};
+  k.validate = true;
+  EXPECT_TRUE(testing::throwsError([&] { holdValidationOf(k, KnobStyle::kCommandLine); },
+                                   {"--validate labels", "--hold-test robust", "--hold-test off"}));
+  k = BuildKnobs{};
+  k.hold_test = "strict";
+  EXPECT_TRUE(testing::throwsError([&] { buildOptionsOf(k, KnobStyle::kPython); },
+                                   {"hold_test must be one of robust, nominal, off"}));
 }
 
 }  // namespace

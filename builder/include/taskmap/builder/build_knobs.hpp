@@ -19,8 +19,9 @@ namespace taskmap {
 
 /// The knob values, named as the command line's options with '_' for '-'.
 struct BuildKnobs {
-  std::string sampler;            ///< initial poses (SamplerKind's names; "" = the hand's)
-  std::uint64_t valid = 1000;     ///< stop after this many force-closure grasps
+  std::string sampler;  ///< initial poses (SamplerKind's names; "" = the hand's)
+  /// stop after this many grasps that hold (force-closure grasps with hold_test "off")
+  std::uint64_t valid = 1000;
   std::uint64_t trials = 200000;  ///< trial budget
   std::uint64_t seed = 1;         ///< run seed
   int threads = 0;                ///< worker threads, 0 = all cores
@@ -33,9 +34,12 @@ struct BuildKnobs {
   bool allow_size = false;        ///< build an object whose size is implausible for the hand
   bool keep_invalid = false;      ///< store every completed trial, not only force closure
   bool no_cluster = false;        ///< do not cluster the grasps
-  bool validate = false;          ///< label the grasps with the physics hold test
-  bool keep_holding = false;      ///< with validate: store only the grasps that hold
-  bool hold_filter = false;       ///< refuse grasps the squeeze-balance filter finds unbalanced
+  /// "robust" (default), "nominal" or "off" (BuildHoldTest): the physics hold test that decides
+  /// which force-closure grasps are stored
+  std::string hold_test = "robust";
+  bool validate = false;      ///< hold_test "off": label the grasps with the physics hold test
+  bool keep_holding = false;  ///< with validate: store only the grasps that hold
+  bool hold_filter = false;   ///< refuse grasps the squeeze-balance filter finds unbalanced
   /// N: refuse grasps whose squeeze presses no contact this hard (0: off)
   double min_squeeze_force = kDefaultMinSqueezeForce;
   /// "off", "closing", "pushes" (ClosingCheckMode) or "pushes_early" (earlyVerdict settings)
@@ -117,7 +121,11 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm",
               "palm_enclose"}},
     k.sampler);
-  v(KnobInfo{"valid", "stop after this many force-closure grasps", {}, C::kPositive}, k.valid);
+  v(KnobInfo{"valid",
+             "stop after this many grasps that hold (with --hold-test off: force-closure grasps)",
+             {},
+             C::kPositive},
+    k.valid);
   v(KnobInfo{"trials", "trial budget", {}, C::kPositive}, k.trials);
   v(KnobInfo{"seed", "random seed"}, k.seed);
   v(KnobInfo{"threads", "worker threads (0 = all cores)", {}, C::kRange, 0, 1024}, k.threads);
@@ -167,13 +175,22 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "store every simulated grasp (status ok), not only force-closure ones"},
     k.keep_invalid);
   v(KnobInfo{"no_cluster", "do not cluster the grasps"}, k.no_cluster);
+  v(KnobInfo{"hold_test",
+             "which force-closure grasps the map stores, tested in physics as they are found "
+             "(MuJoCo, DexGraspBench's protocol; docs/VALIDATION.md): robust (default: grasps "
+             "that hold at their pose and with the palm 1 mm and 2 deg off along and about each "
+             "axis, friction 0.5 and a second decomposition of the object, each within 1 cm and "
+             "5 deg under the pushes), nominal (grasps that hold under the protocol at their "
+             "pose), off (every force-closure grasp, untested: the paper's map, fastest)",
+             {"robust", "nominal", "off"}},
+    k.hold_test);
   v(KnobInfo{"validate",
-             "label every stored grasp with the physics hold test before writing (taskmap "
-             "validate; docs/VALIDATION.md)"},
+             "with --hold-test off: label every stored grasp with the physics hold test before "
+             "writing (taskmap validate; docs/VALIDATION.md)"},
     k.validate);
   v(KnobInfo{"keep_holding",
-             "with --validate: store only the grasps that hold in the physics test (the "
-             "others are dropped before clustering)"},
+             "with --hold-test off --validate: store only the grasps that hold in the physics "
+             "test (the others are dropped before clustering)"},
     k.keep_holding);
   v(KnobInfo{"hold_filter",
              "store only grasps whose squeeze the hold filter finds balanced: the "

@@ -24,6 +24,7 @@
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/quality/grasp_quality.hpp"
 #include "taskmap/sampler/sampler.hpp"
+#include "taskmap/validate/robust_hold.hpp"
 
 namespace taskmap {
 
@@ -36,6 +37,21 @@ constexpr std::uint64_t kMaxBuildCount = 1000000000000000ULL;
 /// VolumeMode::kNever (force closure and epsilon exactly as before; /grasps/volume 0 and
 /// params "volume": "never"; docs/PERFORMANCE.md, "The quality stage").
 QualityOptions buildQualityDefaults();
+
+/// The physics hold test a build runs on each force-closure grasp (the validate stage in
+/// MuJoCo, docs/VALIDATION.md): a grasp is stored, and counts towards valid_target, only when it
+/// holds; its labels are stored with it (/grasps/hold, and for kRobust /grasps/robust ...).
+enum class BuildHoldTest {
+  kOff,      ///< none: the map stores force-closure grasps (the paper's map)
+  kNominal,  ///< DexGraspBench's protocol at the grasp's pose
+  kRobust,   ///< the robust label (robust_hold.hpp): every variant, within the margin
+};
+
+/// "off", "nominal", "robust".
+const char* toString(BuildHoldTest test);
+
+/// The BuildHoldTest named `name` ("off", "nominal", "robust"); throws Error naming the choices.
+BuildHoldTest buildHoldTestFromString(const std::string& name);
 
 /// Which simulated grasps a build stores.
 enum class StoredGrasps {
@@ -63,6 +79,13 @@ struct BuildOptions {
   /// the object free to move, pushes it away are not stored (outcome `pushed`);
   /// grasp_sim/closing_check.hpp, docs/METHOD.md §4d.
   ClosingCheckOptions closing_check;
+  /// The physics hold test of each force-closure grasp: off by default here; the file builds
+  /// (`taskmap build`, `dataset`, `taskmap-mpi`, Python `taskmap.build`) default to kRobust
+  /// (build_knobs.hpp). With it on, valid_target counts grasps that hold.
+  BuildHoldTest hold_test = BuildHoldTest::kOff;
+  /// The protocol, variants and margin of hold_test (kNominal: the protocol alone). A build
+  /// stops at a grasp's first failing variant (all_variants and protocol_label are ignored).
+  RobustHoldOptions hold_test_options;
   ClusteringOptions clustering;       ///< rotation_scale is overridden by the hand's
   std::uint64_t seed = 1;             ///< run seed
   std::uint64_t valid_target = 1000;  ///< stop after this many force-closure grasps (>= 1)
@@ -74,8 +97,9 @@ struct BuildOptions {
   /// Refuse an object whose size is implausible for the hand (size_check.hpp) before any
   /// trial; false (`--allow-size`) builds it anyway. Not stored: it does not change a map.
   bool check_size = true;
-  /// Trials per work block (>= 1): a worker simulates a block, then scores it. Does not change
-  /// results.
+  /// Trials per work block (>= 1): a worker simulates a block, then scores it; with the hold
+  /// test at most 4 (a thread's block past the valid target is work thrown away, and a tested
+  /// grasp costs the time of thousands of trials). Does not change results.
   std::uint64_t block_size = 64;
   /// Extra entries for /sampling params_json (a JSON object, e.g. file paths), merged in.
   std::string extra_params_json = "{}";
@@ -108,7 +132,12 @@ struct BuildTiming {
   double quality_seconds = 0.0;
   /// The closing check's part of quality_seconds (0 when it is off)
   double closing_check_seconds = 0.0;
-  std::uint64_t closing_checks = 0;    ///< force-closure grasps the closing check simulated
+  std::uint64_t closing_checks = 0;  ///< force-closure grasps the closing check simulated
+  /// The physics hold test (BuildOptions::hold_test), CPU seconds summed over threads; not part
+  /// of quality_seconds
+  double hold_test_seconds = 0.0;
+  std::uint64_t hold_tests = 0;        ///< force-closure grasps the hold test simulated
+  long long hold_test_steps = 0;       ///< MuJoCo steps of those tests
   double clustering_seconds = 0.0;     ///< clusterGrasps, wall seconds (one thread)
   double setup_seconds = 0.0;          ///< building sampler and simulator before the trials, wall
   std::uint64_t trials_simulated = 0;  ///< trials actually run, including discarded ones

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,8 @@ struct TrialGrasp {
   Pose pose;                      ///< final palm pose in the object frame (metres)
   Eigen::VectorXd joints;         ///< final joint values, HandModel::jointNames() order (rad or m)
   std::vector<Contact> contacts;  ///< pressed contacts, object frame
+  /// The build's physics hold test of the grasp (BuildOptions::hold_test), when it ran.
+  std::optional<RobustHoldResult> hold;
 };
 
 /// One trial's outcome; the grasp only when a map may store it (status ok and force closure,
@@ -38,6 +41,9 @@ struct TrialOutcome {
   /// Force closure by its contacts, refused by the closing check (the closing pushed the free
   /// object away); force_closure is then false and the trial does not count as valid.
   bool pushed = false;
+  /// Force closure by its contacts, refused by the build's physics hold test
+  /// (BuildOptions::hold_test); force_closure is then false.
+  bool not_holding = false;
   double epsilon = 0.0;               ///< Ferrari-Canny epsilon (status ok)
   double volume = 0.0;                ///< GWS volume (status ok)
   std::unique_ptr<TrialGrasp> grasp;  ///< stored grasp, if any (a pointer: most trials have none)
