@@ -1,5 +1,5 @@
-// How the physics models drive a hand's joints (docs/VALIDATION.md, "Parameters" and "Grippers
-// driven by a revolute joint").
+// How the physics models drive a hand's joints (docs/VALIDATION.md, "Parameters", and
+// docs/history/validation-2026-11.md, "Grippers driven by a revolute joint").
 #include "taskmap/meshes/hand_drive.hpp"
 
 #include <cmath>

@@ -2,8 +2,8 @@
 // the planned final grasp by re-simulating it from where the arm ends (builder/resimulate.hpp)
 // and testing the result in physics; this report does that for every stored grasp, from its
 // pose moved by palm-frame offsets: how far from its sample a grasp still holds
-// (docs/VALIDATION.md, "The stored palm pose"). Per offset and in total: grasps whose
-// re-simulation is force closure, whose joints equal the stored ones (within 1e-6), and that
+// (docs/history/validation-2026-11.md, "The stored palm pose"). Per offset and in total: grasps
+// whose re-simulation is force closure, whose joints equal the stored ones (within 1e-6), and that
 // hold (hold test of the re-simulated pose and joints, the validator's defaults).
 //
 //   resim_report MAP.h5 [--grasps N] [--offset "X Y Z" ...] [--random N HALF SEED]

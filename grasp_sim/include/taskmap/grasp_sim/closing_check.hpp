@@ -115,9 +115,9 @@ struct ClosingCheckOptions {
   double margin = 5e-4;        ///< m, Bullet collision margin of every shape
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
-  /// The early-verdict settings (docs/METHOD.md §4d, docs/VALIDATION.md "A cheaper closing
-  /// check"): 8 ms steps, 4 solver iterations, closing 0.1 s (2 x 5 stages), at most 10 settle
-  /// steps at erp 0.8, pushes of at most 0.05 s that end at rest (5 mm/s for 2 steps) or at
+  /// The early-verdict settings (docs/METHOD.md §4d, docs/history/validation-2026-11.md "A cheaper
+  /// closing check"): 8 ms steps, 4 solver iterations, closing 0.1 s (2 x 5 stages), at most 10
+  /// settle steps at erp 0.8, pushes of at most 0.05 s that end at rest (5 mm/s for 2 steps) or at
   /// the first step past a threshold; about 30x cheaper than the defaults, mode kPushes. Jaws:
   /// 20 iterations, torsional friction 0.02 m (the hold test's), drives warm-started.
   static ClosingCheckOptions earlyVerdict();

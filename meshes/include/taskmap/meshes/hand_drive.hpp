@@ -2,7 +2,8 @@
 /// @file hand_drive.hpp
 /// How the physics models drive a hand's joints: the validator's MuJoCo actuators, the closing
 /// check's Bullet motors and the hold filter's efforts read this one definition
-/// (docs/VALIDATION.md, "Parameters" and "Grippers driven by a revolute joint").
+/// (docs/VALIDATION.md, "Parameters"; docs/history/validation-2026-11.md, "Grippers driven by a
+/// revolute joint").
 
 #include <limits>
 #include <vector>
