@@ -108,8 +108,9 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a->output, "write the labelled map here instead");
-  cmd->add_option("--hand", a->hand,
-                  "hand URDF (default: the one the map was built with, found by its SHA-256)");
+  cmd->add_option(
+      "--hand", a->hand,
+      "hand URDF or MJCF (default: the one the map was built with, found by its SHA-256)");
   cmd->add_option("--threads", a->options.threads, "worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--grasps", a->options.grasps, "test only the first N grasps (0: all)");
