@@ -1,6 +1,8 @@
 // MJCF hands through the tool (issue 52, label cli): the LEAP hand as MuJoCo Menagerie publishes
 // it (tests/data/real/hands/leap_hand_mjcf) in hand-info, hand-init, build, inspect, validate,
-// view, export and dataset; an MJCF file taskmap cannot use refused with its line.
+// view, export and dataset; an MJCF file taskmap
+// cannot use refused with its line; and the same hand as URDF and as MJCF giving the same map
+// bytes (the recorded hand path and file hash aside).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "map_compare.hpp"
 #include "scratch_dir.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 
@@ -116,6 +119,38 @@ TEST(MjcfCli, AnUnusableMjcfIsRefusedWithItsLine) {
   EXPECT_NE(run.code, 0);
   EXPECT_NE(run.out.find(hand + "': <joint name='b'> at line 6: ball joints"), std::string::npos)
       << run.out;
+}
+
+// Issue 52 item 3: the Barrett hand as URDF and as MJCF (tests/data/hands/barrett_mjcf) builds
+// the same map: every stored value equal but the two that name the model file (the hand path in
+// /sampling params_json, the file's SHA-256 in /hand); with those two made equal, the maps
+// written by one writer are the same bytes.
+TEST(MjcfCli, TheSameHandAsUrdfAndMjcfBuildsTheSameMap) {
+  const std::string urdf = std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf";
+  const std::string mjcf = std::string(TEST_DATA_DIR) + "/hands/barrett_mjcf/barrett.xml";
+  const std::string object = std::string(TASKMAP_OBJECTS_DIR) + "/cylinder.obj";
+  const std::string a = kScratch.path("urdf.h5"), b = kScratch.path("mjcf.h5");
+  for (const auto& [hand, out] : {std::pair{urdf, a}, std::pair{mjcf, b}}) {
+    const auto run = runTaskmap("build --object " + object + " --hand " + hand +
+                                " --valid 200 --seed 3 --threads 2 -o " + out);
+    ASSERT_EQ(run.code, 0) << run.out;
+  }
+  const taskmap::TaskMapData from_urdf = taskmap::readMap(a);
+  taskmap::TaskMapData from_mjcf = taskmap::readMap(b);
+  EXPECT_NE(from_mjcf.hand.urdf_sha256, from_urdf.hand.urdf_sha256);
+  EXPECT_GE(from_mjcf.grasps.size(), 200u);
+  auto params = nlohmann::json::parse(from_mjcf.sampling.params_json);
+  EXPECT_EQ(params["hand"], mjcf);
+  params["hand"] = urdf;
+  from_mjcf.sampling.params_json = params.dump();
+  from_mjcf.hand.urdf_sha256 = from_urdf.hand.urdf_sha256;
+  taskmap::testing::expectSameMapContent(from_urdf, from_mjcf, true);
+  EXPECT_EQ(from_mjcf.hand.link_names, from_urdf.hand.link_names);
+  const std::string a2 = kScratch.path("urdf_rewritten.h5"),
+                    b2 = kScratch.path("mjcf_rewritten.h5");
+  taskmap::writeMap(a2, from_urdf);
+  taskmap::writeMap(b2, from_mjcf);
+  EXPECT_TRUE(bytes(a2) == bytes(b2)) << "the rewritten maps differ";
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -218,6 +219,43 @@ TEST(MjcfModel, ReadsFramesAndNewerActuatorAttributes) {
   ASSERT_EQ(m.warnings.size(), 2u);  // the free joint; the missing visual mesh, once
   EXPECT_NE(m.warnings[0].find("free joint"), std::string::npos) << m.warnings[0];
   EXPECT_NE(m.warnings[1].find("skin_not_here.stl"), std::string::npos) << m.warnings[1];
+}
+
+// Issue 52 item 3: the Barrett hand as URDF and as MJCF (tests/data/hands/barrett_mjcf) is the
+// same hand: links, joints, limits, shapes, and forward kinematics over random joint values.
+TEST(MjcfModel, TheSameHandAsUrdfAndMjcfHasTheSameKinematics) {
+  const HandModel u = HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const HandModel m =
+      HandModel::load(std::string(TEST_DATA_DIR) + "/hands/barrett_mjcf/barrett.xml");
+  EXPECT_EQ(m.name(), u.name());
+  EXPECT_EQ(m.jointNames(), u.jointNames());
+  EXPECT_EQ(m.lowerLimits(), u.lowerLimits());
+  EXPECT_EQ(m.upperLimits(), u.upperLimits());
+  ASSERT_EQ(m.links().size(), u.links().size());
+  for (std::size_t l = 0; l < u.links().size(); ++l) {
+    EXPECT_EQ(m.links()[l].name, u.links()[l].name);
+    ASSERT_EQ(m.links()[l].shapes.size(), u.links()[l].shapes.size());
+    for (std::size_t k = 0; k < u.links()[l].shapes.size(); ++k) {
+      EXPECT_EQ(m.links()[l].shapes[k].box_size, u.links()[l].shapes[k].box_size);
+      EXPECT_TRUE(m.links()[l].shapes[k].origin.isApprox(u.links()[l].shapes[k].origin, 0.0));
+    }
+  }
+  EXPECT_EQ(m.reach(), u.reach());
+  EXPECT_EQ(m.rotationScale(), u.rotationScale());
+  std::mt19937_64 rng(52);
+  double worst = 0.0;
+  for (int t = 0; t < 1000; ++t) {
+    Eigen::VectorXd q(u.lowerLimits().size());
+    for (Eigen::Index i = 0; i < q.size(); ++i)
+      q[i] = std::uniform_real_distribution<double>(u.lowerLimits()[i], u.upperLimits()[i])(rng);
+    const auto pu = u.linkPoses(q), pm = m.linkPoses(q);
+    for (std::size_t l = 0; l < pu.size(); ++l) {
+      worst = std::max(worst, (pu[l].translation() - pm[l].translation()).norm());
+      worst = std::max(worst, (pu[l].linear() - pm[l].linear()).norm());
+    }
+  }
+  EXPECT_LE(worst, 1e-9);
+  std::printf("Barrett as URDF and as MJCF: largest link pose difference %.3g\n", worst);
 }
 
 TEST(MjcfModel, TellsAnMjcfFromAUrdfByItsFirstElement) {
