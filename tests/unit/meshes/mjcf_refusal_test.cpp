@@ -1,5 +1,7 @@
 // What the MJCF reader refuses (issue 52): every element taskmap cannot use, named with its line
-// (and its file when included); a missing collision mesh (a missing visual one is a warning).
+// (and its file when included); hostile files (docs/HOSTILE_INPUTS.md): nesting, element
+// counts, link counts, include cycles, chains and paths outside the model's folder, each refused
+// quickly and before TinyXML recurses into the text.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cpu_time.hpp"
 #include "error_matchers.hpp"
 #include "scratch_dir.hpp"
 #include "taskmap/meshes/hand_model.hpp"
@@ -126,6 +129,83 @@ TEST(MjcfRefusal, EveryUnusableElementIsNamedWithItsLine) {
     EXPECT_NE(e.find(lineOf(c.xml, c.needle)), std::string::npos)
         << lineOf(c.xml, c.needle) << ": " << e;
   }
+}
+
+TEST(MjcfRefusal, IncludesStayInsideTheModelsFolderAndAreReadOnce) {
+  // Outside the folder (also through a symbolic link).
+  write("outside", "other.xml", "<mujoco/>");
+  const std::string out =
+      write("outside/model", "hand.xml", hand("", "<include file=\"../other.xml\"/>\n"));
+  EXPECT_TRUE(testing::throwsError([&] { readMjcfModel(fileText(out), out); },
+                                   {"outside the model's folder", "line 2"}));
+  std::filesystem::create_symlink(
+      "../other.xml", std::filesystem::path(kScratch.path("outside/model")) / "link.xml");
+  const std::string via =
+      write("outside/model", "via.xml", hand("", "<include file=\"link.xml\"/>\n"));
+  EXPECT_TRUE(testing::throwsError([&] { readMjcfModel(fileText(via), via); },
+                                   {"outside the model's folder"}));
+  // A cycle: hand.xml -> a.xml -> b.xml -> a.xml; the error names b.xml's line.
+  write("cycle", "a.xml", "<mujoco>\n<include file=\"b.xml\"/>\n</mujoco>\n");
+  write("cycle", "b.xml", "<mujoco>\n\n<include file=\"a.xml\"/>\n</mujoco>\n");
+  const std::string cyc = write("cycle", "hand.xml", hand("", "<include file=\"a.xml\"/>\n"));
+  EXPECT_TRUE(testing::throwsError([&] { readMjcfModel(fileText(cyc), cyc); },
+                                   {"included a second time", "line 3 of", "b.xml"}));
+  // The model including itself.
+  const std::string self = write("self", "hand.xml", hand("", "<include file=\"hand.xml\"/>\n"));
+  EXPECT_TRUE(testing::throwsError([&] { readMjcfModel(fileText(self), self); },
+                                   {"included a second time"}));
+  // A missing include.
+  const std::string gone = write("gone", "hand.xml", hand("", "<include file=\"nope.xml\"/>\n"));
+  EXPECT_TRUE(
+      testing::throwsError([&] { readMjcfModel(fileText(gone), gone); }, {"nope.xml", "line 2"}));
+  // A chain of more files than the limit.
+  for (std::size_t i = 0; i < kMaxMjcfFiles + 2; ++i)
+    write("chain", "c" + std::to_string(i) + ".xml",
+          "<mujoco><include file=\"c" + std::to_string(i + 1) + ".xml\"/></mujoco>");
+  const std::string chain = write("chain", "hand.xml", hand("", "<include file=\"c0.xml\"/>\n"));
+  EXPECT_TRUE(
+      testing::throwsError([&] { readMjcfModel(fileText(chain), chain); }, {"more than 64 files"}));
+}
+
+TEST(MjcfRefusal, HostileSizesAreRefusedQuickly) {
+  struct Hostile {
+    const char* name;
+    std::string xml;
+    const char* says;
+  };
+  std::string deep = "<mujoco><worldbody>", wide, many = "<mujoco><worldbody><body name=\"p\">";
+  for (int i = 0; i < 100000; ++i) deep += "<body>";
+  std::string sites;
+  for (int i = 0; i < 30000; ++i) sites += "<site/>";
+  wide = hand(sites);
+  for (int i = 0; i < 300; ++i)
+    many += "<body name=\"b" + std::to_string(i) + "\"><joint range=\"0 1\"/></body>";
+  many += "</body></worldbody></mujoco>";
+  const std::vector<Hostile> cases = {{"deep", deep, "nested more than 64"},
+                                      {"wide", wide, "more than 20000 XML elements"},
+                                      {"many", many, "more than 256 links"}};
+  for (const Hostile& h : cases) {
+    SCOPED_TRACE(h.name);
+    const std::string path = write(std::string("hostile_") + h.name, "hand.xml", h.xml);
+    const double t0 = testing::cpuSeconds();
+    const std::string e = refusal(path);
+    EXPECT_LT(testing::cpuSeconds() - t0, 1.0);
+    EXPECT_NE(e.find(h.says), std::string::npos) << e;
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+  }
+  // Nesting across files: 40 levels in the model, 40 in its include.
+  std::string inner = "<mujoco>", outer = "<mujoco><worldbody><body name=\"p\">";
+  for (int i = 0; i < 40; ++i) inner += "<body>";
+  for (int i = 0; i < 40; ++i) inner += "</body>";
+  inner += "</mujoco>";
+  for (int i = 0; i < 40; ++i) outer += "<body>";
+  outer += "<include file=\"inner.xml\"/>";
+  for (int i = 0; i < 40; ++i) outer += "</body>";
+  outer += "</body></worldbody></mujoco>";
+  write("across", "inner.xml", inner);
+  const std::string across = write("across", "hand.xml", outer);
+  EXPECT_TRUE(testing::throwsError([&] { readMjcfModel(fileText(across), across); },
+                                   {"nested more than 64", "inner.xml"}));
 }
 
 TEST(MjcfRefusal, AMissingCollisionMeshIsAnErrorAndAMissingVisualOneAWarning) {
