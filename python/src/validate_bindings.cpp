@@ -33,7 +33,7 @@ std::string handUrdf(const TaskMapData& map, const std::string& hand, const std:
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
                       double object_mass, double friction, double jaw_force, double contact_patch,
-                      py::object progress) {
+                      bool stated_dynamics, py::object progress) {
   TaskMapData map = readMap(map_path);
   const std::string urdf = handUrdf(map, hand, map_path, "validate");
   ValidateOptions o;
@@ -43,6 +43,7 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   o.hold.sliding_friction = friction;
   o.hold.jaw_force = jaw_force;
   o.hold.contact_patch = contact_patch;
+  o.hold.stated_dynamics = stated_dynamics;
   PythonRun run(std::move(progress));
   ValidationSummary s;
   {
@@ -90,22 +91,26 @@ py::dict tracePath(const std::string& map_path, std::size_t grasp, const std::st
 
 void bindValidate(py::module_& m) {
   const HoldTestOptions d;
-  m.def("validate", &validatePath, py::arg("map"), py::arg("hand") = "", py::arg("output") = "",
-        py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
-        py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
-        py::arg("contact_patch") = d.contact_patch, py::arg("progress") = py::none(),
-        "Tests whether the grasps of the map at `map` hold the object in physics "
-        "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
-        "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
-        "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
-        "was built with, at its recorded path or a bundled hand with the same SHA-256); threads: "
-        "0 all cores; grasps: test only the first N (0 all); jaw_force: N per parallel jaw; "
-        "contact_patch: metres (0: one contact per shape); progress: called about every 0.25 s "
-        "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
-        "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
-        "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
-        "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
-        "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps.");
+  m.def(
+      "validate", &validatePath, py::arg("map"), py::arg("hand") = "", py::arg("output") = "",
+      py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
+      py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
+      py::arg("contact_patch") = d.contact_patch, py::arg("stated_dynamics") = d.stated_dynamics,
+      py::arg("progress") = py::none(),
+      "Tests whether the grasps of the map at `map` hold the object in physics "
+      "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
+      "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
+      "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
+      "was built with, at its recorded path or a bundled hand with the same SHA-256); threads: "
+      "0 all cores; grasps: test only the first N (0 all); jaw_force: N per parallel jaw; "
+      "contact_patch: metres (0: one contact per shape); stated_dynamics: an MJCF hand's own "
+      "masses, gains, damping and friction where its model states them (False: the "
+      "protocol's, as `taskmap validate --protocol-dynamics`); progress: called about every 0.25 s "
+      "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
+      "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
+      "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
+      "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
+      "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps.");
   m.def("trace_hold", &tracePath, py::arg("map"), py::arg("grasp"), py::arg("hand") = "",
         py::arg("object_mass") = d.object_mass, py::arg("friction") = d.sliding_friction,
         py::arg("jaw_force") = d.jaw_force, py::arg("contact_patch") = d.contact_patch,

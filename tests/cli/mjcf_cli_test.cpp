@@ -1,8 +1,8 @@
 // MJCF hands through the tool (issue 52, label cli): the LEAP hand as MuJoCo Menagerie publishes
-// it (tests/data/real/hands/leap_hand_mjcf) in hand-info, hand-init, build, inspect, validate,
-// view, export and dataset; an MJCF file taskmap
-// cannot use refused with its line; and the same hand as URDF and as MJCF giving the same map
-// bytes (the recorded hand path and file hash aside).
+// it (tests/data/real/hands/leap_hand_mjcf) in hand-info, hand-init, build, inspect, validate
+// (its own dynamics recorded, or the protocol's), view, export and dataset; an MJCF file
+// taskmap cannot use refused with its line; the same hand as URDF and as MJCF giving the same
+// map (the recorded hand path and file hash aside).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -83,10 +83,21 @@ TEST(MjcfCli, TheLeapHandBuildsValidatesAndIsShown) {
   const auto inspect = runTaskmap("inspect --json " + map);
   ASSERT_EQ(inspect.code, 0) << inspect.out;
   EXPECT_EQ(nlohmann::json::parse(inspect.out)["grasps"]["count"], 12);
-  const auto v =
-      runTaskmap("validate " + map + " --grasps 2 --threads 2 -o " + kScratch.path("validated.h5"));
-  ASSERT_EQ(v.code, 0) << v.out;
-  EXPECT_NE(v.out.find("of 2 grasps hold"), std::string::npos) << v.out;
+  // The hand's own dynamics, recorded in /validation params; --protocol-dynamics the protocol's.
+  for (const bool stated : {true, false}) {
+    const std::string out = kScratch.path(stated ? "stated.h5" : "protocol.h5");
+    const auto v = runTaskmap("validate " + map + " --grasps 2 --threads 2 -o " + out +
+                              (stated ? "" : " --protocol-dynamics"));
+    ASSERT_EQ(v.code, 0) << v.out;
+    const taskmap::TaskMapData m = taskmap::readMap(out);
+    ASSERT_TRUE(m.validation);
+    const auto params = nlohmann::json::parse(m.validation->params_json);
+    const auto& d = params["hand_dynamics"];
+    EXPECT_EQ(d["source"], "MJCF");
+    EXPECT_EQ(d["kp"]["model"], stated ? 16 : 0);
+    EXPECT_EQ(d["mass_inertia"]["model"], stated ? 17 : 0);
+    EXPECT_EQ(d["geom_friction"]["of"], 71);
+  }
   const std::string page = kScratch.path("leap.html"), glb = kScratch.path("leap.glb");
   const auto view = runTaskmap("view " + map + " -o " + page);
   ASSERT_EQ(view.code, 0) << view.out;

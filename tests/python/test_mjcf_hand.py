@@ -63,6 +63,9 @@ class MjcfHandTest(unittest.TestCase):
         s = taskmap.validate(self.path("py.h5"), grasps=1, threads=1,
                              output=self.path("stated.h5"))
         self.assertEqual(s["tested"], 1)
+        p = taskmap.validate(self.path("py.h5"), grasps=1, threads=1, stated_dynamics=False,
+                             output=self.path("protocol.h5"))
+        self.assertEqual(p["tested"], 1)
         page = taskmap.view(self.path("py.h5"), output=self.path("py.html"))
         self.assertTrue(os.path.getsize(self.path("py.html")) > 10000, page)
 

@@ -125,6 +125,9 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
       ->capture_default_str();
+  cmd->add_flag("!--protocol-dynamics", h.stated_dynamics,
+                "an MJCF hand: use the protocol's masses, gains, damping and friction, not the "
+                "ones the hand's model states (docs/VALIDATION.md, \"A hand's own dynamics\")");
   cmd->add_option("--trace", a->trace,
                   "test only grasp I (index from 0) and print where the object goes and which "
                   "links press it, stage by stage; writes nothing")

@@ -74,6 +74,12 @@ struct HoldTestOptions {
   double contact_patch = 0.01;
   /// Convex pieces of a non-convex object (MuJoCo collides each mesh geom as its hull).
   int object_max_pieces = 64;
+  /// Use the dynamics the hand's model states (an MJCF hand: masses and inertias, joint damping,
+  /// armature and friction loss, servo gains and ranges, geom friction and contact softness;
+  /// HandModel::dynamics()) in place of the values above, where it states them
+  /// (docs/VALIDATION.md, "A hand's own dynamics"). false: the protocol's values for every hand.
+  /// A URDF hand states none: no difference.
+  bool stated_dynamics = true;
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -152,6 +158,10 @@ struct HoldModelInfo {
   /// N m: the force limit of a revolute gripper's drive (HoldTestOptions::revolute_gripper_force),
   /// 0 for other hands.
   double gripper_torque = 0.0;
+  /// JSON: which dynamics the hand's model states and the model used (per quantity, how many
+  /// the hand's model gave, of how many; docs/VALIDATION.md, "A hand's own dynamics"); "" for a
+  /// hand whose model states none (a URDF).
+  std::string hand_dynamics;
 };
 
 /// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text
