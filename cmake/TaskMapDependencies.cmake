@@ -12,10 +12,11 @@ find_package(PkgConfig REQUIRED)
 find_package(Threads REQUIRED)
 find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 
-# meshes: assimp, CGAL, urdfdom
+# meshes: assimp, CGAL, urdfdom, TinyXML (the MJCF reader; urdfdom parses with it too)
 find_package(assimp REQUIRED)
 find_package(CGAL REQUIRED)
 find_package(urdfdom REQUIRED)
+pkg_check_modules(TINYXML REQUIRED IMPORTED_TARGET tinyxml)
 # grasp_sim: Debian's float64 Bullet. The pkg-config file carries -DBT_USE_DOUBLE_PRECISION,
 # which the imported target passes to every file that includes Bullet.
 pkg_check_modules(BULLET REQUIRED IMPORTED_TARGET bullet-float64)

@@ -15,7 +15,7 @@ JOBS="${TASKMAP_JOBS:-$(nproc)}"
 PACKAGES=(
   build-essential cmake ninja-build pkg-config ccache git clang-format
   libeigen3-dev libbullet-dev libflann-dev liblz4-dev libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
-  libhdf5-dev libqhull-dev liburdfdom-dev libssl-dev
+  libhdf5-dev libqhull-dev liburdfdom-dev libtinyxml-dev libssl-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev nlohmann-json3-dev
   pybind11-dev python3 python3-dev python3-venv python3-numpy python3-h5py python3-scipy python3-fastcluster
   libnanoflann-dev libcairo2-dev fonts-dejavu-core openmpi-bin libopenmpi-dev

@@ -40,7 +40,8 @@ std::vector<std::string> bundledHands(const fs::path& hands) {
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(hands, ec)) {
     const std::string name = entry.path().filename().string();
-    if (fs::exists(entry.path() / (name + ".urdf"))) names.push_back(name);
+    if (fs::exists(entry.path() / (name + ".urdf")) || fs::exists(entry.path() / (name + ".xml")))
+      names.push_back(name);
   }
   std::sort(names.begin(), names.end());
   return names;
@@ -181,6 +182,8 @@ std::string bundledHandUrdf(const std::string& name) {
   const fs::path hands = fs::path(dataDir()) / "hands";
   const fs::path urdf = hands / name / (name + ".urdf");
   if (name.find('/') == std::string::npos && fs::exists(urdf)) return urdf.string();
+  const fs::path mjcf = hands / name / (name + ".xml");  // a bundled MJCF hand
+  if (name.find('/') == std::string::npos && fs::exists(mjcf)) return mjcf.string();
   std::string list;
   const std::vector<std::string> names = bundledHands(hands);
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -189,7 +192,8 @@ std::string bundledHandUrdf(const std::string& name) {
   if (name.find('/') != std::string::npos) {
     std::vector<std::string> urdfs;
     for (const std::string& f : filesOf(as_path.parent_path()))
-      if (fs::path(f).extension() == ".urdf" || fs::path(f).extension() == ".xacro")
+      if (fs::path(f).extension() == ".urdf" || fs::path(f).extension() == ".xacro" ||
+          fs::path(f).extension() == ".xml")
         urdfs.push_back(f);
     const std::vector<std::string> close = closestNames(as_path.filename().string(), urdfs);
     if (!close.empty())
@@ -198,9 +202,9 @@ std::string bundledHandUrdf(const std::string& name) {
   } else {
     hint = didYouMean(name, names);
   }
-  throw Error("hand '" + name + "' is neither a URDF file nor a bundled hand name (" +
-              (list.empty() ? std::string("none found") : list) + " under " + hands.string() + ")" +
-              hint);
+  throw Error(
+      "hand '" + name + "' is neither a hand file (URDF or MJCF) nor a bundled hand name (" +
+      (list.empty() ? std::string("none found") : list) + " under " + hands.string() + ")" + hint);
 }
 
 }  // namespace taskmap

@@ -4,6 +4,7 @@
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -107,7 +108,8 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
   for (std::size_t c = 0; c < hand.closing().size(); ++c)
     closing_of[static_cast<std::size_t>(hand.closing()[c].joint)] = static_cast<int>(c);
 
-  // Self-collision pairs: not both palm-rigid, not geometric parent/child, apart in preshape.
+  // Self-collision pairs: not both palm-rigid, not geometric parent/child, not excluded by the
+  // hand's model (an MJCF's <contact><exclude>), apart in preshape.
   auto geometric_parent = [&](int l) {
     int cur = l;
     while (true) {
@@ -124,6 +126,9 @@ SimModel::SimModel(const TriangleMesh& mesh, const HandModel& h, const GraspSimO
       const auto ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
       if (links[ua].palm && links[ub].palm) continue;
       if (geometric_parent(a) == b || geometric_parent(b) == a) continue;
+      const auto& excluded = hand.dynamics().excluded_pairs;
+      if (std::find(excluded.begin(), excluded.end(), std::array<int, 2>{a, b}) != excluded.end())
+        continue;  // shaped is in link order: a < b, as the pairs are stored
       if (scene->linkLinkDistance(a, poses[ua], b, poses[ub], tol) <= tol) continue;
       self_pairs.emplace_back(a, b);
     }

@@ -53,12 +53,40 @@ Eigen::Vector3d rpyOf(const Eigen::Matrix3d& r) {
   return {ypr[2], ypr[1], ypr[0]};
 }
 
+/// How many links, joints, actuated joints and collision shapes have dynamics the model states.
+nlohmann::json statedDynamics(const HandModel& h) {
+  const HandDynamics& d = h.dynamics();
+  int masses = 0, damped = 0, movable = 0, servos = 0, frictions = 0, shapes = 0;
+  for (const auto& l : d.links) masses += l.has_value();
+  for (std::size_t j = 0; j < d.joints.size(); ++j) {
+    if (h.joints()[j].type == JointType::kFixed) continue;
+    ++movable;
+    damped += d.joints[j].damping.has_value();
+    servos += d.actuators[j] && d.actuators[j]->kp.has_value();
+  }
+  for (const auto& link : d.shapes)
+    for (const ShapeContact& c : link) {
+      ++shapes;
+      frictions += c.sliding.has_value();
+    }
+  return {{"masses", masses},
+          {"links", d.links.size()},
+          {"damping", damped},
+          {"movable_joints", movable},
+          {"servo_gains", servos},
+          {"actuated_joints", h.jointNames().size()},
+          {"geom_friction", frictions},
+          {"shapes", shapes},
+          {"contact_excludes", d.excluded_pairs.size()}};
+}
+
 /// Everything hand-info reports, as JSON (the text output prints the same fields).
 nlohmann::json describe(const HandModel& h, const HandReport& report) {
   nlohmann::json j;
   j["name"] = h.name();
   j["robot_name"] = h.robotName();
   j["urdf"] = h.urdfPath();
+  j["format"] = h.modelFormat();
   j["sidecar"] = h.sidecarPath();
   j["urdf_sha256"] = h.urdfSha256();
   const auto names = h.jointNames();
@@ -125,6 +153,10 @@ nlohmann::json describe(const HandModel& h, const HandReport& report) {
                                      {"note", m.note}});
   j["warnings"] = report.warnings;
   j["notes"] = report.notes;
+  // What loading the model skipped (an MJCF's missing visual meshes, unused actuators) and what
+  // it states about its dynamics (docs/HANDS.md).
+  j["model_warnings"] = h.loadWarnings();
+  if (!h.dynamics().source.empty()) j["stated_dynamics"] = statedDynamics(h);
   return j;
 }
 
@@ -160,10 +192,23 @@ std::string v3(const nlohmann::json& v) {
 
 std::string printText(const nlohmann::json& j) {
   std::string out;
-  appendf(out, "hand:           %s (URDF robot '%s')\n", j["name"].get<std::string>().c_str(),
-          j["robot_name"].get<std::string>().c_str());
-  appendf(out, "urdf:           %s\nsidecar:        %s\n", j["urdf"].get<std::string>().c_str(),
+  const bool mjcf = j["format"] == "MJCF";
+  appendf(out, "hand:           %s (%s '%s')\n", j["name"].get<std::string>().c_str(),
+          mjcf ? "MJCF model" : "URDF robot", j["robot_name"].get<std::string>().c_str());
+  appendf(out, "%s           %s\nsidecar:        %s\n",
+          mjcf ? "mjcf:" : "urdf:", j["urdf"].get<std::string>().c_str(),
           j["sidecar"].get<std::string>().c_str());
+  if (j.contains("stated_dynamics")) {
+    const auto& d = j["stated_dynamics"];
+    appendf(out,
+            "dynamics:       the model states %d of %d masses, %d of %d servo gains, damping of "
+            "%d of %d joints, friction of %d of %d shapes, %d contact exclusions (the "
+            "validator uses them: docs/VALIDATION.md)\n",
+            d["masses"].get<int>(), d["links"].get<int>(), d["servo_gains"].get<int>(),
+            d["actuated_joints"].get<int>(), d["damping"].get<int>(),
+            d["movable_joints"].get<int>(), d["geom_friction"].get<int>(), d["shapes"].get<int>(),
+            d["contact_excludes"].get<int>());
+  }
   appendf(out, "joints:\n");
   for (const auto& e : j["joints"]) {
     appendf(out, "  %-24s %-9s", e["name"].get<std::string>().c_str(),
@@ -200,6 +245,8 @@ std::string printText(const nlohmann::json& j) {
   printCollisionMeshes(out, j);
   for (const auto& n : j["notes"])
     appendf(out, "note:           %s\n", n.get<std::string>().c_str());
+  for (const auto& w : j["model_warnings"])
+    appendf(out, "model:          %s\n", w.get<std::string>().c_str());
   for (const auto& w : j["warnings"])
     appendf(out, "warning:        %s\n", w.get<std::string>().c_str());
   return out;

@@ -15,7 +15,8 @@
 namespace taskmap {
 namespace {
 
-// A hand URDF is text of a few hundred kilobytes; anything this large is not the map's hand.
+// A hand model (URDF or MJCF) is text of a few hundred kilobytes; anything this large is not the
+// map's hand.
 constexpr std::size_t kMaxUrdfBytes = std::size_t{64} << 20;
 
 /// Does the regular file at path hold the map's hand (same SHA-256 of its bytes)?
@@ -48,6 +49,7 @@ std::string findMapHandUrdf(const TaskMapData& map, const std::string& hands_dir
     for (const auto& entry : std::filesystem::directory_iterator(hands_dir, ec)) {
       const std::string name = entry.path().filename().string();
       candidates.push_back((entry.path() / (name + ".urdf")).string());
+      candidates.push_back((entry.path() / (name + ".xml")).string());  // an MJCF hand
     }
   }
   std::sort(candidates.begin(), candidates.end());

@@ -177,8 +177,9 @@ CollisionOptions collisionOptionsOf(const nlohmann::json& sidecar, const std::st
 
 std::vector<PartShapes> collisionMeshShapes(const std::string& file, const Eigen::Vector3d& scale,
                                             const std::string& urdf_path, const std::string& link,
-                                            const CollisionOptions& options) {
-  const std::string L = "URDF '" + urdf_path + "': link '" + link + "'";
+                                            const CollisionOptions& options,
+                                            const std::string& format) {
+  const std::string L = format + " '" + urdf_path + "': link '" + link + "'";
   std::string f = file;
   if (f.rfind("file://", 0) == 0) f = f.substr(7);
   f = resolvePackageUri(f, urdf_path, L + ": collision mesh ");

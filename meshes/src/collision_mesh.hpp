@@ -42,11 +42,13 @@ struct PartShapes {
 /// and says why in info.note. Throws Error starting with `what` for fewer than 4 points.
 PartShapes partShapes(MeshSoup part, const CollisionOptions& o, const std::string& what);
 
-/// Loads mesh `file` (relative to the URDF, or file://) with assimp, scaled, in the file's
-/// frame, and converts each connected part. Throws Error naming the URDF, link and file on an
-/// unreadable mesh or one with no part of 4 or more vertices.
+/// Loads mesh `file` (relative to the model file, or file://) with assimp, scaled, in the
+/// file's frame, and converts each connected part. Throws Error naming the model ("<format>
+/// '<urdf_path>'", format "URDF" or "MJCF"), link and file on an unreadable mesh or one with no
+/// part of 4 or more vertices.
 std::vector<PartShapes> collisionMeshShapes(const std::string& file, const Eigen::Vector3d& scale,
                                             const std::string& urdf_path, const std::string& link,
-                                            const CollisionOptions& options);
+                                            const CollisionOptions& options,
+                                            const std::string& format = "URDF");
 
 }  // namespace taskmap::detail

@@ -62,6 +62,15 @@ const std::string& HandModel::urdfSha256() const {
 const std::string& HandModel::urdfPath() const {
   return urdf_path_;
 }
+const std::string& HandModel::modelFormat() const {
+  return format_;
+}
+const HandDynamics& HandModel::dynamics() const {
+  return dynamics_;
+}
+const std::vector<std::string>& HandModel::loadWarnings() const {
+  return load_warnings_;
+}
 const std::string& HandModel::sidecarPath() const {
   return sidecar_path_;
 }

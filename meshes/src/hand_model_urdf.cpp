@@ -11,11 +11,14 @@
 #include <sstream>
 
 #include "collision_mesh.hpp"
+#include "convex_hull.hpp"
 #include "hand_model_build.hpp"
+#include "round_shapes.hpp"
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
+#include "taskmap/meshes/mjcf_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/meshes/ros_package.hpp"
 #include "taskmap/meshes/urdf_model.hpp"
@@ -32,12 +35,47 @@ std::string readFile(const std::string& path, const char* what) {
   return readRegularFile(path, what);
 }
 
+/// An MJCF mesh geom as one convex shape: the hull of all its vertices (how MuJoCo collides it),
+/// recorded in `infos`; U prefixes errors ("MJCF '<path>': ").
+CollisionShape meshHull(const UrdfGeometry& g, const std::string& path, const std::string& link,
+                        const std::string& U, int first_shape,
+                        std::vector<CollisionMeshInfo>* infos) {
+  CollisionMeshInfo info;
+  info.link = link;
+  info.file = g.mesh_file.empty() ? std::string("(inline vertices)") : g.mesh_file;
+  info.first_shape = first_shape;
+  info.note = "the convex hull of the whole mesh (MJCF: how MuJoCo collides a mesh geom)";
+  std::vector<Eigen::Vector3d> points;
+  if (g.mesh_file.empty()) {
+    for (const auto& v : g.mesh_vertices) points.push_back(v.cwiseProduct(g.mesh_scale));
+  } else {
+    detail::CollisionOptions hulls;
+    hulls.decompose = false;
+    for (auto& part :
+         detail::collisionMeshShapes(g.mesh_file, g.mesh_scale, path, link, hulls, "MJCF")) {
+      info.faces += part.info.faces;
+      info.mesh_volume += part.info.mesh_volume;
+      for (const auto& piece : part.pieces)
+        points.insert(points.end(), piece.vertices.begin(), piece.vertices.end());
+    }
+  }
+  const detail::PointHull hull =
+      detail::convexHull(points, U + "link '" + link + "': mesh '" + info.file + "'");
+  info.hull_volume = info.pieces_volume = hull.volume;
+  infos->push_back(info);
+  CollisionShape s;
+  s.type = ShapeType::kConvex;
+  s.points = hull.vertices;
+  return s;
+}
+
 /// The convex shapes of one <collision> element (a mesh gives convex pieces per connected part,
-/// recorded in `infos`); U prefixes errors ("URDF '<path>': ").
+/// recorded in `infos`); U prefixes errors ("URDF '<path>': "), `format` names the file's format.
 std::vector<CollisionShape> shapesOf(const UrdfShape& col, const std::string& urdf_path,
                                      const std::string& link, const std::string& U,
                                      const detail::CollisionOptions& options, int first_shape,
-                                     std::vector<CollisionMeshInfo>* infos) {
+                                     std::vector<CollisionMeshInfo>* infos,
+                                     const std::string& format) {
   CollisionShape s;
   s.origin = col.origin;
   const UrdfGeometry& g = col.geometry;
@@ -61,10 +99,23 @@ std::vector<CollisionShape> shapesOf(const UrdfShape& col, const std::string& ur
       if (!(s.radius > 0.0))
         throw Error(U + "link '" + link + "': <sphere radius> must be positive");
       break;
+    case UrdfGeometry::Type::kCapsule:
+    case UrdfGeometry::Type::kEllipsoid:
+      // Inscribed polytopes (round_shapes.hpp): HandModel's round primitives are spheres and
+      // cylinders only.
+      s.type = ShapeType::kConvex;
+      s.points = g.type == UrdfGeometry::Type::kCapsule ? detail::capsulePoints(g.radius, g.length)
+                                                        : detail::ellipsoidPoints(g.radii);
+      break;
     case UrdfGeometry::Type::kMesh: {
+      if (g.mesh_hull) {
+        CollisionShape h = meshHull(g, urdf_path, link, U, first_shape, infos);
+        h.origin = col.origin;
+        return {h};
+      }
       std::vector<CollisionShape> out;
-      for (auto& part :
-           detail::collisionMeshShapes(g.mesh_file, g.mesh_scale, urdf_path, link, options)) {
+      for (auto& part : detail::collisionMeshShapes(g.mesh_file, g.mesh_scale, urdf_path, link,
+                                                    options, format)) {
         part.info.link = link;
         part.info.file = g.mesh_file;
         part.info.first_shape = first_shape + static_cast<int>(out.size());
@@ -158,10 +209,22 @@ void resolveMimics(const UrdfModel& model, std::vector<HandJoint>& joints, const
 }  // namespace
 
 UrdfModel HandModelBuilder::parseUrdfFile(HandModel& h, const std::string& urdf_path) {
-  const std::string xml = readFile(urdf_path, "URDF");
-  refuseXacro(urdf_path, xml, "hand URDF", true);
+  const std::string xml =
+      readFile(urdf_path, fs::path(urdf_path).extension() == ".xml" ? "MJCF" : "URDF");
   h.urdf_path_ = urdf_path;
   h.sha_ = sha256Hex(xml);
+  if (isMjcfText(xml)) {
+    h.format_ = "MJCF";
+    MjcfModel mjcf = readMjcfModel(xml, urdf_path);
+    if (mjcf.tree.links.size() > kMaxHandLinks)
+      throw Error("MJCF '" + urdf_path + "': " + std::to_string(mjcf.tree.links.size()) +
+                  " links, more than the limit of " + std::to_string(kMaxHandLinks) + " of a hand");
+    h.dynamics_ = std::move(mjcf.dynamics);
+    h.load_warnings_ = std::move(mjcf.warnings);
+    h.robot_name_ = mjcf.tree.name;
+    return std::move(mjcf.tree);
+  }
+  refuseXacro(urdf_path, xml, "hand URDF", true);
   checkUrdfShape(xml, "URDF", urdf_path, kMaxHandLinks);  // before TinyXML recurses into it
   UrdfModel model = parseUrdfModel(xml, urdf_path, "URDF");
   h.robot_name_ = model.name;
@@ -171,7 +234,7 @@ UrdfModel HandModelBuilder::parseUrdfFile(HandModel& h, const std::string& urdf_
 void HandModelBuilder::readUrdfTree(HandModel& h, const UrdfModel& model,
                                     const detail::CollisionOptions& options) {
   const std::string& urdf_path = h.urdf_path_;
-  const std::string U = "URDF '" + urdf_path + "': ";
+  const std::string U = h.format_ + " '" + urdf_path + "': ";
   // Links and joints in the model's order (depth-first from the root): a link's parent joint,
   // then its collision shapes.
   for (const UrdfLink& link : model.links) {
@@ -182,7 +245,7 @@ void HandModelBuilder::readUrdfTree(HandModel& h, const UrdfModel& model,
     hl.parent_joint = link.parent_joint;
     for (const UrdfShape& col : link.collisions)
       for (auto& s : shapesOf(col, urdf_path, link.name, U, options,
-                              static_cast<int>(hl.shapes.size()), &h.collision_meshes_))
+                              static_cast<int>(hl.shapes.size()), &h.collision_meshes_, h.format_))
         hl.shapes.push_back(std::move(s));
     h.links_.push_back(std::move(hl));
   }

@@ -33,7 +33,7 @@ std::string handUrdf(const TaskMapData& map, const std::string& hand, const std:
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
                       double object_mass, double friction, double jaw_force, double contact_patch,
-                      bool robust, bool full, py::object progress) {
+                      bool robust, bool full, bool stated_dynamics, py::object progress) {
   TaskMapData map = readMap(map_path);
   const std::string urdf = handUrdf(map, hand, map_path, "validate");
   ValidateOptions o;
@@ -45,6 +45,7 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   o.hold.contact_patch = contact_patch;
   o.hold.settle_stop = !full;
   o.robust = robust;
+  o.hold.stated_dynamics = stated_dynamics;
   PythonRun run(std::move(progress));
   ValidationSummary s;
   {
@@ -96,7 +97,8 @@ void bindValidate(py::module_& m) {
         py::arg("threads") = 0, py::arg("grasps") = 0, py::arg("object_mass") = d.object_mass,
         py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
         py::arg("contact_patch") = d.contact_patch, py::arg("robust") = false,
-        py::arg("full") = false, py::arg("progress") = py::none(),
+        py::arg("full") = false, py::arg("stated_dynamics") = d.stated_dynamics,
+        py::arg("progress") = py::none(),
         "Tests whether the grasps of the map at `map` hold the object in physics "
         "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
         "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
@@ -107,7 +109,9 @@ void bindValidate(py::module_& m) {
         "(`taskmap validate --robust`: every grasp again with the palm 1 mm and 2 degrees off "
         "along and about each palm axis, friction 0.5 and a second decomposition, each within "
         "1 cm and 5 degrees; /grasps/robust, robust_share, robust_variants); full: every push "
-        "its whole 2 s (default: a push ends once the object settled); progress: called about "
+        "its whole 2 s (default: a push ends once the object settled); stated_dynamics: an MJCF "
+        "hand's own masses, gains, damping and friction where its model states them (False: the "
+        "protocol's, as `taskmap validate --protocol-dynamics`); progress: called about "
         "every 0.25 s "
         "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
         "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "

@@ -340,8 +340,9 @@ TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
   const std::string out = kScratch.path("dym.h5");
   CliRun run = runTaskmap("build --object " + objects + "/basket.obj --hand pand -o " + out);
   EXPECT_EQ(run.code, 1) << run.out;
-  EXPECT_NE(run.out.find("hand 'pand' is neither a URDF file nor a bundled hand name"),
-            std::string::npos)
+  EXPECT_NE(
+      run.out.find("hand 'pand' is neither a hand file (URDF or MJCF) nor a bundled hand name"),
+      std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("; did you mean 'panda'"), std::string::npos) << run.out;
   run = runTaskmap("hand-info Barrett");

@@ -126,7 +126,8 @@ class HandInfoTest(unittest.TestCase):
     def test_bad_hand_names_the_input(self):
         with self.assertRaises(taskmap.Error) as e:
             taskmap.hand_info("no_such_hand")
-        self.assertIn("hand 'no_such_hand' is neither a URDF file nor a bundled hand name", str(e.exception))
+        self.assertIn("hand 'no_such_hand' is neither a hand file (URDF or MJCF) nor a bundled "
+                      "hand name", str(e.exception))
         with tempfile.TemporaryDirectory() as d:
             bad = os.path.join(d, "bad.urdf")
             with open(bad, "w") as f:

@@ -19,7 +19,7 @@ void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
   cmd->add_option("--object", args.object, "object mesh (any format assimp reads)")->required();
   cmd->add_option("--hand", args.hand,
-                  "hand URDF (with its <stem>.hand.json sidecar), or a bundled "
+                  "hand URDF or MJCF (with its <stem>.hand.json sidecar), or a bundled "
                   "hand name")
       ->required();
   cmd->add_option("-o,--output", args.output, "task map to write (.h5)")->required();

@@ -48,7 +48,8 @@ const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
       "palm frame, approach axis, rho; warn about set-ups that cannot grasp (no finger reaches "
       "past the front of the palm or of geometry fixed to it; collision meshes that could not "
       "be decomposed), the warnings `build` prints before its trials");
-  cmd->add_option("hand", args->hand, "hand URDF (with its <stem>.hand.json) or bundled name")
+  cmd->add_option("hand", args->hand,
+                  "hand URDF or MJCF (with its <stem>.hand.json) or bundled name")
       ->required();
   cmd->add_option("--png", args->png,
                   "also draw the hand in its preshape and fully closed, three views each");

@@ -40,8 +40,8 @@ void run(const HandInitArgs& args) {
   }
   writeFileAtomically(args.output, d.json, "cannot write sidecar '" + args.output + "'");
   std::printf(
-      "wrote: %s (the draft loads with this URDF; build with --hand %s after renaming it "
-      "to <urdf stem>.hand.json beside it, or check it with hand-info)\n",
+      "wrote: %s (the draft loads with this hand; build with --hand %s after renaming it "
+      "to <stem>.hand.json beside it, or check it with hand-info)\n",
       args.output.c_str(), args.urdf.c_str());
 }
 
@@ -53,7 +53,7 @@ const CommandRegistrar kRegistrar("hand-init", [](CLI::App& app) {
       "approach axis from where the fingers close, closing joints and directions, fingers as "
       "chains, preshape; prints each guess and why, and names any field it could not decide "
       "(exit status 1)");
-  cmd->add_option("urdf", args->urdf, "hand URDF")->required();
+  cmd->add_option("urdf", args->urdf, "hand URDF or MJCF")->required();
   cmd->add_option("-o,--output", args->output,
                   "write the sidecar here (default: print it), e.g. HAND.hand.json");
   cmd->add_flag("--force", args->force, "replace an existing -o file");

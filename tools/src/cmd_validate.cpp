@@ -108,8 +108,9 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a->output, "write the labelled map here instead");
-  cmd->add_option("--hand", a->hand,
-                  "hand URDF (default: the one the map was built with, found by its SHA-256)");
+  cmd->add_option(
+      "--hand", a->hand,
+      "hand URDF or MJCF (default: the one the map was built with, found by its SHA-256)");
   cmd->add_option("--threads", a->options.threads, "worker threads (0: all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--grasps", a->options.grasps, "test only the first N grasps (0: all)");
@@ -132,6 +133,9 @@ const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
   cmd->add_flag("--full", a->full,
                 "run every push its whole 2 s, as DexGraspBench publishes the protocol (default: "
                 "a push ends once the object has settled; same labels, docs/VALIDATION.md)");
+  cmd->add_flag("!--protocol-dynamics", h.stated_dynamics,
+                "an MJCF hand: use the protocol's masses, gains, damping and friction, not the "
+                "ones the hand's model states (docs/VALIDATION.md, \"A hand's own dynamics\")");
   cmd->add_option("--trace", a->trace,
                   "test only grasp I (index from 0) and print where the object goes and which "
                   "links press it, stage by stage; writes nothing")

@@ -534,6 +534,7 @@ HoldTester::HoldTester(const HandModel& hand, const ObjectModel& object,
   s.info.actuators = scene.actuators;
   s.info.mimic_constraints = scene.mimic_constraints;
   s.info.gripper_torque = scene.gripper_torque;
+  s.info.hand_dynamics = scene.hand_dynamics;
 }
 
 HoldTester::~HoldTester() = default;

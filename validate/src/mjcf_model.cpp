@@ -1,6 +1,7 @@
 // The hold test's scene as MJCF (MuJoCo 2.2.2's XML), written from the hand model and the
 // object's convex pieces. Frames: world = palm frame; URDF link frames become body frames.
 #include "mjcf_model.hpp"
+#include "mjcf_stated.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -62,10 +63,13 @@ std::string frame(const Eigen::Isometry3d& t) {
          num(q.y()) + " " + num(q.z()) + "\"";
 }
 
-/// The <inertial> of a link: density x shape volume at the volume-weighted centre of its shapes,
-/// the inertia of a solid sphere of the shapes' extent (docs/VALIDATION.md, "The model").
-std::string inertial(const HandLink& link, double density) {
-  const LinkInertia m = linkInertia(link, density);
+/// The <inertial> of a link: the model's when it states one (mjcf_stated.hpp); else density x
+/// shape volume at the volume-weighted centre of its shapes, the inertia of a solid sphere of the
+/// shapes' extent (docs/VALIDATION.md, "The model").
+std::string inertial(const HandModel& hand, int l, double density, StatedUse* use) {
+  const std::string stated = statedInertial(hand, l, use);
+  if (!stated.empty()) return stated;
+  const LinkInertia m = linkInertia(hand.links()[static_cast<std::size_t>(l)], density);
   const std::string i = num(m.inertia);
   return "<inertial pos=\"" + vec(m.centre) + "\" mass=\"" + num(m.mass) + "\" diaginertia=\"" + i +
          " " + i + " " + i + "\"/>";
@@ -79,7 +83,8 @@ int cells(double h, double patch) {
 
 /// A box as cells of about `patch` per side across its two largest extents (the faces a pad
 /// presses with; one geom when patch is 0).
-void boxGeoms(const CollisionShape& s, double patch, std::ostringstream* body, int* geoms) {
+void boxGeoms(const CollisionShape& s, double patch, const std::string& extra,
+              std::ostringstream* body, int* geoms) {
   const Eigen::Vector3d h = (0.5 * s.box_size).cwiseMax(kMinSize);
   Eigen::Index thin = 0;
   h.minCoeff(&thin);
@@ -93,39 +98,43 @@ void boxGeoms(const CollisionShape& s, double patch, std::ostringstream* body, i
             -h + Eigen::Vector3d(2 * i + 1, 2 * j + 1, 2 * k + 1).cwiseProduct(c);
         Eigen::Isometry3d t = s.origin;
         t.translation() += s.origin.linear() * at;
-        *body << "<geom class=\"hand\" " << frame(t) << " type=\"box\" size=\"" << vec(c)
-              << "\"/>\n";
+        *body << "<geom class=\"hand\" " << frame(t) << " type=\"box\" size=\"" << vec(c) << "\""
+              << extra << "/>\n";
         ++*geoms;
       }
 }
 
 /// A cylinder as segments along its axis of at most `patch` length (one when patch is 0).
-void cylinderGeoms(const CollisionShape& s, double patch, std::ostringstream* body, int* geoms) {
+void cylinderGeoms(const CollisionShape& s, double patch, const std::string& extra,
+                   std::ostringstream* body, int* geoms) {
   const double half = std::max(0.5 * s.length, kMinSize);
   const int n = cells(half, patch);
   for (int k = 0; k < n; ++k) {
     Eigen::Isometry3d t = s.origin;
     t.translation() += s.origin.linear() * Eigen::Vector3d(0, 0, -half + (2 * k + 1) * half / n);
     *body << "<geom class=\"hand\" " << frame(t) << " type=\"cylinder\" size=\""
-          << num(std::max(s.radius, kMinSize)) << " " << num(half / n) << "\"/>\n";
+          << num(std::max(s.radius, kMinSize)) << " " << num(half / n) << "\"" << extra << "/>\n";
     ++*geoms;
   }
 }
 
-/// Mesh assets and geoms of one link's shapes.
-void linkGeoms(const HandLink& link, int link_index, double patch, std::ostringstream* assets,
-               std::ostringstream* body, int* geoms) {
+/// Mesh assets and geoms of one link's shapes (with the contact parameters the hand states).
+void linkGeoms(const HandModel& hand, int link_index, double patch, const HoldTestOptions& o,
+               StatedUse* use, std::ostringstream* assets, std::ostringstream* body, int* geoms) {
+  const HandLink& link = hand.links()[static_cast<std::size_t>(link_index)];
   for (std::size_t k = 0; k < link.shapes.size(); ++k) {
     const CollisionShape& s = link.shapes[k];
+    const std::string extra = statedContact(hand, link_index, static_cast<int>(k),
+                                            o.sliding_friction, o.torsional_friction, use);
     if (s.type == ShapeType::kBox) {
-      boxGeoms(s, patch, body, geoms);
+      boxGeoms(s, patch, extra, body, geoms);
       continue;
     }
     if (s.type == ShapeType::kCylinder) {
-      cylinderGeoms(s, patch, body, geoms);
+      cylinderGeoms(s, patch, extra, body, geoms);
       continue;
     }
-    *body << "<geom class=\"hand\" " << frame(s.origin) << " ";
+    *body << "<geom class=\"hand\" " << frame(s.origin) << extra << " ";
     switch (s.type) {
       case ShapeType::kBox:
       case ShapeType::kCylinder:
@@ -158,8 +167,8 @@ bool jawLink(const HandModel& hand, int l) {
 }
 
 /// The hand's body tree (iterative: any depth), its actuators and its mimic equalities.
-void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstream* assets,
-              std::ostringstream* bodies, std::ostringstream* actuators,
+void handTree(const HandModel& hand, const HoldTestOptions& o, StatedUse* use,
+              std::ostringstream* assets, std::ostringstream* bodies, std::ostringstream* actuators,
               std::ostringstream* equalities, MjcfScene* scene) {
   const auto& links = hand.links();
   const auto& joints = hand.joints();
@@ -182,7 +191,7 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
   auto open = [&](int l, const Eigen::Isometry3d& t) {
     const HandLink& link = links[static_cast<std::size_t>(l)];
     *bodies << "<body name=\"link_" << l << "\" " << frame(t) << ">\n"
-            << inertial(link, o.link_density) << "\n";
+            << inertial(hand, l, o.link_density, use) << "\n";
     if (link.parent_joint >= 0) {
       const HandJoint& j = joints[static_cast<std::size_t>(link.parent_joint)];
       if (j.type != JointType::kFixed) {
@@ -190,19 +199,20 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
         const double geared = !actuated.empty() && j.name == actuated[0] ? train : 0.0;
         *bodies << "<joint name=\"" << xmlName(j.name) << "\" type=\""
                 << (slide ? "slide" : "hinge") << "\" axis=\"" << vec(j.axis)
-                << "\" limited=\"true\" range=\"" << num(j.lower) << " " << num(j.upper)
-                << "\" damping=\""
-                << num(slide ? o.prismatic_damping : o.joint_damping + geared * o.prismatic_damping)
-                << "\" armature=\""
-                << num(slide ? o.prismatic_armature
-                             : o.revolute_armature + geared * o.prismatic_armature)
-                << "\"/>\n";
+                << "\" limited=\"true\" range=\"" << num(j.lower) << " " << num(j.upper) << "\""
+                << statedJoint(
+                       hand, link.parent_joint,
+                       slide ? o.prismatic_damping : o.joint_damping + geared * o.prismatic_damping,
+                       slide ? o.prismatic_armature
+                             : o.revolute_armature + geared * o.prismatic_armature,
+                       use)
+                << "/>\n";
       }
     }
     int geoms = 0;
     // Jaw pads touch with patches: prismatic jaws, and a revolute gripper's finger links.
     const bool pad = jawLink(hand, l) || (train > 0.0 && link.finger >= 0);
-    linkGeoms(link, l, pad ? o.contact_patch : 0.0, assets, bodies, &geoms);
+    linkGeoms(hand, l, pad ? o.contact_patch : 0.0, o, use, assets, bodies, &geoms);
     scene->hand_geoms += geoms;
     ++scene->hand_bodies;
     stack.emplace_back(l, 0);
@@ -219,33 +229,32 @@ void handTree(const HandModel& hand, const HoldTestOptions& o, std::ostringstrea
         joints[static_cast<std::size_t>(children[static_cast<std::size_t>(l)][next++])];
     open(j.child_link, j.origin);
   }
-  for (const auto& j : joints) {
+  for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+    const HandJoint& j = joints[ji];
     if (j.type == JointType::kFixed || j.driver < 0) continue;
     const std::string& driver = actuated[static_cast<std::size_t>(j.driver)];
     if (j.name == driver) continue;
     *equalities << "<joint joint1=\"" << xmlName(j.name) << "\" joint2=\"" << xmlName(driver)
                 << "\" polycoef=\"" << num(j.offset) << " " << num(j.multiplier) << " 0 0 0\"";
     // A revolute gripper's four-bar is rigid: its constraints as stiff as MuJoCo allows (time
-    // constant two steps) with MuJoCo Menagerie's 2F-85 impedance.
-    if (train > 0.0)
-      *equalities << " solref=\"" << num(2.0 * o.timestep) << " 1\" solimp=\"0.95 0.99 0.001\"";
-    *equalities << "/>\n";
+    // constant two steps) with MuJoCo Menagerie's 2F-85 impedance. The model's own when stated.
+    const std::string rigid =
+        train > 0.0 ? " solref=\"" + num(2.0 * o.timestep) + " 1\" solimp=\"0.95 0.99 0.001\""
+                    : std::string();
+    *equalities << statedCoupling(hand, static_cast<int>(ji), rigid, use) << "/>\n";
     ++scene->mimic_constraints;
   }
   scene->gripper_torque = gripper.torque;
   const std::vector<JointDrive> drives = actuatorDrives(hand, drive_options);
   for (std::size_t a = 0; a < actuated.size(); ++a) {
-    const HandJoint* j = nullptr;
-    for (const auto& c : joints)
-      if (c.name == actuated[a]) j = &c;
-    if (!j) throw Error("hold test: actuated joint '" + actuated[a] + "' is not a URDF joint");
-    *actuators << "<position name=\"act_" << a << "\" joint=\"" << xmlName(j->name)
-               << "\" ctrllimited=\"true\" ctrlrange=\"" << num(j->lower) << " " << num(j->upper)
-               << "\" kp=\"" << num(drives[a].kp) << "\"";
-    if (std::isfinite(drives[a].limit))
-      *actuators << " forcelimited=\"true\" forcerange=\"" << num(-drives[a].limit) << " "
-                 << num(drives[a].limit) << "\"";
-    *actuators << "/>\n";
+    int j = -1;
+    for (std::size_t c = 0; c < joints.size(); ++c)
+      if (joints[c].name == actuated[a]) j = static_cast<int>(c);
+    if (j < 0) throw Error("hold test: actuated joint '" + actuated[a] + "' is not a URDF joint");
+    *actuators << statedActuator(hand, "act_" + std::to_string(a),
+                                 xmlName(joints[static_cast<std::size_t>(j)].name), j, drives[a].kp,
+                                 drives[a].limit, use)
+               << "\n";
     ++scene->actuators;
   }
 }
@@ -276,13 +285,18 @@ MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const Conv
                     const HoldTestOptions& o) {
   MjcfScene scene;
   std::ostringstream assets, bodies, actuators, equalities;
-  handTree(hand, o, &assets, &bodies, &actuators, &equalities, &scene);
+  StatedUse use;
+  use.on = usesStated(hand, o);
+  handTree(hand, o, &use, &assets, &bodies, &actuators, &equalities, &scene);
+  if (!hand.dynamics().source.empty()) scene.hand_dynamics = use.json(hand);
   objectBody(object, pieces, o, &assets, &bodies);
   const std::string friction =
       num(o.sliding_friction) + " " + num(o.torsional_friction) + " 0.0001";
   std::ostringstream x;
   x << "<mujoco model=\"taskmap_hold_test\">\n"
-    << "<compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+    << "<compiler angle=\"radian\" inertiafromgeom=\"false\""
+    // A model's stated inertias as MuJoCo compiles the model itself (the protocol's always are).
+    << (use.inertia > 0 ? " balanceinertia=\"true\"" : "") << "/>\n"
     << "<option timestep=\"" << num(o.timestep) << "\" gravity=\"0 0 0\" integrator=\"implicit\""
     << " cone=\"elliptic\" impratio=\"" << num(o.impratio) << "\" noslip_iterations=\""
     << o.noslip_iterations << "\" iterations=\"" << o.solver_iterations << "\" tolerance=\""

@@ -26,12 +26,18 @@ struct MjcfScene {
   int actuators = 0;
   int mimic_constraints = 0;
   double gripper_torque = 0.0;  ///< N m, 0 unless the hand is a revolute gripper
+  /// Which of the hand's stated dynamics the scene used (mjcf_stated.hpp, JSON); "" for a hand
+  /// that states none (a URDF).
+  std::string hand_dynamics;
 };
 
 /// Writes the scene: hand links as bodies (their convex shapes as geoms), one position
 /// actuator per actuated joint (HandModel::jointNames() order), URDF mimic joints as joint
 /// equality constraints, the object's convex pieces as mesh geoms of one free body with the
-/// object's mass properties scaled to options.object_mass.
+/// object's mass properties scaled to options.object_mass. Where the hand's model states its
+/// dynamics (an MJCF: HandModel::dynamics()) and options.stated_dynamics is on, those replace the
+/// protocol's (masses and inertias, joint damping, armature, friction loss, servo gains and
+/// ranges, geom friction and contact softness, coupling softness; mjcf_stated.hpp).
 MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const ConvexPieces& pieces,
                     const HoldTestOptions& options);
 

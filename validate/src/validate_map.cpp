@@ -392,6 +392,11 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
   map->validation = robust
                         ? holdLabels(tested, options.hold, &robust->options(), robust->variants())
                         : holdLabels(tested, options.hold);
+  if (!s.model.hand_dynamics.empty()) {  // an MJCF hand: which of its own dynamics were used
+    auto params = nlohmann::ordered_json::parse(map->validation->params_json);
+    params["hand_dynamics"] = nlohmann::ordered_json::parse(s.model.hand_dynamics);
+    map->validation->params_json = params.dump();
+  }
   s.message = std::to_string(s.holding) + " of " + std::to_string(s.tested) + " grasps hold";
   if (robust) s.message += ", " + std::to_string(s.robust) + " robustly";
   return s;

@@ -1,10 +1,10 @@
 // Deterministic mutation fuzzing of the formats and files beyond mesh_fuzz_test (issue 32): a
 // box in 3MF, glTF (text, buffer inlined), GLB, COLLADA and DirectX .x (tests/data/meshes/fuzz/,
 // written by assimp 5.2 from box.obj) through ObjectModel::load, and the Barrett hand's URDF and
-// sidecar JSON through HandModel::load. Few mutants per format (fixed seeds: bit flips, zeroed
-// blocks, truncations, huge numbers), each loaded in a child process with a time and
-// address-space limit. Required: no crash, no hang, every refusal names the file, peak memory
-// within a margin of the original's. Prints the outcomes per format (refused / accepted /
+// sidecar JSON and the LEAP hand's MJCF through HandModel::load. Few mutants per format (fixed
+// seeds: bit flips, zeroed blocks, truncations, huge numbers), each loaded in a child process with
+// a time and address-space limit. Required: no crash, no hang, every refusal names the file, peak
+// memory within a margin of the original's. Prints the outcomes per format (refused / accepted /
 // crash / hang / memory). Label fuzz: the release suite runs it, the sanitizer run does not.
 #include <gtest/gtest.h>
 
@@ -133,6 +133,23 @@ TEST_F(FormatFuzz, HandUrdfAndSidecarAreLoadedOrRefusedWithinBounds) {
   test::writeBytes(urdf_path, urdf);
   // A refusal of a damaged sidecar names the sidecar or the URDF it belongs to.
   fuzz("barrett.hand.json", sidecar, sidecar_path, kHandMutants, load, "hand.");
+}
+
+// Issue 52: the real LEAP hand's MJCF (MuJoCo Menagerie, with its two collision meshes and the
+// sidecar) mutated like the URDF: loaded or refused naming the file, within time and memory.
+TEST_F(FormatFuzz, HandMjcfIsLoadedOrRefusedWithinBounds) {
+  const fs::path leap = fs::path(TEST_DATA_DIR) / "real/hands/leap_hand_mjcf";
+  const std::string mjcf = test::fileBytes((leap / "right_hand.xml").string());
+  ASSERT_FALSE(mjcf.empty());
+  fs::create_directories(dir_ / "assets");
+  for (const char* f : {"assets/tip.obj", "assets/thumb_tip.obj"})
+    fs::copy_file(leap / f, dir_ / f);
+  test::writeBytes((dir_ / "leap.hand.json").string(),
+                   test::fileBytes((leap / "right_hand.hand.json").string()));
+  const std::string path = (dir_ / "leap.xml").string();
+  fuzz(
+      "right_hand.xml (MJCF)", mjcf, path, kHandMutants, [&path] { HandModel::load(path); },
+      "leap.");
 }
 
 }  // namespace

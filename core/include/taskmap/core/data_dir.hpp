@@ -22,9 +22,10 @@ namespace taskmap {
 /// Throws Error saying how to set TASKMAP_DATA_DIR when none exists.
 std::string dataDir();
 
-/// The URDF of a bundled hand: `<dataDir()>/hands/<name>/<name>.urdf`. Throws Error listing the
-/// bundled hands when there is none of that name, with "did you mean" the closest bundled name
-/// (or, for a path, the closest URDF in its folder).
+/// The model file of a bundled hand: `<dataDir()>/hands/<name>/<name>.urdf`, else
+/// `<name>/<name>.xml` (an MJCF hand). Throws Error listing the bundled hands when there is none
+/// of that name, with "did you mean" the closest bundled name (or, for a path, the closest URDF
+/// or MJCF file in its folder).
 std::string bundledHandUrdf(const std::string& name);
 
 /// A hand argument as a URDF path: the path itself if it exists, else the bundled hand of that

@@ -1,8 +1,9 @@
 #pragma once
 /// @file hand_model.hpp
-/// A robot hand: URDF kinematics and convex collision shapes (urdfdom, assimp, kept private)
-/// plus the grasping sidecar <stem>.hand.json (palm frame, approach axis, preshape, closing
-/// motion, squeeze; format in meshes/hands/README.md). Units: metres, radians.
+/// A robot hand: kinematics and convex collision shapes from a URDF or an MJCF file (urdfdom,
+/// TinyXML, assimp, kept private; mjcf_model.hpp), the dynamics an MJCF states
+/// (hand_dynamics.hpp), plus the grasping sidecar <stem>.hand.json (palm frame, approach axis,
+/// preshape, closing motion, squeeze; format in meshes/hands/README.md). Units: metres, radians.
 
 #include <optional>
 #include <string>
@@ -10,6 +11,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "taskmap/meshes/hand_dynamics.hpp"
 
 namespace taskmap {
 
@@ -98,9 +101,11 @@ struct ClosingJoint {
 /// A hand model: immutable after load, cheap to copy, every const method thread-safe.
 class HandModel {
  public:
-  /// Loads <urdf_path> and its sidecar <same dir>/<urdf stem>.hand.json (or an explicit one).
-  /// Throws Error naming the file and the element on unreadable files, unknown links or
-  /// joints, links without collision geometry where the sidecar needs it, and bad values.
+  /// Loads the hand model file <urdf_path> and its sidecar <same dir>/<stem>.hand.json (or an
+  /// explicit one). The file is a URDF, or an MJCF (MuJoCo XML: its first element is <mujoco>;
+  /// read by mjcf_model.hpp). Throws Error naming the file and the element on unreadable files,
+  /// unknown links or joints, links without collision geometry where the sidecar needs it, and
+  /// bad values.
   static HandModel load(const std::string& urdf_path, const std::string& sidecar_path = "");
   /// The URDF alone, without a sidecar (for drafting one, hand_draft.hpp): links, joints,
   /// limits and collision shapes (default collision options); the palm is the root link with
@@ -111,9 +116,16 @@ class HandModel {
   /// Hand name for maps and titles: the sidecar's "name", else the URDF robot name, else (when
   /// that is a generic word such as "hand" or "gripper") the URDF file stem.
   const std::string& name() const;
-  const std::string& robotName() const;         ///< robot name from the URDF
-  const std::string& urdfSha256() const;        ///< SHA-256 of the URDF file bytes, hex
-  const std::string& urdfPath() const;          ///< the URDF file read
+  const std::string& robotName() const;  ///< robot name from the URDF
+  /// SHA-256 of the model file's bytes (URDF or MJCF; an MJCF's <include>s not counted), hex.
+  const std::string& urdfSha256() const;
+  const std::string& urdfPath() const;     ///< the model file read (URDF or MJCF)
+  const std::string& modelFormat() const;  ///< "URDF" or "MJCF": the model file's format
+  /// What the model states about its dynamics (an MJCF's masses, gains, damping, friction...;
+  /// empty for a URDF).
+  const HandDynamics& dynamics() const;
+  /// What loading the model skipped and why (an MJCF's missing visual meshes, unused actuators).
+  const std::vector<std::string>& loadWarnings() const;
   const std::string& sidecarPath() const;       ///< the sidecar file read
   std::vector<std::string> jointNames() const;  ///< actuated joints: order of every joint vector
   Eigen::VectorXd preshape() const;             ///< open preshape, one value per joint name
@@ -181,7 +193,9 @@ class HandModel {
   const std::vector<double>& jointLevers() const;
 
  private:
-  std::string name_, robot_name_, sha_, urdf_path_, sidecar_path_;
+  std::string name_, robot_name_, sha_, urdf_path_, sidecar_path_, format_ = "URDF";
+  HandDynamics dynamics_;
+  std::vector<std::string> load_warnings_;
   std::vector<HandLink> links_;
   std::vector<CollisionMeshInfo> collision_meshes_;
   std::vector<HandJoint> joints_;

@@ -14,16 +14,27 @@
 
 namespace taskmap {
 
-/// Geometry of a URDF <visual> or <collision> element, in that element's origin frame.
+/// Geometry of a URDF <visual> or <collision> element (or of an MJCF geom), in that element's
+/// origin frame.
 struct UrdfGeometry {
-  /// The URDF element: <box>, <cylinder>, <sphere> or <mesh>.
-  enum class Type { kBox, kCylinder, kSphere, kMesh };
-  Type type = Type::kBox;                                ///< which element
-  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();    ///< kBox: full edge lengths, metres
-  double radius = 0.0;                                   ///< kCylinder, kSphere: metres
-  double length = 0.0;                                   ///< kCylinder: along local z, metres
+  /// The URDF element: <box>, <cylinder>, <sphere> or <mesh>; kCapsule and kEllipsoid come from
+  /// MJCF geoms only (mjcf_model.hpp).
+  enum class Type { kBox, kCylinder, kSphere, kMesh, kCapsule, kEllipsoid };
+  Type type = Type::kBox;                              ///< which element
+  Eigen::Vector3d box_size = Eigen::Vector3d::Zero();  ///< kBox: full edge lengths, metres
+  double radius = 0.0;                                 ///< kCylinder, kSphere, kCapsule: metres
+  /// kCylinder: length along local z; kCapsule: length of its straight part along local z (the
+  /// hemispheres add a radius at each end), metres.
+  double length = 0.0;
+  Eigen::Vector3d radii = Eigen::Vector3d::Zero();       ///< kEllipsoid: semi-axes x, y, z, metres
   std::string mesh_file;                                 ///< kMesh: filename as written
   Eigen::Vector3d mesh_scale = Eigen::Vector3d::Ones();  ///< kMesh: scale per axis
+  /// kMesh: the mesh collides as the convex hull of all its vertices (MJCF: how MuJoCo collides
+  /// a mesh geom), not part by part as a URDF mesh does.
+  bool mesh_hull = false;
+  /// kMesh with an empty mesh_file: the mesh's vertices (an MJCF <mesh vertex>), metres before
+  /// mesh_scale.
+  std::vector<Eigen::Vector3d> mesh_vertices;
 };
 
 /// One <visual> or <collision> element of a link.

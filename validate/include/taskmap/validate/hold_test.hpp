@@ -102,6 +102,12 @@ struct HoldTestOptions {
   /// the protocol's thresholds from its closed state (or within the margin, when smaller): an
   /// object that slid or turned far has not settled (0, 1].
   double settle_envelope = 0.2;
+  /// Use the dynamics the hand's model states (an MJCF hand: masses and inertias, joint damping,
+  /// armature and friction loss, servo gains and ranges, geom friction and contact softness;
+  /// HandModel::dynamics()) in place of the values above, where it states them
+  /// (docs/VALIDATION.md, "A hand's own dynamics"). false: the protocol's values for every hand.
+  /// A URDF hand states none: no difference.
+  bool stated_dynamics = true;
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -188,6 +194,10 @@ struct HoldModelInfo {
   /// N m: the force limit of a revolute gripper's drive (HoldTestOptions::revolute_gripper_force),
   /// 0 for other hands.
   double gripper_torque = 0.0;
+  /// JSON: which dynamics the hand's model states and the model used (per quantity, how many
+  /// the hand's model gave, of how many; docs/VALIDATION.md, "A hand's own dynamics"); "" for a
+  /// hand whose model states none (a URDF).
+  std::string hand_dynamics;
 };
 
 /// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text
