@@ -77,7 +77,7 @@ TEST(MjcfCli, HandInitDraftsASidecarThatLoads) {
 TEST(MjcfCli, TheLeapHandBuildsValidatesAndIsShown) {
   const std::string map = kScratch.path("leap_banana.h5");
   const auto build = runTaskmap("build --object " + kBanana + " --hand " + kLeap +
-                                " --valid 12 --seed 1 -o " + map);
+                                " --valid 12 --seed 1 --hold-test off -o " + map);
   ASSERT_EQ(build.code, 0) << build.out;
   EXPECT_NE(build.out.find("hand leap_hand_right"), std::string::npos) << build.out;
   const auto inspect = runTaskmap("inspect --json " + map);
@@ -111,8 +111,9 @@ TEST(MjcfCli, ADataSetTakesAnMjcfHand) {
   const fs::path dir = kScratch.path("dataset");
   fs::create_directories(dir);
   std::ofstream(dir / "objects.txt") << kBanana << "\n";
-  const auto run = runTaskmap("dataset --objects " + (dir / "objects.txt").string() + " --hands " +
-                              kLeap + " --valid 5 --seed 1 -o " + (dir / "out").string());
+  const auto run =
+      runTaskmap("dataset --objects " + (dir / "objects.txt").string() + " --hands " + kLeap +
+                 " --valid 5 --seed 1 --hold-test off -o " + (dir / "out").string());
   ASSERT_EQ(run.code, 0) << run.out;
   const auto manifest = nlohmann::json::parse(std::ifstream(dir / "out" / "manifest.json"));
   ASSERT_EQ(manifest["jobs"].size(), 1u) << manifest.dump();
@@ -143,7 +144,7 @@ TEST(MjcfCli, TheSameHandAsUrdfAndMjcfBuildsTheSameMap) {
   const std::string a = kScratch.path("urdf.h5"), b = kScratch.path("mjcf.h5");
   for (const auto& [hand, out] : {std::pair{urdf, a}, std::pair{mjcf, b}}) {
     const auto run = runTaskmap("build --object " + object + " --hand " + hand +
-                                " --valid 200 --seed 3 --threads 2 -o " + out);
+                                " --valid 200 --seed 3 --threads 2 --hold-test off -o " + out);
     ASSERT_EQ(run.code, 0) << run.out;
   }
   const taskmap::TaskMapData from_urdf = taskmap::readMap(a);

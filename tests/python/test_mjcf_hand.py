@@ -55,9 +55,10 @@ class MjcfHandTest(unittest.TestCase):
 
     def test_build_and_validate_as_the_cli(self):
         code, _, err = cli("build", "--object", BANANA, "--hand", LEAP, "--valid", "6", "--seed",
-                           "2", "-q", "-o", self.path("cli.h5"))
+                           "2", "--hold-test", "off", "-q", "-o", self.path("cli.h5"))
         self.assertEqual(code, 0, err)
-        m = taskmap.build(object=BANANA, hand=LEAP, output=self.path("py.h5"), valid=6, seed=2)
+        m = taskmap.build(object=BANANA, hand=LEAP, output=self.path("py.h5"), valid=6, seed=2,
+                          hold_test="off")
         self.assertEqual(read(self.path("py.h5")), read(self.path("cli.h5")))
         self.assertEqual(len(m), 6)
         s = taskmap.validate(self.path("py.h5"), grasps=1, threads=1,

@@ -61,18 +61,24 @@ double RobustHoldResult::share() const {
 
 namespace {}  // namespace
 
-// Test order (docs/VALIDATION.md, "The robust label": the ones that fail most often first, so
-// that a build stops early).
+// Test order: the variants that failed most often where the nominal one held first (measured
+// on 164 such grasps of six pairs, docs/VALIDATION.md "The robust label"), so that a build stops
+// early: the turns about the palm's y and x axes, friction, the other turns, the shifts along
+// the approach axis, the other shifts, the second decomposition.
 std::vector<HoldVariant> robustVariants(const RobustHoldOptions& o, bool decomposition) {
   using K = HoldVariant::Kind;
   std::vector<HoldVariant> v{{K::kNominal, 0, 0.0}};
+  const double t = o.palm_turn, m = o.palm_shift;
+  const auto turn = [&](int axis, double sign) {
+    if (t > 0.0) v.push_back({K::kPalmTurn, axis, sign * t});
+  };
+  const auto shift = [&](int axis, double sign) {
+    if (m > 0.0) v.push_back({K::kPalmShift, axis, sign * m});
+  };
+  turn(1, 1.0), turn(1, -1.0), turn(0, 1.0);
   if (o.friction > 0.0) v.push_back({K::kFriction, 0, o.friction});
-  for (int axis = 0; axis < 3; ++axis)
-    for (double s : {-1.0, 1.0})
-      if (o.palm_shift > 0.0) v.push_back({K::kPalmShift, axis, s * o.palm_shift});
-  for (int axis = 0; axis < 3; ++axis)
-    for (double s : {-1.0, 1.0})
-      if (o.palm_turn > 0.0) v.push_back({K::kPalmTurn, axis, s * o.palm_turn});
+  turn(0, -1.0), turn(2, -1.0), turn(2, 1.0);
+  shift(2, 1.0), shift(2, -1.0), shift(1, -1.0), shift(1, 1.0), shift(0, -1.0), shift(0, 1.0);
   if (decomposition) v.push_back({K::kDecomposition, 0, 0.0});
   return v;
 }

@@ -41,19 +41,20 @@ TEST(RobustHold, VariantsAreNamedAndMoveThePalmInItsOwnFrame) {
   std::vector<std::string> names;
   for (const HoldVariant& x : v) names.push_back(x.name());
   // The box is convex: its second decomposition is its hull again, so there is no such variant.
-  const std::vector<std::string> expected = {"nominal", "friction", "shift-x", "shift+x", "shift-y",
-                                             "shift+y", "shift-z",  "shift+z", "turn-x",  "turn+x",
-                                             "turn-y",  "turn+y",   "turn-z",  "turn+z"};
+  // Test order: the variants that fail most often first (robust_hold.cpp).
+  const std::vector<std::string> expected = {"nominal", "turn+y",  "turn-y",  "turn+x",  "friction",
+                                             "turn-x",  "turn-z",  "turn+z",  "shift+z", "shift-z",
+                                             "shift-y", "shift+y", "shift-x", "shift+x"};
   EXPECT_EQ(names, expected);
   EXPECT_EQ(robustVariants(RobustHoldOptions{}, true).back().name(), "decomposition");
   const Pose palm = topGrasp(0.061);
-  const Pose shifted = v[7].apply(palm);  // shift+z: 1 mm along the palm's z (object -z)
+  const Pose shifted = v[8].apply(palm);  // shift+z: 1 mm along the palm's z (object -z)
   EXPECT_NEAR((shifted.position - palm.position - Eigen::Vector3d(0, 0, -0.001)).norm(), 0.0,
               1e-12);
-  const Pose turned = v[13].apply(palm);  // turn+z: 2 degrees about the palm's z, in place
+  const Pose turned = v[7].apply(palm);  // turn+z: 2 degrees about the palm's z, in place
   EXPECT_NEAR((turned.position - palm.position).norm(), 0.0, 1e-12);
   EXPECT_NEAR(rotationAngle(turned.orientation, palm.orientation), 2.0 * M_PI / 180.0, 1e-9);
-  EXPECT_EQ(v[1].apply(palm).position, palm.position);
+  EXPECT_EQ(v[4].apply(palm).position, palm.position);  // friction: the same pose
 }
 
 TEST(RobustHold, JawsSqueezingTheBoxHoldUnderEveryVariant) {
