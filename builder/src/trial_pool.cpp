@@ -153,7 +153,6 @@ GraspResult Worker::simulateTrial(std::uint64_t index) {
 }
 
 TrialOutcome Worker::scoreTrial(GraspResult g) {
-  hold_result.reset();
   TrialOutcome t;
   t.status = g.status;
   if (g.status != GraspStatus::kOk) return t;
@@ -181,26 +180,25 @@ TrialOutcome Worker::scoreTrial(GraspResult g) {
     ++times.closing_checks;
   }
   times.quality += threadCpuSeconds() - t0;
-  if (t.force_closure && hold != nullptr) holdTest(g, t);
+  std::optional<RobustHoldResult> tested;
+  if (t.force_closure && hold != nullptr) tested = holdTest(g, t);
   if (t.force_closure || options.stored == StoredGrasps::kAllCompleted) {
-    std::optional<RobustHoldResult> result = std::move(hold_result);
     t.grasp = takeGrasp(g);
-    t.grasp->hold = std::move(result);
+    t.grasp->hold = std::move(tested);
   }
   return t;
 }
 
-void Worker::holdTest(const GraspResult& g, TrialOutcome& t) {
+RobustHoldResult Worker::holdTest(const GraspResult& g, TrialOutcome& t) {
   const double t0 = threadCpuSeconds();
   RobustHoldResult r = hold->test(g.pose, g.joints);
   times.hold_test += threadCpuSeconds() - t0;
   ++times.hold_tests;
   times.hold_test_steps += r.steps;
-  // kNominal: the protocol alone, its one variant without a margin.
-  const bool holds = r.robust;
-  t.not_holding = !holds;
-  t.force_closure = holds;
-  hold_result = std::move(r);
+  // kNominal's tester has one variant, the protocol without a margin: robust means it holds.
+  t.not_holding = !r.robust;
+  t.force_closure = r.robust;
+  return r;
 }
 
 std::unique_ptr<TrialGrasp> Worker::takeGrasp(GraspResult& g) {
@@ -238,7 +236,6 @@ void runTrialPool(const TrialPoolSetup& setup, Scheduler& scheduler, BuildTiming
                              setup.torque_scale,
                              scheduler,
                              stop,
-                             {},
                              {}});
   std::vector<std::thread> pool;
   std::mutex finished_mutex;

@@ -178,7 +178,6 @@ struct Worker {
   Scheduler& scheduler;
   const std::atomic<bool>* stop;
   StageTimes times;
-  std::optional<RobustHoldResult> hold_result;  ///< the hold test of the trial being scored
 
   void run();
   /// How many of the `left` trials still to run in block b to simulate before scoring (0: the
@@ -192,8 +191,9 @@ struct Worker {
   TrialOutcome scoreTrial(GraspResult g);
   /// The hold filter's verdict on a simulated (status ok) grasp.
   bool holds(const GraspResult& g) const;
-  /// The physics hold test of a force-closure grasp into t (not_holding when it fails).
-  void holdTest(const GraspResult& g, TrialOutcome& t);
+  /// The physics hold test of a force-closure grasp: its result, and t's verdict (not_holding
+  /// when it fails).
+  RobustHoldResult holdTest(const GraspResult& g, TrialOutcome& t);
   /// The part of g a map stores, moved out of g.
   static std::unique_ptr<TrialGrasp> takeGrasp(GraspResult& g);
   /// Ends a trial refused before its quality (squeeze-force test, hold filter; t's flag set):

@@ -19,14 +19,7 @@ namespace {
 
 /// Palm above the 4 x 5 x 12 cm box, approach down (-z), jaws closing along object x.
 Pose topGrasp(double height) {
-  Eigen::Matrix3d r;
-  r.col(0) = Eigen::Vector3d(0, 1, 0);
-  r.col(1) = Eigen::Vector3d(1, 0, 0);
-  r.col(2) = Eigen::Vector3d(0, 0, -1);
-  Pose p;
-  p.position = Eigen::Vector3d(0, 0, height);
-  p.orientation = Eigen::Quaterniond(r);
-  return p;
+  return testing::topBoxGrasp(height);
 }
 
 const Eigen::Vector2d kSqueeze(0.02, 0.02);  // jaws where the box's faces are
