@@ -126,7 +126,8 @@ void fillGrasps(const Prefix& prefix, double rho, TaskMapData& map) {
 // The hold labels of the stored grasps the build's hold test ran on (BuildOptions::hold_test):
 // the protocol's for kNominal, the robust label's too for kRobust (its variants: every
 // tested grasp ran the same list, the second decomposition's included or not).
-void labelGrasps(const Prefix& prefix, const BuildOptions& options, TaskMapData& map) {
+void labelGrasps(const Prefix& prefix, const HandModel& hand, const BuildOptions& options,
+                 TaskMapData& map) {
   if (options.hold_test == BuildHoldTest::kOff) return;
   std::vector<const RobustHoldResult*> results;
   std::size_t variants = 0;
@@ -137,11 +138,12 @@ void labelGrasps(const Prefix& prefix, const BuildOptions& options, TaskMapData&
   const HoldTestOptions& protocol = options.hold_test_options.hold;
   if (options.hold_test == BuildHoldTest::kNominal || variants == 0) {
     map.validation = holdLabels(results, protocol);
-    return;
+  } else {
+    const RobustHoldOptions& ro = options.hold_test_options;
+    const bool decomposition = robustVariants(ro, true).size() == variants;
+    map.validation = holdLabels(results, protocol, &ro, robustVariants(ro, decomposition));
   }
-  const RobustHoldOptions& ro = options.hold_test_options;
-  const bool decomposition = robustVariants(ro, true).size() == variants;
-  map.validation = holdLabels(results, protocol, &ro, robustVariants(ro, decomposition));
+  recordHandDynamics(handDynamicsJson(hand, protocol), &*map.validation);
 }
 
 // Clusters the stored grasps (paper 1.6.1) in the hand's pose metric.
@@ -231,7 +233,7 @@ BuildResult assembleMap(const ObjectModel& object, const HandModel& hand,
   const Prefix prefix = takePrefix(blocks, options.valid_target, map);
   const double rho = hand.rotationScale() > 0.0 ? hand.rotationScale() : kDefaultRotationScale;
   fillGrasps(prefix, rho, map);
-  labelGrasps(prefix, options, map);
+  labelGrasps(prefix, hand, options, map);
   if (options.cluster && prefix.stored.size() >= 2 && !interrupted) {
     const auto t_cluster = detail::Clock::now();
     clusterMap(options.clustering, rho, map);

@@ -107,6 +107,19 @@ TEST(MjcfCli, TheLeapHandBuildsValidatesAndIsShown) {
   EXPECT_EQ(bytes(glb).substr(0, 4), "glTF");
 }
 
+TEST(MjcfCli, ABuildThatTestsItsGraspsRecordsTheHandsDynamics) {
+  const std::string map = kScratch.path("leap_tested.h5");
+  const auto build = runTaskmap("build --object " + kBanana + " --hand " + kLeap +
+                                " --valid 2 --seed 1 --hold-test nominal -o " + map);
+  ASSERT_EQ(build.code, 0) << build.out;
+  const taskmap::TaskMapData m = taskmap::readMap(map);
+  ASSERT_TRUE(m.validation);
+  const auto d = nlohmann::json::parse(m.validation->params_json)["hand_dynamics"];
+  EXPECT_EQ(d["source"], "MJCF") << m.validation->params_json;
+  EXPECT_EQ(d["kp"]["model"], 16);
+  EXPECT_EQ(d["mass_inertia"]["model"], 17);
+}
+
 TEST(MjcfCli, ADataSetTakesAnMjcfHand) {
   const fs::path dir = kScratch.path("dataset");
   fs::create_directories(dir);

@@ -320,3 +320,17 @@ MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const Conv
 }
 
 }  // namespace taskmap::detail
+
+namespace taskmap {
+
+std::string handDynamicsJson(const HandModel& hand, const HoldTestOptions& options) {
+  if (hand.dynamics().source.empty()) return {};
+  detail::MjcfScene scene;
+  std::ostringstream assets, bodies, actuators, equalities;
+  detail::StatedUse use;
+  use.on = detail::usesStated(hand, options);
+  detail::handTree(hand, options, &use, &assets, &bodies, &actuators, &equalities, &scene);
+  return use.json(hand);
+}
+
+}  // namespace taskmap

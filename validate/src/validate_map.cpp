@@ -185,6 +185,13 @@ void appendRow(const MapGrasps& in, std::size_t i, MapGrasps* out, Eigen::Index 
 
 }  // namespace
 
+void recordHandDynamics(const std::string& hand_dynamics, MapValidation* validation) {
+  if (hand_dynamics.empty()) return;  // a URDF hand: the protocol's dynamics throughout
+  auto params = nlohmann::ordered_json::parse(validation->params_json);
+  params["hand_dynamics"] = nlohmann::ordered_json::parse(hand_dynamics);
+  validation->params_json = params.dump();
+}
+
 MapValidation holdLabels(const std::vector<const RobustHoldResult*>& results,
                          const HoldTestOptions& protocol, const RobustHoldOptions* robust,
                          const std::vector<HoldVariant>& variants_run) {
@@ -392,11 +399,7 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
   map->validation = robust
                         ? holdLabels(tested, options.hold, &robust->options(), robust->variants())
                         : holdLabels(tested, options.hold);
-  if (!s.model.hand_dynamics.empty()) {  // an MJCF hand: which of its own dynamics were used
-    auto params = nlohmann::ordered_json::parse(map->validation->params_json);
-    params["hand_dynamics"] = nlohmann::ordered_json::parse(s.model.hand_dynamics);
-    map->validation->params_json = params.dump();
-  }
+  recordHandDynamics(s.model.hand_dynamics, &*map->validation);
   s.message = std::to_string(s.holding) + " of " + std::to_string(s.tested) + " grasps hold";
   if (robust) s.message += ", " + std::to_string(s.robust) + " robustly";
   return s;

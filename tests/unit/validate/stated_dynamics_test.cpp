@@ -49,6 +49,8 @@ TEST(StatedDynamics, TheLeapHandsOwnDynamicsAreInTheScene) {
   EXPECT_EQ(j["mass_inertia"]["model"], 17);
   EXPECT_EQ(j["geom_friction"]["model"], 71);
   EXPECT_EQ(j["contact_excludes"]["model"], 18);
+  // The record without a model (what a build stores in its /validation params).
+  EXPECT_EQ(handDynamicsJson(leap(), HoldTestOptions{}), tester.info().hand_dynamics);
 }
 
 TEST(StatedDynamics, OffTheSceneIsTheProtocols) {
@@ -64,10 +66,13 @@ TEST(StatedDynamics, OffTheSceneIsTheProtocols) {
   const auto j = nlohmann::json::parse(tester.info().hand_dynamics);
   EXPECT_EQ(j["used"], "the protocol's");
   EXPECT_EQ(j["kp"]["model"], 0);
+  EXPECT_EQ(handDynamicsJson(leap(), o), tester.info().hand_dynamics);
   // A URDF hand states nothing: no record, the protocol's scene.
-  const HoldTester urdf(HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf"),
-                        testing::boxObject());
+  const HandModel barrett =
+      HandModel::load(std::string(TASKMAP_HANDS_DIR) + "/barrett/barrett.urdf");
+  const HoldTester urdf(barrett, testing::boxObject());
   EXPECT_TRUE(urdf.info().hand_dynamics.empty());
+  EXPECT_TRUE(handDynamicsJson(barrett, o).empty());
   EXPECT_EQ(urdf.mjcf().find("frictionloss"), std::string::npos);
 }
 

@@ -200,6 +200,10 @@ struct HoldModelInfo {
   std::string hand_dynamics;
 };
 
+/// What HoldTesterInfo::hand_dynamics records for `hand` under `options` (JSON), without
+/// building a model: "" for a hand whose model states no dynamics (a URDF).
+std::string handDynamicsJson(const HandModel& hand, const HoldTestOptions& options);
+
 /// Runs the hold test for one hand and one object. Builds the MuJoCo model once (MJCF text
 /// from the hand model and the object's convex pieces); test() is const and thread-safe (each
 /// call has its own simulation state), and its result depends on its arguments only.

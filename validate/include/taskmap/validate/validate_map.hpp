@@ -114,6 +114,10 @@ MapValidation holdLabels(const std::vector<const RobustHoldResult*>& results,
 /// The protocol's parameters as a JSON object (what /validation params_json stores).
 std::string holdParamsJson(const HoldTestOptions& options);
 
+/// Adds `hand_dynamics` (handDynamicsJson: which of an MJCF hand's own dynamics the hold test
+/// used) to `validation`'s params; nothing when it is empty (a URDF hand).
+void recordHandDynamics(const std::string& hand_dynamics, MapValidation* validation);
+
 /// The map's object as a solid (its stored mesh, already closed and in metres).
 ObjectModel mapObjectModel(const TaskMapData& map);
 
