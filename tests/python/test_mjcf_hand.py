@@ -4,26 +4,15 @@ view, giving what the command-line tool gives (the same JSON, draft and map byte
 import json
 import os
 import shutil
-import subprocess
 import tempfile
 import unittest
 
-CLI = os.environ["TASKMAP_CLI"]
 SRC = os.environ["TASKMAP_SOURCE_DIR"]
 LEAP = os.path.join(SRC, "tests", "data", "real", "hands", "leap_hand_mjcf", "right_hand.xml")
 BANANA = os.path.join(SRC, "tests", "data", "real", "objects", "ycb_011_banana.obj")
 
+from cli_support import cli, read  # noqa: E402
 import taskmap  # noqa: E402
-
-
-def cli(*args):
-    r = subprocess.run([CLI, *args], capture_output=True, text=True)
-    return r.returncode, r.stdout, r.stderr
-
-
-def read(path):
-    with open(path, "rb") as f:
-        return f.read()
 
 
 class MjcfHandTest(unittest.TestCase):

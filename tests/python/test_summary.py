@@ -6,12 +6,10 @@ same numbers as `taskmap inspect --json`, `taskmap hand-info --json` and `taskma
 import json
 import os
 import re
-import subprocess
 import tempfile
 import unittest
 import warnings
 
-CLI = os.environ["TASKMAP_CLI"]
 SRC = os.environ["TASKMAP_SOURCE_DIR"]
 BUILD = os.environ["TASKMAP_BUILD_DIR"]
 MAP = os.path.join(SRC, "meshes", "maps", "basket_humanoid.h5")  # checked-in reference map
@@ -20,17 +18,8 @@ MAP_OBJECT = os.path.join(SRC, "meshes", "objects", "basket.obj")
 # The bundled hands, for the CLI and for the package's bundled hand names alike.
 os.environ["TASKMAP_DATA_DIR"] = os.path.join(BUILD, "share", "taskmap")
 
+from cli_support import cli, read  # noqa: E402
 import taskmap  # noqa: E402  (after TASKMAP_DATA_DIR is set)
-
-
-def cli(*args):
-    r = subprocess.run([CLI, *args], capture_output=True, text=True)
-    return r.returncode, r.stdout, r.stderr
-
-
-def read(path):
-    with open(path, "rb") as f:
-        return f.read()
 
 
 class SummaryTest(unittest.TestCase):
