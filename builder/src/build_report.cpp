@@ -44,12 +44,13 @@ std::string timingText(const BuildTiming& t, double write_seconds) {
     text += line;
   }
   if (t.hold_tests > 0) {
-    std::snprintf(line, sizeof line,
-                  "  physics   %llu force-closure grasps tested in MuJoCo, %.1f ms CPU and %.0f "
-                  "steps each\n",
-                  static_cast<ull>(t.hold_tests),
-                  1e3 * t.hold_test_seconds / static_cast<double>(t.hold_tests),
-                  static_cast<double>(t.hold_test_steps) / static_cast<double>(t.hold_tests));
+    std::snprintf(
+        line, sizeof line,
+        "  physics   %llu force-closure grasps of the simulated trials tested in MuJoCo, %.1f ms "
+        "CPU and %.0f steps each\n",
+        static_cast<ull>(t.hold_tests),
+        1e3 * t.hold_test_seconds / static_cast<double>(t.hold_tests),
+        static_cast<double>(t.hold_test_steps) / static_cast<double>(t.hold_tests));
     text += line;
   }
   return text;
