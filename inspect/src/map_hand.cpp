@@ -3,8 +3,12 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "taskmap/core/error.hpp"
 #include "taskmap/inspect/hand_check.hpp"
+#include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
 
@@ -36,6 +40,58 @@ MapHandResult findMapHand(const TaskMapData& map, const MapHandOptions& options)
   }
   r.status = MapHandResult::Status::kLoaded;
   return r;
+}
+
+namespace {
+
+/// The part of a map that findMapHand reads (its hand and the recorded model path), rebuilt from
+/// a trajectory's /plan/grasp.
+TaskMapData handOnlyMap(const TrajectoryRecord& r) {
+  TaskMapData map;
+  map.hand.name = r.map_hand;
+  map.hand.urdf_sha256 = r.map_hand_sha256;
+  map.hand.joint_names = r.grasp_joint_names;
+  if (!r.map_hand_path.empty())
+    map.sampling.params_json = nlohmann::json{{"hand", r.map_hand_path}}.dump();
+  return map;
+}
+
+TrajectoryHand notFound(const std::string& why) {
+  TrajectoryHand out;
+  out.found.status = MapHandResult::Status::kNotFound;
+  out.found.message = why;
+  return out;
+}
+
+/// A trajectory written before /plan/grasp: the hand and joints from its map, when unchanged.
+TrajectoryHand handFromMapFile(const TrajectoryRecord& r, const MapHandOptions& options) {
+  const std::string again = "; write the trajectory again with `taskmap reach --map ... -o FILE`";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(r.map_path, ec))
+    return notFound("the trajectory records no grasp joint values and its map '" + r.map_path +
+                    "' is not there" + again);
+  if (sha256File(r.map_path) != r.map_sha256)
+    return notFound("the trajectory records no grasp joint values and its map '" + r.map_path +
+                    "' has changed since the plan (SHA-256 differs)" + again);
+  const TaskMapData map = readMap(r.map_path);
+  if (r.grasp_index < 0 || static_cast<std::size_t>(r.grasp_index) >= map.grasps.size() ||
+      map.grasps.joints.cols() == 0)
+    return notFound("the map '" + r.map_path + "' has no joint values for grasp " +
+                    std::to_string(r.grasp_index));
+  TrajectoryHand out;
+  out.found = findMapHand(map, options);
+  if (out.found.hand) out.grasp_joints = graspPosture(map, r.grasp_index).joints;
+  return out;
+}
+
+}  // namespace
+
+TrajectoryHand findTrajectoryHand(const TrajectoryRecord& record, const MapHandOptions& options) {
+  if (record.grasp_joint_names.empty()) return handFromMapFile(record, options);
+  TrajectoryHand out;
+  out.found = findMapHand(handOnlyMap(record), options);
+  if (out.found.hand) out.grasp_joints = record.grasp_joints;
+  return out;
 }
 
 GraspPosture graspPosture(const TaskMapData& map, std::size_t i) {

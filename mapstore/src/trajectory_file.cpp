@@ -84,6 +84,17 @@ void writeShapes(hid_t file, const TrajectoryRecord& r) {
   h5::writeDataset(g, "params", h5::Type::kF64, params.data(), n, kShapeColumns);
 }
 
+/// /plan/grasp: the map's hand and the chosen grasp's joint values (only when known).
+void writeGrasp(hid_t plan, const TrajectoryRecord& r) {
+  Id g = h5::createGroup(plan, "grasp");
+  h5::writeAttr(g, "hand", r.map_hand);
+  h5::writeAttr(g, "hand_sha256", r.map_hand_sha256);
+  h5::writeAttr(g, "hand_path", r.map_hand_path);
+  h5::writeStrings(g, "joint_names", r.grasp_joint_names);
+  h5::writeVector(g, "joints", h5::Type::kF64, r.grasp_joints.data(),
+                  static_cast<std::size_t>(r.grasp_joints.size()));
+}
+
 void writeGroups(hid_t file, const TrajectoryRecord& r) {
   const std::size_t s = r.rows(), d = r.joint_names.size(), b = r.body_names.size();
   {
@@ -113,12 +124,14 @@ void writeGroups(hid_t file, const TrajectoryRecord& r) {
     h5::writeAttrInt(g, "start_cluster", r.start_cluster);
     h5::writeAttrInt(g, "cluster", r.cluster);
     h5::writeAttrInt(g, "grasp_index", r.grasp_index);
+    if (r.quality_peak != 1.0) h5::writeAttr(g, "quality_peak", r.quality_peak);  // else as before
     h5::writeStrings(g, "cost_terms", r.cost_terms);
     h5::writeDataset(g, "cost_history", h5::Type::kF64, r.cost_history.data(),
                      static_cast<std::size_t>(r.cost_history.rows()), r.cost_terms.size());
     h5::writeVector(g, "proximity_over_movement", h5::Type::kF64, r.proximity_over_movement.data(),
                     s);
     h5::writeVector(g, "quality_over_movement", h5::Type::kF64, r.quality_over_movement.data(), s);
+    if (!r.grasp_joint_names.empty()) writeGrasp(g, r);
   }
   Id g = h5::createGroup(file, "bodies");
   h5::writeStrings(g, "names", r.body_names);
@@ -183,6 +196,9 @@ void readPlan(hid_t file, TrajectoryRecord& r) {
   r.start_cluster = static_cast<int>(start);
   r.cluster = static_cast<int>(cluster);
   r.grasp_index = h5::readAttrInt(g, "/plan", "grasp_index");
+  // Written before the quality term was scaled: its quality columns are the raw g_q.
+  r.quality_peak =
+      h5::hasAttr(g, "quality_peak") ? h5::readAttrDouble(g, "/plan", "quality_peak") : 1.0;
   r.cost_terms = h5::readStrings(file, "/plan/cost_terms");
   r.cost_history =
       toRows(h5::readF64(file, "/plan/cost_history", 2, r.cost_terms.size()), r.cost_terms.size());
@@ -192,6 +208,15 @@ void readPlan(hid_t file, TrajectoryRecord& r) {
       Eigen::Map<const Eigen::VectorXd>(p.values.data(), static_cast<Eigen::Index>(p.rows()));
   r.quality_over_movement =
       Eigen::Map<const Eigen::VectorXd>(q.values.data(), static_cast<Eigen::Index>(q.rows()));
+  if (!h5::exists(g, "grasp")) return;  // written before the grasp was recorded
+  Id grasp = h5::openGroup(file, "/plan/grasp");
+  r.map_hand = h5::readAttrString(grasp, "/plan/grasp", "hand");
+  r.map_hand_sha256 = h5::readAttrString(grasp, "/plan/grasp", "hand_sha256");
+  r.map_hand_path = h5::readAttrString(grasp, "/plan/grasp", "hand_path");
+  r.grasp_joint_names = h5::readStrings(file, "/plan/grasp/joint_names");
+  const auto j = h5::readF64(file, "/plan/grasp/joints", 1);
+  r.grasp_joints =
+      Eigen::Map<const Eigen::VectorXd>(j.values.data(), static_cast<Eigen::Index>(j.rows()));
 }
 
 void readBodies(hid_t file, TrajectoryRecord& r) {
@@ -285,11 +310,17 @@ void TrajectoryRecord::validate() const {
   if ((object_faces.array() < 0).any() || (object_faces.array() >= object_vertices.rows()).any())
     throw Error("object faces index a vertex outside [0, " + rowsText(object_vertices.rows()) +
                 ")");
+  if (!(quality_peak > 0.0) || !std::isfinite(quality_peak))
+    throw Error("quality_peak must be finite and > 0, not " + std::to_string(quality_peak));
   requireRows(cost_history, static_cast<std::size_t>(cost_history.rows()),
               static_cast<Eigen::Index>(cost_terms.size()), "cost_history");
   if (static_cast<std::size_t>(proximity_over_movement.size()) != s ||
       static_cast<std::size_t>(quality_over_movement.size()) != s)
     throw Error("proximity/quality_over_movement need one value per step (" + rowsText(s) + ")");
+  if (static_cast<std::size_t>(grasp_joints.size()) != grasp_joint_names.size() ||
+      !grasp_joints.allFinite())
+    throw Error("grasp joints need one finite value per grasp joint name (" +
+                rowsText(grasp_joint_names.size()) + ")");
   if (body_parents.size() != b || body_roles.size() != b)
     throw Error("body parents and roles need one entry per body (" + rowsText(b) + ")");
   for (std::size_t i = 0; i < b; ++i) {

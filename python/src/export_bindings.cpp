@@ -38,6 +38,27 @@ std::optional<HandModel> mapHandOrWarn(const TaskMapData& map, const std::string
   return std::move(found.hand);
 }
 
+/// The reach page of a trajectory with the map's hand (`hand`: URDF or bundled name; "": the
+/// map's own); a Python warning and the planner's primitives when there is none. Writes it.
+void writeTrajectoryPage(const TrajectoryRecord& r, const std::string& hand,
+                         const std::string& output, const PageOptions& page) {
+  MapHandOptions options;
+  if (!hand.empty()) options.hand = pythonHandUrdf(hand);
+  options.hands_dir = pythonHandsDir();
+  const TrajectoryHand found = findTrajectoryHand(r, options);
+  ReachPageInput input;
+  input.trajectory = &r;
+  if (found.found.hand) {
+    input.hand = &*found.found.hand;
+    input.grasp_joints = found.grasp_joints;
+  } else {
+    input.note = found.found.message;
+    py::module_::import("warnings")
+        .attr("warn")(found.found.message + "; drawing the hand as the planner's primitives");
+  }
+  writeReachPage(input, output, page);
+}
+
 std::string exportMap(const py::object& map_path, const std::string& format,
                       const py::object& output_path, double glyph_size, double density,
                       const std::string& object_file, std::optional<double> palm_offset,
@@ -90,7 +111,7 @@ std::string view(const py::object& file_path, const py::object& output_path,
     if (std::string(e.what()).find("not a task map") == std::string::npos) throw;
   }
   if (!map) {
-    writeReachPage(readTrajectory(file), output, page);
+    writeTrajectoryPage(readTrajectory(file), hand, output, page);
     return output;
   }
   const std::optional<HandModel> model = mapHandOrWarn(*map, hand, "drawing palms only");
@@ -133,8 +154,10 @@ opens offline); returns its path (default: <file stem>.html in the working direc
 
 file: a task map (the hand's collision shapes posed by each grasp on the object, coloured by
 cluster; filters, contacts; at most `ghosts` hands drawn at once) or a trajectory file (the
-movement with a time slider and the cost terms). hand: URDF or bundled name to draw a map's
-grasps with (default: the map's, found by its SHA-256; a warning and palms only when none).
+movement with a time slider and the cost terms; the map's hand closes to the chosen grasp at the
+end). hand: URDF or bundled name to draw a map's grasps or a trajectory's grasp with (default:
+the map's, found by its SHA-256; a warning and palms only, or the planner's primitives of the
+hand, when none).
 Raises taskmap.Error naming the file or argument.)");
 }
 

@@ -264,12 +264,14 @@ void bindPlanning(py::module_& m) {
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
-      py::arg("quality_weight") = 1.0, py::arg("steps") = 300, py::arg("dt") = 0.01,
+      py::arg("quality_weight") = 3.0e4, py::arg("steps") = 300, py::arg("dt") = 0.01,
       py::arg("descent") = "bfgs", py::arg("resimulate") = py::none(), py::arg("hold_test") = false,
       py::arg("member_tries") = 16,
       "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
       "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
-      "(status, message, ms_per_plan, ranking, plans, cluster, grasp_index, iterations, "
+      "(status, message, ms_per_plan, map_weights (proximity, quality, quality_peak q*: the "
+      "quality terms are quality_weight g_q / q*, -quality_weight at the map's best grasp), "
+      "ranking, plans, cluster, grasp_index, iterations, "
       "iterations_to_manifold, iterations_to_quality, min_clearance_m, joint_limit_margin_rad, "
       "velocity_ratio, collision_free, ms_per_iteration, cost_history (dicts per iteration), "
       "proximity_over_movement, quality_over_movement (weighted, per step), q_final) and q, "
@@ -298,10 +300,11 @@ void bindPlanning(py::module_& m) {
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
-      py::arg("quality_weight") = 1.0, py::arg("member_tries") = 16,
+      py::arg("quality_weight") = 3.0e4, py::arg("member_tries") = 16,
       "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
       "planning): clusters ranked by comfort, trajectory over attractor points optimised with "
-      "the map's proximity and quality terms. Returns a dict: status, message, cluster, "
+      "the map's proximity and quality terms (quality_weight on g_q / q*, q* the map's best "
+      "quality at its grasps). Returns a dict: status, message, cluster, "
       "grasp_index, iterations, iterations_to_manifold, iterations_to_quality, min_clearance_m, "
       "joint_limit_margin_rad, collision_free, ms_per_iteration, cost_history, "
       "proximity_history, quality_history, q (steps+1 x dofs).");

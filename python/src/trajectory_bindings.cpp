@@ -59,6 +59,12 @@ py::dict trajectoryDict(const TrajectoryRecord& r) {
   d["start_cluster"] = r.start_cluster;
   d["cluster"] = r.cluster;
   d["grasp_index"] = r.grasp_index;
+  d["quality_peak"] = r.quality_peak;
+  d["map_hand"] = r.map_hand;
+  d["map_hand_sha256"] = r.map_hand_sha256;
+  d["map_hand_path"] = r.map_hand_path;
+  d["grasp_joint_names"] = r.grasp_joint_names;
+  d["grasp_joints"] = r.grasp_joints;
   d["cost_terms"] = r.cost_terms;
   d["cost_history"] = Eigen::MatrixXd(r.cost_history);
   d["proximity_over_movement"] = r.proximity_over_movement;
@@ -81,7 +87,10 @@ void bindTrajectory(py::module_& m) {
       "checking its seal, unlike h5py: a dict with generator, created_utc, robot, hand, dt (s), "
       "joint_names, joints (S x D, rad), palm_world and palm_object (S x 7: x y z qw qx qy qz), "
       "object_name, object_pose (7), object_vertices, object_faces, map_path, map_sha256, "
-      "start_cluster, cluster, grasp_index, cost_terms, cost_history ((I+1) x terms), "
+      "start_cluster, cluster, grasp_index, quality_peak (q*: the quality columns are "
+      "w_map,q g_q / q*; 1 in older files), map_hand, map_hand_sha256, map_hand_path, "
+      "grasp_joint_names, grasp_joints (J, rad; empty lists in files written before they were "
+      "recorded), cost_terms, cost_history ((I+1) x terms), "
       "proximity_over_movement, quality_over_movement (S), body_names, body_parents, "
       "body_roles, body_poses (S x B x 7), shapes (dict: body, type, params P x 15). Raises "
       "taskmap.Error naming the file when it is missing, damaged or not a trajectory file.");

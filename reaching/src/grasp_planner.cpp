@@ -216,12 +216,16 @@ GraspPlan interrupted(GraspPlan plan) {
 }  // namespace
 
 GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
-                    const GraspPlanOptions& options, const RunControl<PlanProgress>& control) {
+                    const GraspPlanOptions& given, const RunControl<PlanProgress>& control) {
   problem.validate();
-  options.validate();
+  given.validate();
   if (map.numClusters() < 1)
     throw Error("plan grasp: the map has no clustering; run taskmap cluster");
   GraspPlan plan;
+  // The quality term's scale q*, once per plan (docs/REACHING.md "The quality term's scale").
+  GraspPlanOptions options = given;
+  if (!options.map_weights.quality_peak) options.map_weights.quality_peak = mapQualityPeak(map);
+  plan.map_weights = options.map_weights;
   Kinematics kin(*problem.robot);
   kin.update(problem.q0);
   const Pose object_world = bodyPose(kin, problem.reference);

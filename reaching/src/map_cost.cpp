@@ -14,6 +14,16 @@ void MapCostWeights::validate() const {
     throw Error("map cost weights: proximity must be finite and >= 0");
   if (!(quality >= 0.0) || !std::isfinite(quality))
     throw Error("map cost weights: quality must be finite and >= 0");
+  if (quality_peak && (!(*quality_peak > 0.0) || !std::isfinite(*quality_peak)))
+    throw Error("map cost weights: quality_peak must be finite and > 0");
+}
+
+double mapQualityPeak(const TaskMap& map) {
+  const MapGrasps& g = map.data().grasps;
+  if (g.size() == 0) return 1.0;
+  const PoseRows poses = g.pose;
+  const double peak = -map.evaluateBatch(poses).quality.minCoeff();
+  return peak > 0.0 && std::isfinite(peak) ? peak : 1.0;
 }
 
 TerminalCost mapTerminalCost(const TaskMap& map, int palm, int object,
@@ -30,10 +40,10 @@ TerminalCost mapTerminalCost(const TaskMap& map, int palm, int object,
     const Pose hand = Pose::fromIsometry(t);
     const Evaluation e = map.evaluate(hand, cluster);
     const double gp = weights.proximity * e.proximity.value;
-    const double gq = weights.quality * e.quality.value;
+    const double wq = weights.qualityFactor();
+    const double gq = wq * e.quality.value;
     if (gradient) {
-      const Twist g =
-          weights.proximity * e.proximity.gradient + weights.quality * e.quality.gradient;
+      const Twist g = weights.proximity * e.proximity.gradient + wq * e.quality.gradient;
       *gradient = kin.relativePositionJacobian(palm, object).transpose() * g.head<3>() +
                   kin.relativeAngularJacobian(palm, object).transpose() * g.tail<3>();
     }

@@ -62,7 +62,7 @@ MapReach planMapReach(const TrajectoryProblem& problem, const TaskMap& map,
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (r.plan.best >= 0)
     r.movement = movementTerms(map, *problem.robot, problem.body, problem.reference,
-                               r.plan.plans[r.plan.best].optimization.cost.q, options.map_weights);
+                               r.plan.plans[r.plan.best].optimization.cost.q, r.plan.map_weights);
   return r;
 }
 

@@ -31,7 +31,7 @@ MovementTerms movementTerms(const TaskMap& map, const RobotModel& robot, int pal
   MovementTerms m;
   for (Eigen::Index t = 0; t < poses.rows(); ++t) {
     m.proximity.push_back(weights.proximity * e.proximity(t));
-    m.quality.push_back(weights.quality * e.quality(t));
+    m.quality.push_back(weights.qualityFactor() * e.quality(t));
   }
   return m;
 }

@@ -81,6 +81,10 @@ std::string graspPlanReport(const GraspPlan& plan, double plan_ms, const Movemen
   j["status"] = toString(plan.status);
   j["message"] = plan.message;
   j["ms_per_plan"] = plan_ms;
+  // The map terms' weights; "quality" terms are quality_weight g_q / quality_peak.
+  j["map_weights"] = {{"proximity", plan.map_weights.proximity},
+                      {"quality", plan.map_weights.quality},
+                      {"quality_peak", plan.map_weights.quality_peak.value_or(1.0)}};
   nlohmann::json clusters = nlohmann::json::array();
   for (const ClusterRank& r : plan.ranking)
     clusters.push_back(

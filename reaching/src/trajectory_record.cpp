@@ -2,6 +2,7 @@
 #include "taskmap/reaching/trajectory_record.hpp"
 
 #include "taskmap/mapstore/map_file.hpp"
+#include "taskmap/mapstore/recorded_hand.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 #ifndef TASKMAP_VERSION
@@ -67,6 +68,19 @@ void addHistory(const ClusterPlan& b, TrajectoryRecord& r) {
         b.quality.at(i), b.nearest_distance.at(i);
 }
 
+/// The map's hand and the chosen grasp's joint values, when the map records them.
+void addGrasp(const TaskMapData& data, std::int64_t grasp, TrajectoryRecord& r) {
+  if (grasp < 0 || static_cast<std::size_t>(grasp) >= data.grasps.size() ||
+      data.hand.joint_names.empty() ||
+      data.grasps.joints.cols() != static_cast<Eigen::Index>(data.hand.joint_names.size()))
+    return;
+  r.map_hand = data.hand.name;
+  r.map_hand_sha256 = data.hand.urdf_sha256;
+  r.map_hand_path = recordedHandPath(data);
+  r.grasp_joint_names = data.hand.joint_names;
+  r.grasp_joints = data.grasps.joints.row(static_cast<Eigen::Index>(grasp)).transpose();
+}
+
 }  // namespace
 
 TrajectoryRecord trajectoryRecord(const RobotModel& robot, int palm, int object, const TaskMap& map,
@@ -90,6 +104,8 @@ TrajectoryRecord trajectoryRecord(const RobotModel& robot, int palm, int object,
   r.start_cluster = b.cluster;
   r.cluster = b.grasp_cluster;
   r.grasp_index = b.grasp_index;
+  r.quality_peak = source.quality_peak;
+  addGrasp(data, b.grasp_index, r);
   addHistory(b, r);
   r.proximity_over_movement = Eigen::Map<const Eigen::VectorXd>(
       movement.proximity.data(), static_cast<Eigen::Index>(movement.proximity.size()));

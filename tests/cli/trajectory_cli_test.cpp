@@ -92,6 +92,12 @@ TEST(TrajectoryCli, FileAgreesWithTheJson) {
   EXPECT_EQ(r.grasp_index, p.json["grasp_index"].get<std::int64_t>());
   const std::string map_bytes = test::fileBytes(p.map);
   EXPECT_EQ(r.map_sha256, test::sha256Hex(map_bytes.data(), map_bytes.size()));
+  // /plan/grasp: the map's hand and the chosen grasp's joint values (what `view` closes to).
+  const TaskMapData map = readMap(p.map);
+  EXPECT_EQ(r.map_hand, map.hand.name);
+  EXPECT_EQ(r.grasp_joint_names, map.hand.joint_names);
+  ASSERT_GE(r.grasp_index, 0);
+  EXPECT_EQ(r.grasp_joints, map.grasps.joints.row(r.grasp_index).transpose());
   const auto q = p.json["q_final"].get<std::vector<double>>();
   for (std::size_t i = 0; i < q.size(); ++i)
     EXPECT_EQ(r.joints(300, static_cast<Eigen::Index>(i)), q[i]);

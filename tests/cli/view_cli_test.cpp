@@ -46,8 +46,41 @@ TEST(ViewCli, TrajectoryFile) {
   writeTrajectory(traj, testing::smallTrajectory());
   const testing::CliRun r = testing::runTaskmap("view " + traj + " -o " + out);
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_NE(r.out.find("trajectory, 11 steps"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("trajectory, 11 steps, hand as primitives"), std::string::npos) << r.out;
+  // Its map (cube.h5) is not there and the file records no grasp: the page says so.
+  EXPECT_NE(r.out.find("is not there"), std::string::npos) << r.out;
   EXPECT_EQ(dataOf(out)["kind"], "reach");
+  fs::remove(traj);
+  fs::remove(out);
+}
+
+TEST(ViewCli, TrajectoryWithItsGraspClosesTheMapsHand) {
+  const std::string traj = tempPath("g.h5"), out = tempPath("g.html");
+  const HandModel hand = testing::humanoidHand();
+  TrajectoryRecord r = testing::smallTrajectory();
+  r.grasp_index = 7;
+  r.map_hand = hand.name();
+  r.map_hand_sha256 = hand.urdfSha256();
+  r.map_hand_path = "/elsewhere/humanoid.urdf";  // found among the bundled hands by SHA-256
+  r.grasp_joint_names = hand.jointNames();
+  r.grasp_joints = hand.preshape() + 0.5 * (hand.upperLimits() - hand.preshape());
+  writeTrajectory(traj, r);
+  testing::CliRun run = testing::runTaskmap("view " + traj + " -o " + out);
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("hand " + hand.name() + " closing to grasp 7"), std::string::npos)
+      << run.out;
+  nlohmann::json d = dataOf(out);
+  EXPECT_EQ(d["map_hand"]["name"], hand.name());
+  EXPECT_EQ(d["hand_motion"]["stage"].size(), r.rows());
+  // --hand with other joints: the planner's primitives, a warning, and the reason in the page.
+  run = testing::runTaskmap("view " + traj + " -o " + out + " --hand barrett");
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("warning: drawing the hand as the planner's collision primitives"),
+            std::string::npos)
+      << run.out;
+  d = dataOf(out);
+  EXPECT_TRUE(d["map_hand"].is_null());
+  EXPECT_NE(d["hand_note"].get<std::string>().find("other actuated joints"), std::string::npos);
   fs::remove(traj);
   fs::remove(out);
 }

@@ -125,6 +125,10 @@ class TrajectorySchemaTest(unittest.TestCase):
             self.assertEqual(int(p.attrs["cluster"]), self.report["cluster"])
             self.assertEqual(int(p.attrs["start_cluster"]), self.report["start_cluster"])
             self.assertEqual(int(p.attrs["grasp_index"]), self.report["grasp_index"])
+            # q*: the quality columns are w_map,q g_q / q*, of the order of w_map,q
+            peak = float(p.attrs["quality_peak"])
+            self.assertEqual(peak, self.report["map_weights"]["quality_peak"])
+            self.assertGreater(peak, 0.0)
             terms = [text(n) for n in p["cost_terms"][()]]
             history = p["cost_history"][()]
             self.assertEqual(history.shape, (self.report["iterations"] + 1, len(terms)))
@@ -135,6 +139,14 @@ class TrajectorySchemaTest(unittest.TestCase):
                                           self.report["proximity_over_movement"])
             np.testing.assert_array_equal(p["quality_over_movement"][()],
                                           self.report["quality_over_movement"])
+            g = p["grasp"]  # the map's hand and the chosen grasp's joint values
+            self.assertEqual(text(g.attrs["hand"]), text(m["hand"].attrs["name"]))
+            self.assertEqual(text(g.attrs["hand_sha256"]), text(m["hand"].attrs["urdf_sha256"]))
+            self.assertTrue(text(g.attrs["hand_path"]).endswith("humanoid.urdf"))
+            self.assertEqual([text(n) for n in g["joint_names"][()]],
+                             [text(n) for n in m["hand/joint_names"][()]])
+            np.testing.assert_array_equal(g["joints"][()],
+                                          m["grasps/joints"][self.report["grasp_index"]])
 
     def test_bodies_and_shapes(self):
         with h5py.File(self.path, "r") as f:
@@ -229,6 +241,9 @@ class TrajectorySchemaTest(unittest.TestCase):
             self.assertEqual(t["joint_names"], [text(n) for n in f["robot/joint_names"][()]])
         self.assertEqual(t["dt"], 0.01)
         self.assertEqual(t["cluster"], self.report["cluster"])
+        with h5py.File(self.path, "r") as f:
+            np.testing.assert_array_equal(t["grasp_joints"], f["plan/grasp/joints"][()])
+            self.assertEqual(t["map_hand"], text(f["plan/grasp"].attrs["hand"]))
         bad = os.path.join(self.dir, "short.h5")
         with open(self.path, "rb") as src, open(bad, "wb") as dst:
             dst.write(src.read()[:4000])

@@ -187,8 +187,10 @@ const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--proximity-weight", args->map.proximity_weight, "with --map: w_map,p")
       ->capture_default_str();
-  cmd->add_option("--quality-weight", args->map.quality_weight,
-                  "with --map: w_map,q (0 switches the quality criterion off)")
+  cmd->add_option(
+         "--quality-weight", args->map.quality_weight,
+         "with --map: w_map,q on the map's quality relative to its best grasp, g_q / q* (-1 "
+         "there; 0 switches the quality criterion off)")
       ->capture_default_str();
   cmd->add_option("-o,--output", args->map.output,
                   "with --map: write the planned trajectory (joints, palm and body poses per "

@@ -1,6 +1,7 @@
 // taskmap view FILE [-o page.html]: a task map (hands posed on the object, clusters, contacts)
-// or a reaching trajectory (`reach -o`, the movement with a time slider) as one self-contained
-// interactive HTML page (taskmap::viz; three.js inlined, opens offline).
+// or a reaching trajectory (`reach -o`, the movement with a time slider, the map's hand closing
+// on the object) as one self-contained interactive HTML page (taskmap::viz; three.js inlined,
+// opens offline).
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -44,6 +45,30 @@ void viewMap(const TaskMapData& map, const ViewArgs& args, const std::string& ou
               << std::filesystem::file_size(out) / 1024 << " KiB)\n";
 }
 
+void viewReach(const ViewArgs& args, const std::string& out) {
+  const TrajectoryRecord r = readTrajectory(args.file);
+  const TrajectoryHand found = findTrajectoryHand(r, commandHandOptions(args.hand));
+  ReachPageInput input;
+  input.trajectory = &r;
+  if (found.found.hand) {
+    input.hand = &*found.found.hand;
+    input.grasp_joints = found.grasp_joints;
+  } else {
+    input.note = found.found.message;
+    std::cerr << "taskmap view: warning: drawing the hand as the planner's collision primitives: "
+              << found.found.message
+              << (found.found.status == MapHandResult::Status::kNotFound ? " (give --hand)" : "")
+              << "\n";
+  }
+  writeReachPage(input, out, args.page);
+  if (!args.quiet)
+    std::cout << "taskmap view: " << out << " (trajectory, " << r.rows() << " steps, "
+              << (input.hand ? "hand " + input.hand->name() + " closing to grasp " +
+                                   std::to_string(r.grasp_index)
+                             : std::string("hand as primitives"))
+              << ", " << std::filesystem::file_size(out) / 1024 << " KiB)\n";
+}
+
 void runView(const ViewArgs& args) {
   if (!std::filesystem::exists(args.file))
     throw Error("file '" + args.file + "' does not exist; give a task map or a trajectory (.h5)");
@@ -56,11 +81,7 @@ void runView(const ViewArgs& args) {
     if (std::string(e.what()).find("not a task map") == std::string::npos) throw;
   }
   if (map) return viewMap(*map, args, out);
-  const TrajectoryRecord r = readTrajectory(args.file);
-  writeReachPage(r, out, args.page);
-  if (!args.quiet)
-    std::cout << "taskmap view: " << out << " (trajectory, " << r.rows() << " steps, "
-              << std::filesystem::file_size(out) / 1024 << " KiB)\n";
+  viewReach(args, out);
 }
 
 const CommandRegistrar kRegistrar("view", [](CLI::App& app) {
@@ -70,12 +91,13 @@ const CommandRegistrar kRegistrar("view", [](CLI::App& app) {
       "Write an interactive 3-D page (one self-contained HTML file, opens offline in a browser) "
       "of a task map (the hand's collision shapes posed by each grasp on the object, coloured by "
       "cluster; filters, contacts, ghosts) or of a trajectory file from `reach -o` (the movement "
-      "with a time slider and the cost terms).");
+      "with a time slider and the cost terms; the map's hand closes to the chosen grasp at the "
+      "end).");
   cmd->add_option("file", args->file, "task map or trajectory file (.h5)")->required();
   cmd->add_option("-o,--output", args->output, "HTML file to write (default: <file stem>.html)");
   cmd->add_option("--hand", args->hand,
-                  "hand URDF to draw a map's grasps with (default: the map's recorded or "
-                  "bundled hand, found by its SHA-256)");
+                  "hand URDF or bundled name to draw a map's grasps or a trajectory's grasp with "
+                  "(default: the map's recorded or bundled hand, found by its SHA-256)");
   cmd->add_option("--ghosts", args->page.ghost_limit,
                   "most hands drawn at once as ghosts (the other grasps are palm glyphs)")
       ->capture_default_str();

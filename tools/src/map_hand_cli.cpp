@@ -9,7 +9,7 @@
 
 namespace taskmap::cli {
 
-MapHandResult findCommandMapHand(const TaskMapData& map, const std::string& hand) {
+MapHandOptions commandHandOptions(const std::string& hand) {
   MapHandOptions options;
   if (!hand.empty()) options.hand = std::filesystem::exists(hand) ? hand : bundledHandUrdf(hand);
   try {
@@ -17,7 +17,11 @@ MapHandResult findCommandMapHand(const TaskMapData& map, const std::string& hand
   } catch (const Error&) {
     // No data directory: only the path the build recorded is tried.
   }
-  return findMapHand(map, options);
+  return options;
+}
+
+MapHandResult findCommandMapHand(const TaskMapData& map, const std::string& hand) {
+  return findMapHand(map, commandHandOptions(hand));
 }
 
 std::optional<HandModel> mapHand(const TaskMapData& map, const std::string& hand,

@@ -11,6 +11,10 @@
 
 namespace taskmap::cli {
 
+/// Where the commands look for a map's hand: `hand` (a URDF path or a bundled hand name; empty:
+/// the map's own) and the bundled hands of dataDir() (none when there is no data directory).
+MapHandOptions commandHandOptions(const std::string& hand);
+
 /// findMapHand with `hand` (a URDF path or a bundled hand name; empty: the map's) and the
 /// bundled hands of dataDir() (none when there is no data directory). Throws Error when an
 /// explicit `hand` does not load.

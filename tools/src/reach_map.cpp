@@ -30,7 +30,8 @@ void writeOutputs(const MapReachArgs& args, const TrajectoryProblem& p, const Ta
   if (r.plan.best < 0) throw Error("no trajectory to write: " + r.plan.message);
   const TrajectoryRecord record =
       trajectoryRecord(*p.robot, p.body, p.reference, map, r.plan.plans[r.plan.best], r.movement,
-                       {args.robot, args.hand, resolveMapFile(args.map), p.reach.attractor.dt});
+                       {args.robot, args.hand, resolveMapFile(args.map), p.reach.attractor.dt,
+                        r.plan.map_weights.quality_peak.value_or(1.0)});
   if (!args.output.empty()) writeTrajectory(args.output, record);
   if (!args.glb.empty()) writeGlb(record, args.glb);
   if (json) return;

@@ -18,7 +18,7 @@ struct MapReachArgs {
   int member_tries = 16;      ///< members (then outliers) tried when no representative is reachable
   int iterations = 40;        ///< optimiser iterations
   double proximity_weight = 1.0e4;     ///< w_map,p (docs/REACHING.md "Chosen weights")
-  double quality_weight = 1.0;         ///< w_map,q
+  double quality_weight = 3.0e4;       ///< w_map,q (on g_q / q*)
   bool resimulate = true;              ///< re-simulate the final grasp with grasp_sim
   bool hold_test = false;              ///< and test the re-simulated grasp in physics (validate)
   std::string sample_weight = "auto";  ///< quality weights: "auto", "epsilon", "hold_margin"

@@ -63,6 +63,12 @@ TrajectoryRecord sampleRecord(int steps) {
   r.start_cluster = 2;
   r.cluster = 3;
   r.grasp_index = 41;
+  r.quality_peak = 4.17e7;
+  r.map_hand = "humanoid";
+  r.map_hand_sha256 = std::string(64, 'd');
+  r.map_hand_path = "/hands/humanoid/humanoid.urdf";
+  r.grasp_joint_names = {"thumb", "index"};
+  r.grasp_joints = Eigen::Vector2d(0.25, 1.5);
   r.cost_terms = {"total", "path_length", "proximity"};
   r.cost_history = RowMatrixXd::Random(6, 3);
   r.proximity_over_movement = Eigen::VectorXd::Random(s);
@@ -106,6 +112,12 @@ void expectSame(const TrajectoryRecord& a, const TrajectoryRecord& b) {
   EXPECT_EQ(a.start_cluster, b.start_cluster);
   EXPECT_EQ(a.cluster, b.cluster);
   EXPECT_EQ(a.grasp_index, b.grasp_index);
+  EXPECT_EQ(a.quality_peak, b.quality_peak);
+  EXPECT_EQ(a.map_hand, b.map_hand);
+  EXPECT_EQ(a.map_hand_sha256, b.map_hand_sha256);
+  EXPECT_EQ(a.map_hand_path, b.map_hand_path);
+  EXPECT_EQ(a.grasp_joint_names, b.grasp_joint_names);
+  EXPECT_EQ(a.grasp_joints, b.grasp_joints);
   EXPECT_EQ(a.cost_terms, b.cost_terms);
   EXPECT_EQ(a.cost_history, b.cost_history);
   EXPECT_EQ(a.proximity_over_movement, b.proximity_over_movement);
@@ -155,6 +167,31 @@ TEST(TrajectoryFileTest, RoundTripOfASingleStepWithoutShapesOrHistory) {
   expectSame(r, readTrajectory(path));
 }
 
+// A plan on a map without joint values (an ACRONYM import) and with g_q unscaled, like every
+// file written before /plan/grasp and /plan quality_peak existed: no such group or attribute,
+// and the reader leaves the fields empty and q* 1.
+TEST(TrajectoryFileTest, WithoutTheGraspGroupTheFileStillLoads) {
+  const std::string path = tempPath("no_grasp.h5");
+  TrajectoryRecord r = sampleRecord(4);
+  r.quality_peak = 1.0;
+  r.map_hand.clear();
+  r.map_hand_sha256.clear();
+  r.map_hand_path.clear();
+  r.grasp_joint_names.clear();
+  r.grasp_joints.resize(0);
+  writeTrajectory(path, r);
+  EXPECT_EQ(test::fileBytes(path).find("hand_sha256"), std::string::npos);
+  EXPECT_EQ(test::fileBytes(path).find("quality_peak"), std::string::npos);
+  const TrajectoryRecord back = readTrajectory(path);
+  expectSame(r, back);
+  EXPECT_TRUE(back.grasp_joint_names.empty());
+  EXPECT_EQ(back.quality_peak, 1.0);
+  // With them, the group and the attribute are there.
+  writeTrajectory(path, sampleRecord(4));
+  EXPECT_NE(test::fileBytes(path).find("hand_sha256"), std::string::npos);
+  EXPECT_NE(test::fileBytes(path).find("quality_peak"), std::string::npos);
+}
+
 TEST(TrajectoryFileTest, SameRecordGivesSameBytesAndNoTemporaryFileRemains) {
   const std::string a = tempPath("same_a.h5"), b = tempPath("same_b.h5");
   writeTrajectory(a, sampleRecord(20));
@@ -177,6 +214,12 @@ TEST(TrajectoryFileTest, InvalidRecordIsRefusedAndPreviousFileKept) {
   r = sampleRecord(5);
   r.shapes[0].body = 9;
   EXPECT_TRUE(testing::throwsError([&] { writeTrajectory(path, r); }, {"shape 0", "body 9"}));
+  r = sampleRecord(5);
+  r.quality_peak = 0.0;
+  EXPECT_TRUE(testing::throwsError([&] { writeTrajectory(path, r); }, {"quality_peak"}));
+  r = sampleRecord(5);
+  r.grasp_joints.resize(1);
+  EXPECT_TRUE(testing::throwsError([&] { writeTrajectory(path, r); }, {"grasp joints"}));
   r = sampleRecord(5);
   r.dt = 0.0;
   EXPECT_TRUE(testing::throwsError([&] { writeTrajectory(path, r); }, {"dt_s"}));

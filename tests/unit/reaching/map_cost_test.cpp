@@ -109,5 +109,37 @@ TEST(MapCost, RefusesAnUnknownClusterAndNegativeWeights) {
   }
 }
 
+// q* is the best quality at the map's own grasps, and the quality term is w_q g_q / q* with its
+// gradient scaled alike (docs/REACHING.md "The quality term's scale").
+TEST(MapCost, TheQualityTermIsRelativeToTheMapsBestGrasp) {
+  const TaskMap& m = map();
+  const double peak = mapQualityPeak(m);
+  const BatchEvaluation at = m.evaluateBatch(m.data().grasps.pose);
+  EXPECT_DOUBLE_EQ(peak, -at.quality.minCoeff());
+  EXPECT_GT(peak, 0.0);
+  const Scene s;
+  Kinematics kin(s.robot);
+  Eigen::VectorXd q = test::readyPose();
+  q[0] += 0.2;
+  kin.update(q);
+  auto raw = std::make_shared<MapCostRecord>(), scaled = std::make_shared<MapCostRecord>();
+  MapCostWeights w;
+  w.quality = 5.0;
+  Eigen::VectorXd g_raw, g_scaled;
+  mapTerminalCost(m, s.robot.palmBody(), s.object, w, {}, raw)(kin, &g_raw);
+  w.quality_peak = peak;
+  w.proximity = 0.0;
+  mapTerminalCost(m, s.robot.palmBody(), s.object, w, {}, scaled)(kin, &g_scaled);
+  EXPECT_NEAR(scaled->quality, raw->quality / peak, 1e-12 * std::abs(raw->quality));
+  EXPECT_GE(scaled->quality, -5.0 * 2.0);  // of the order of w_q at most
+  w.proximity = 1.0;
+  w.quality = 0.0;
+  Eigen::VectorXd g_prox;
+  mapTerminalCost(m, s.robot.palmBody(), s.object, w, {}, nullptr)(kin, &g_prox);
+  EXPECT_LT((g_scaled - (g_raw - g_prox) / peak).norm(), 1e-9 * g_raw.norm());
+  w.quality_peak = 0.0;
+  EXPECT_THROW(mapTerminalCost(m, s.robot.palmBody(), s.object, w, {}, nullptr), Error);
+}
+
 }  // namespace
 }  // namespace taskmap

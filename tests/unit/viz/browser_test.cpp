@@ -7,6 +7,9 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <utility>
 
 #include "taskmap/viz/hand_page.hpp"
 #include "taskmap/viz/map_page.hpp"
@@ -142,6 +145,94 @@ TEST_F(Browser, ReachPageIsDrawn) {
   const auto orange = [](int r, int g, int b) { return r > 150 && r > g + 40 && g > b + 20; };
   EXPECT_GT(pixels(shot, 305, orange).first, 500);  // the robot's arm
   cairo_surface_destroy(shot);
+}
+
+/// The value of attribute `name` of the dumped page's <body>, "" when absent.
+std::string bodyAttribute(const std::string& dom, const std::string& name) {
+  const auto open = dom.find("<body");
+  const auto end = dom.find('>', open);
+  const auto at = dom.find(" " + name + "=\"", open);
+  if (open == std::string::npos || at == std::string::npos || at > end) return "";
+  const auto from = at + name.size() + 3;
+  return dom.substr(from, dom.find('"', from) - from);
+}
+
+TEST_F(Browser, ReachPageDrawsTheMapsHandClosingOnTheObject) {
+  fs::create_directories(dir);
+  const HandModel hand = testing::humanoidHand();
+  const TrajectoryRecord r = testing::smallTrajectory();
+  ReachPageInput in;
+  in.trajectory = &r;
+  in.hand = &hand;
+  in.grasp_joints = hand.preshape() + 0.7 * (hand.upperLimits() - hand.preshape());
+  const fs::path page = dir / "reach_hand.html";
+  writeReachPage(in, page.string());
+  std::size_t shapes = 0;
+  for (const HandLink& l : hand.links()) shapes += l.shapes.size();
+  ASSERT_GT(shapes, 5u);
+  for (const std::string step : {"0", "10"}) {
+    const std::string dom = drawnDom(page, "#step=" + step, 1);
+    EXPECT_EQ(bodyAttribute(dom, "data-hand-meshes"), std::to_string(shapes)) << "step " << step;
+    EXPECT_NE(dom.find("closing to grasp #"), std::string::npos);
+  }
+  // The hand (blue) is drawn near the palm's path; the envelope primitive (blue too) is hidden.
+  cairo_surface_t* shot = screenshot(page, "#view=front", 900, 600);
+  EXPECT_GT(pixels(shot, 305, blueish).first, 500);
+  cairo_surface_destroy(shot);
+  // Without the hand: the planner's primitives, no hand meshes, and the page says why.
+  writeReachPage(r, page.string());
+  const std::string dom = drawnDom(page, "", 1);
+  EXPECT_EQ(bodyAttribute(dom, "data-hand-meshes"), "0");
+  EXPECT_NE(dom.find("the map's hand is not drawn: no hand model given"), std::string::npos);
+}
+
+/// A trajectory whose cost terms are those of `reach --map`, at the scale of the issue's report
+/// (the quality term near -10^6 .. -4 10^6).
+TrajectoryRecord largeCostTrajectory() {
+  TrajectoryRecord r = testing::smallTrajectory();
+  r.cost_terms = {"total",    "path_length", "end_velocity", "collision",         "joint_limit",
+                  "terminal", "proximity",   "quality",      "nearest_distance_m"};
+  r.cost_history.resize(41, 9);
+  for (Eigen::Index i = 0; i <= 40; ++i)
+    r.cost_history.row(i) << -984899.1234 - 70000.5 * i, 1.151, 0.0, 0.0477, 0.1486,
+        -984899.1234 - 70000.5 * i, 123456.789, -984899.1234 - 70000.5 * i, 0.000123;
+  return r;
+}
+
+// The side panel's cost table shows every column inside the panel and the window: the right edge
+// of each row's last cell, the panel's inner right edge and its overflow, measured by a script
+// appended to the page after it is drawn.
+TEST_F(Browser, ReachPageCostTableIsNotCutOff) {
+  fs::create_directories(dir);
+  const fs::path page = dir / "reach_costs.html";
+  std::string html = reachPageHtml(largeCostTrajectory());
+  const std::string probe = R"(<script>
+const side = document.getElementById('tm-side'), rows = document.querySelectorAll('#tm-costs tr');
+let right = 0, empty = 0;
+rows.forEach((tr) => { const c = tr.lastElementChild; right = Math.max(right, c.getBoundingClientRect().right);
+  if (!c.textContent) ++empty; });
+const s = side.getBoundingClientRect();
+document.body.setAttribute('data-costs', [rows.length, right, s.left + side.clientLeft + side.clientWidth,
+  window.innerWidth, side.scrollWidth - side.clientWidth, empty].join(' '));
+</script>
+</body>)";
+  html.replace(html.rfind("</body>"), 7, probe);
+  std::ofstream(page) << html;
+  for (const auto& [w, h] : {std::pair{1200, 750}, std::pair{800, 600}}) {
+    const testing::CliRun run = testing::runChromium(
+        "file://" + page.string(),
+        "--window-size=" + std::to_string(w) + "," + std::to_string(h) + " --dump-dom",
+        (dir / "profile").string());
+    std::istringstream m(bodyAttribute(run.out, "data-costs"));
+    double rows = 0, right = 0, inner = 0, window = 0, overflow = 0, empty = 0;
+    ASSERT_TRUE(m >> rows >> right >> inner >> window >> overflow >> empty)
+        << run.out.substr(0, 600);
+    EXPECT_EQ(rows, 10) << w << "x" << h;
+    EXPECT_LE(right, inner + 0.5) << w << "x" << h << ": the final column ends outside the panel";
+    EXPECT_LE(right, window) << w << "x" << h;
+    EXPECT_LE(overflow, 0) << w << "x" << h << ": the panel scrolls sideways";
+    EXPECT_EQ(empty, 0);
+  }
 }
 
 }  // namespace

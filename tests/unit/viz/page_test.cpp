@@ -141,6 +141,100 @@ TEST(ReachPage, TrajectoryBodiesShapesAndCosts) {
   EXPECT_EQ(d["bodies"]["poses"].size(), r.rows() * 7 * r.body_names.size());
   EXPECT_EQ(d["shapes"].size(), 3u);
   EXPECT_EQ(d["plan"]["cost_terms"], r.cost_terms);
+  EXPECT_EQ(d["plan"]["quality_peak"], r.quality_peak);
+}
+
+/// The humanoid's grasp for the reach page tests: every joint 70 % of the way from the preshape
+/// to its upper limit.
+Eigen::VectorXd graspJoints(const HandModel& hand) {
+  return hand.preshape() + 0.7 * (hand.upperLimits() - hand.preshape());
+}
+
+/// Link l's pose at stage k of the page's hand_motion (palm frame).
+Eigen::Isometry3d pageLinkPose(const nlohmann::json& motion, std::size_t k, std::size_t l) {
+  const std::size_t at = 7 * (k * motion["links"].get<std::size_t>() + l);
+  Eigen::Matrix<double, 7, 1> v;
+  for (int i = 0; i < 7; ++i) v[i] = motion["poses"][at + static_cast<std::size_t>(i)];
+  return Pose::fromVector7(v).toIsometry();
+}
+
+/// The page's link poses at stage k equal HandModel::linkPoses(q) (to the page's rounding).
+void expectLinkPoses(const nlohmann::json& motion, std::size_t k, const HandModel& hand,
+                     const Eigen::VectorXd& q) {
+  const std::vector<Eigen::Isometry3d> fk = hand.linkPoses(q);
+  ASSERT_EQ(motion["links"].get<std::size_t>(), fk.size());
+  for (std::size_t l = 0; l < fk.size(); ++l) {
+    const Eigen::Isometry3d page = pageLinkPose(motion, k, l);
+    EXPECT_LT((page.translation() - fk[l].translation()).norm(), 1e-6) << hand.links()[l].name;
+    EXPECT_LT((page.linear() - fk[l].linear()).norm(), 1e-5) << hand.links()[l].name;
+  }
+}
+
+TEST(ReachPage, TheMapsHandOpensAtTheStartAndEndsInTheGrasp) {
+  const HandModel hand = testing::humanoidHand();
+  const TrajectoryRecord r = testing::smallTrajectory();  // 11 steps, dt 0.01 s
+  ReachPageInput in;
+  in.trajectory = &r;
+  in.hand = &hand;
+  in.grasp_joints = graspJoints(hand);
+  in.close_s = 0.05;  // the last 5 steps
+  const nlohmann::json d = testing::pageData(reachPageHtml(in));
+  ASSERT_FALSE(d["map_hand"].is_null());
+  EXPECT_EQ(d["map_hand"]["links"].size(), hand.links().size());
+  const nlohmann::json& m = d["hand_motion"];
+  ASSERT_EQ(m["stage"].size(), r.rows());
+  EXPECT_EQ(m["close_from"], 5);
+  EXPECT_NEAR(m["close_s"].get<double>(), 0.05, 1e-9);
+  const auto stage = m["stage"].get<std::vector<int>>();
+  EXPECT_EQ(stage, (std::vector<int>{0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5}));
+  ASSERT_EQ(m["poses"].size(), 6 * 7 * hand.links().size());
+  expectLinkPoses(m, static_cast<std::size_t>(stage.front()), hand, hand.preshape());
+  expectLinkPoses(m, static_cast<std::size_t>(stage.back()), hand, in.grasp_joints);
+  // In between, every joint moves monotonically from the preshape to the grasp.
+  const std::size_t j = 0;
+  for (std::size_t k = 1; k < 6; ++k)
+    EXPECT_GE(m["joints"][k][j].get<double>(), m["joints"][k - 1][j].get<double>());
+  EXPECT_EQ(d["hand_note"], "");
+}
+
+TEST(ReachPage, ClosingLongerThanTheMovementTakesAllOfIt) {
+  const HandModel hand = testing::humanoidHand();
+  const ReachHandMotion m = reachHandMotion(hand, graspJoints(hand), 11, 0.01, 0.5);
+  EXPECT_EQ(m.close_from, 0u);
+  EXPECT_EQ(m.stage.back(), 10);
+  EXPECT_TRUE(m.joints.front().isApprox(hand.preshape()));
+  EXPECT_TRUE(m.joints.back().isApprox(graspJoints(hand)));
+  // A single step shows the grasp.
+  const ReachHandMotion one = reachHandMotion(hand, graspJoints(hand), 1, 0.01, 0.5);
+  ASSERT_EQ(one.stage, std::vector<int>{0});
+  EXPECT_TRUE(one.joints.front().isApprox(graspJoints(hand)));
+}
+
+TEST(ReachPage, WithoutTheHandThePageSaysWhy) {
+  const TrajectoryRecord r = testing::smallTrajectory();
+  nlohmann::json d = testing::pageData(reachPageHtml(r));
+  EXPECT_TRUE(d["map_hand"].is_null());
+  EXPECT_TRUE(d["hand_motion"].is_null());
+  EXPECT_EQ(d["hand_note"], "no hand model given");
+  ReachPageInput in;
+  in.trajectory = &r;
+  in.note = "the map's hand 'x' is nowhere";
+  d = testing::pageData(reachPageHtml(in));
+  EXPECT_EQ(d["hand_note"], in.note);
+}
+
+TEST(ReachPage, InconsistentInputIsRefused) {
+  const HandModel hand = testing::humanoidHand();
+  const TrajectoryRecord r = testing::smallTrajectory();
+  ReachPageInput in;
+  EXPECT_TRUE(testing::throwsError([&] { reachPageHtml(in); }, {"no trajectory"}));
+  in.trajectory = &r;
+  in.hand = &hand;
+  in.grasp_joints = Eigen::VectorXd::Zero(2);
+  EXPECT_TRUE(testing::throwsError([&] { reachPageHtml(in); }, {"2 joint values", "humanoid"}));
+  in.grasp_joints = graspJoints(hand);
+  in.close_s = 0.0;
+  EXPECT_TRUE(testing::throwsError([&] { reachPageHtml(in); }, {"closing time"}));
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 /// @file map_hand.hpp
 /// The hand of a task map for its pictures, pages and scene files (`inspect --png`, `view`,
 /// `export --format ply|glb`): the caller's hand, or the map's own found by its URDF SHA-256;
-/// and its links posed by a grasp of the map.
+/// and its links posed by a grasp of the map. The same for the map of a reaching trajectory.
 
 #include <optional>
 #include <string>
@@ -14,6 +14,7 @@
 #include "taskmap/core/triangle_mesh.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"  // findMapHandUrdf
 #include "taskmap/mapstore/task_map_data.hpp"
+#include "taskmap/mapstore/trajectory_file.hpp"
 #include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
@@ -43,6 +44,20 @@ struct MapHandResult {
 /// of findMapHandUrdf (mapstore/recorded_hand.hpp). A hand whose actuated joints differ from the
 /// map's is not returned (kOtherJoints): the map's joint values would not fit it.
 MapHandResult findMapHand(const TaskMapData& map, const MapHandOptions& options);
+
+/// The map's hand of a reaching trajectory (mapstore/TRAJECTORY.md) and the chosen grasp's
+/// joint values: what `taskmap view` of a trajectory closes on the object.
+struct TrajectoryHand {
+  MapHandResult found;           ///< the hand, or why there is none
+  Eigen::VectorXd grasp_joints;  ///< grasp joint values, found.hand's jointNames() order, rad (m)
+};
+
+/// The hand of the record's /plan/grasp, found as findMapHand finds a map's (options.hand when
+/// given, else the recorded model path or a bundled hand with the recorded SHA-256), with its
+/// grasp joint values. A file written before /plan/grasp existed takes both from the map at
+/// record.map_path when that file's SHA-256 is still record.map_sha256. Without them found.status
+/// is kNotFound and found.message says why. Throws Error when options.hand does not load.
+TrajectoryHand findTrajectoryHand(const TrajectoryRecord& record, const MapHandOptions& options);
 
 /// Grasp i's stored pose (palm frame -> object frame) and joint values (jointNames() order).
 struct GraspPosture {

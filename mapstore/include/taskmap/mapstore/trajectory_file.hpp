@@ -53,20 +53,30 @@ struct TrajectoryRecord {
   Pose object_pose;                      ///< object frame in the world
   RowMatrixXd object_vertices;           ///< V x 3 object mesh (the map's), object frame
   Eigen::Matrix<std::int64_t, Eigen::Dynamic, 3, Eigen::RowMajor> object_faces;  ///< F x 3
-  std::string map_path;                     ///< task map file the plan used
-  std::string map_sha256;                   ///< SHA-256 (hex) of that file's bytes
-  int start_cluster = -1;                   ///< cluster the optimisation started from
-  int cluster = -1;                         ///< cluster of the final nearest grasp
-  std::int64_t grasp_index = -1;            ///< final nearest grasp (row of the map's /grasps)
-  std::vector<std::string> cost_terms;      ///< names of the cost_history columns
-  RowMatrixXd cost_history;                 ///< (I + 1) x terms, one row per iteration
-  Eigen::VectorXd proximity_over_movement;  ///< S weighted g_p at the palm pose of each step
-  Eigen::VectorXd quality_over_movement;    ///< S weighted g_q at the palm pose of each step
-  std::vector<std::string> body_names;      ///< B bodies (robot links, hand, environment)
-  std::vector<std::int32_t> body_parents;   ///< B parent body index, -1 for the world
-  std::vector<std::int32_t> body_roles;     ///< B: 0 robot, 1 hand, 2 environment
-  RowMatrixXd body_poses;                   ///< S x 7B world pose of body b at columns 7b .. 7b + 6
-  std::vector<TrajectoryShape> shapes;      ///< collision primitives of the bodies
+  std::string map_path;           ///< task map file the plan used
+  std::string map_sha256;         ///< SHA-256 (hex) of that file's bytes
+  int start_cluster = -1;         ///< cluster the optimisation started from
+  int cluster = -1;               ///< cluster of the final nearest grasp
+  std::int64_t grasp_index = -1;  ///< final nearest grasp (row of the map's /grasps)
+  /// q*, the scale of the map's quality in the quality columns (w_map,q g_q / q*; 1 in files
+  /// written before the planner scaled g_q, whose columns are w_map,q g_q).
+  double quality_peak = 1.0;
+  /// The map's hand and the chosen grasp's joint values (/plan/grasp, optional: empty in files
+  /// written before taskmap recorded them), what `taskmap view` closes the hand to.
+  std::string map_hand;                        ///< the map's hand name (its /hand name)
+  std::string map_hand_sha256;                 ///< SHA-256 (hex) of that hand's model file
+  std::string map_hand_path;                   ///< model path the map's build recorded, or ""
+  std::vector<std::string> grasp_joint_names;  ///< J actuated joints of the map's hand
+  Eigen::VectorXd grasp_joints;                ///< J joint values of grasp_index, rad (m)
+  std::vector<std::string> cost_terms;         ///< names of the cost_history columns
+  RowMatrixXd cost_history;                    ///< (I + 1) x terms, one row per iteration
+  Eigen::VectorXd proximity_over_movement;     ///< S weighted g_p at the palm pose of each step
+  Eigen::VectorXd quality_over_movement;       ///< S weighted g_q at the palm pose of each step
+  std::vector<std::string> body_names;         ///< B bodies (robot links, hand, environment)
+  std::vector<std::int32_t> body_parents;      ///< B parent body index, -1 for the world
+  std::vector<std::int32_t> body_roles;        ///< B: 0 robot, 1 hand, 2 environment
+  RowMatrixXd body_poses;               ///< S x 7B world pose of body b at columns 7b .. 7b + 6
+  std::vector<TrajectoryShape> shapes;  ///< collision primitives of the bodies
 
   /// Number of rows of the time series (steps + 1).
   std::size_t rows() const { return static_cast<std::size_t>(joints.rows()); }

@@ -33,9 +33,10 @@ struct GraspPlanOptions {
   /// descent; a caller's on_iteration is called after the planner's own bookkeeping of each
   /// iteration (chained, not replaced)
   TrajectoryOptimizerOptions optimizer;
-  /// w_map,p and w_map,q (docs/REACHING.md "Chosen weights"); the quality term can hold the
-  /// optimiser's last step millimetres off a sample, which end_on_sample corrects.
-  MapCostWeights map_weights{1.0e4, 1.0};
+  /// w_map,p and w_map,q (docs/REACHING.md "Chosen weights", "The quality term's scale"); the
+  /// quality term can hold the optimiser's last step millimetres off a sample, which
+  /// end_on_sample corrects. An unset quality_peak is the map's (mapQualityPeak).
+  MapCostWeights map_weights{1.0e4, 3.0e4, std::nullopt};
   bool all_clusters = false;         ///< optimise from every reachable cluster, keep the cheapest
   bool restrict_to_cluster = false;  ///< evaluate the map on the start cluster only
   double via_height = 0.05;          ///< a via point this high (metres) above the straight line
@@ -112,6 +113,8 @@ struct GraspPlan {
   std::vector<ClusterRank> ranking;                        ///< every cluster, best comfort first
   std::vector<ClusterPlan> plans;                          ///< optimised clusters in ranking order
   int best = -1;  ///< index into plans of the cheapest, -1 if none
+  /// The map weights of the plans, quality_peak set (options' or mapQualityPeak of the map).
+  MapCostWeights map_weights;
 };
 
 /// Plans a reach-and-grasp of the object body `problem.reference` (a fixed body of the robot

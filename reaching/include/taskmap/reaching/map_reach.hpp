@@ -50,8 +50,9 @@ struct MapReach {
   MovementTerms movement;  ///< the map's terms over the best plan's movement (empty without one)
 };
 
-/// planGrasp(problem, map, options) timed, and movementTerms of the best plan with
-/// options.map_weights. problem.body is the palm, problem.reference the object body.
+/// planGrasp(problem, map, options) timed, and movementTerms of the best plan with the plan's
+/// map_weights (quality_peak resolved). problem.body is the palm, problem.reference the object
+/// body.
 MapReach planMapReach(const TrajectoryProblem& problem, const TaskMap& map,
                       const GraspPlanOptions& options);
 
