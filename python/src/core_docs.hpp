@@ -345,7 +345,25 @@ Example:
 )doc";
 
 inline constexpr const char* kSessionClass =
-    R"doc(Cached evaluation for one optimizer run (:meth:`TaskMap.session`); not thread-safe.)doc";
+    R"doc(Cached evaluation for one optimizer run (:meth:`TaskMap.session`); not thread-safe.
+
+Example:
+    >>> s = m.session(margin=0.01)
+    >>> s.evaluate(m.pose(0))["nearest"]
+    0
+)doc";
+
+inline constexpr const char* kError = R"doc(The error of every taskmap call: bad input, named.
+
+A :class:`ValueError`. Its message names the file, option or argument at fault and, for a
+misspelt hand or object name, the closest names ("did you mean 'basket'?").
+
+Example:
+    >>> try:
+    ...     taskmap.load("no_such_map.h5")
+    ... except taskmap.Error as e:
+    ...     print(e)
+)doc";
 
 inline constexpr const char* kSessionEvaluate =
     R"doc(What :meth:`TaskMap.evaluate` returns for ``pose``, from the cache when it can.

@@ -495,6 +495,7 @@ void bindFunctions(py::module_& m) {
 PYBIND11_MODULE(_core, m) {
   m.doc() = "Grasp task maps: load a map, query nearest grasps, proximity and quality criteria.";
   static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  error.attr("__doc__") = pydoc::kError;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
