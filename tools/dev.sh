@@ -21,6 +21,7 @@ PACKAGES=(
   libnanoflann-dev libcairo2-dev fonts-dejavu-core openmpi-bin libopenmpi-dev
   liborocos-kdl-dev libfcl-dev libmujoco-dev
   chromium libjs-three
+  doxygen python3-sphinx
 )
 
 log() { printf '\n== %s\n' "$*"; }
@@ -101,6 +102,13 @@ test_all() {
     ctest --test-dir "$ASAN_BUILD" -L unit -j "$JOBS" --output-on-failure --timeout 1800
 }
 
+docs() {  # the generated reference (docs/REFERENCE.md), every warning an error
+  deps
+  build
+  log "docs: the generated reference (command line, Python, C++)"
+  /usr/bin/python3 "$ROOT/tools/docs/reference.py" --build "$BUILD"
+}
+
 bench() {
   deps
   build
@@ -116,6 +124,7 @@ case "${1:-}" in
   test) test_all ;;
   deps) deps ;;
   build) deps; build ;;
+  docs) docs ;;
   bench) bench ;;
-  *) echo "usage: tools/dev.sh main|test|deps|build|bench" >&2; exit 2 ;;
+  *) echo "usage: tools/dev.sh main|test|deps|build|docs|bench" >&2; exit 2 ;;
 esac

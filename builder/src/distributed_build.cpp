@@ -12,7 +12,7 @@ namespace taskmap {
 BuildRank::BuildRank(const FileBuildOptions& options, bool coordinator)
     : request_(options), plan_(planFileBuild(options)) {
   if (coordinator) lock_.emplace(options.output + ".lock", "output '" + options.output + "'");
-  object_ = std::make_unique<ObjectModel>(ObjectModel::load(options.object, options.mesh));
+  object_ = std::make_unique<ObjectModel>(ObjectModel::load(plan_.object, options.mesh));
   hand_ = std::make_unique<HandModel>(HandModel::load(plan_.hand_urdf));
   checkGraspOptions(plan_.options, *hand_, plan_.hand_urdf);
   runner_ = std::make_unique<TrialRunner>(*object_, *hand_, plan_.options);

@@ -28,13 +28,14 @@ FileBuildPlan planFileBuild(const FileBuildOptions& o) {
   const std::filesystem::path out_dir = std::filesystem::absolute(o.output).parent_path();
   if (!std::filesystem::is_directory(out_dir))
     throw Error("output directory '" + out_dir.string() + "' does not exist; create it first");
-  requireObjectFile(o.object);
+  plan.object = resolveObjectFile(o.object);
   plan.hand_urdf = resolveHandUrdf(o.hand);
-  checkOutputPath(o.output, {o.object, plan.hand_urdf, handSidecarPath(plan.hand_urdf)},
+  checkOutputPath(o.output, {plan.object, plan.hand_urdf, handSidecarPath(plan.hand_urdf)},
                   OutputKind::kTaskMap, o.force);
-  checkOutputPath(o.output + ".ckpt", {o.object, plan.hand_urdf}, OutputKind::kTaskMap, true,
+  checkOutputPath(o.output + ".ckpt", {plan.object, plan.hand_urdf}, OutputKind::kTaskMap, true,
                   "the checkpoint");
-  nlohmann::json extra = {{"object", o.object}, {"scale", o.mesh.scale}, {"hand", plan.hand_urdf}};
+  nlohmann::json extra = {
+      {"object", plan.object}, {"scale", o.mesh.scale}, {"hand", plan.hand_urdf}};
   if (o.mesh.wrap)
     extra["repair"] = {
         {"wrap", true}, {"alpha", o.mesh.wrap_alpha}, {"offset", o.mesh.wrap_offset}};
@@ -101,10 +102,10 @@ const ObjectModel& MapFileBuild::loadObject() {
   if (impl_->object) return *impl_->object;
   const ScopedLoadBoundsCheck size_check(
       plan_.options.check_size
-          ? sizeCheckOnLoad(impl_->hand, std::filesystem::path(request_.object).stem().string(),
+          ? sizeCheckOnLoad(impl_->hand, std::filesystem::path(plan_.object).stem().string(),
                             request_.mesh.scale)
           : nullptr);
-  impl_->object.emplace(ObjectModel::load(request_.object, request_.mesh));
+  impl_->object.emplace(ObjectModel::load(plan_.object, request_.mesh));
   return *impl_->object;
 }
 

@@ -108,6 +108,17 @@ std::string didYouMean(const std::string& name, const std::vector<std::string>& 
   return s + "?";
 }
 
+std::vector<std::string> bundledObjectNames() {
+  std::vector<std::string> names;
+  try {
+    for (const std::string& f : filesOf(fs::path(dataDir()) / "objects"))
+      if (fs::path(f).extension() == ".obj") names.push_back(fs::path(f).stem().string());
+  } catch (const Error&) {
+    // No data directory: no bundled objects.
+  }
+  return names;
+}
+
 void requireObjectFile(const std::string& path) {
   std::error_code ec;
   if (fs::exists(path, ec)) return;
@@ -116,30 +127,43 @@ void requireObjectFile(const std::string& path) {
   std::vector<std::string> close;
   for (const std::string& f : closestNames(p.filename().string(), filesOf(p.parent_path())))
     close.push_back((p.parent_path() / f).string());
-  // Bundled objects by name ("basket", "mug.ob").
-  try {
-    const fs::path objects = fs::path(dataDir()) / "objects";
-    std::vector<std::string> bundled;
-    for (const std::string& f : filesOf(objects))
-      if (fs::path(f).extension() == ".obj") bundled.push_back(f);
-    for (const std::string& key : {p.filename().string(), p.stem().string()})
-      for (const std::string& f : closestNames(key, bundled)) {
-        const std::string full = (objects / f).string();
-        if (std::find(close.begin(), close.end(), full) != close.end()) continue;
-        // A bare name ("basket") means a bundled object first; a path its own folder's files.
-        if (p.parent_path().empty())
-          close.insert(close.begin(), full);
-        else
-          close.push_back(full);
-      }
-  } catch (const Error&) {
-    // No data directory: suggest from the folder alone.
-  }
+  // Bundled objects: a bare name ("baskt") is offered bundled names first ('basket'), a path
+  // ("dir/mug.ob") the bundled files after its own folder's.
+  const std::vector<std::string> bundled = bundledObjectNames();
+  const bool bare = p.parent_path().empty();
+  std::vector<std::string> offered;
+  for (const std::string& key : {p.filename().string(), p.stem().string()})
+    for (const std::string& name : closestNames(key, bundled)) {
+      const std::string shown =
+          bare ? name : (fs::path(dataDir()) / "objects" / (name + ".obj")).string();
+      if (std::find(close.begin(), close.end(), shown) == close.end() &&
+          std::find(offered.begin(), offered.end(), shown) == offered.end())
+        offered.push_back(shown);
+    }
+  close.insert(bare ? close.begin() : close.end(), offered.begin(), offered.end());
   std::string hint;
   if (!close.empty()) hint = "; did you mean '" + close[0] + "'";
   if (close.size() > 1) hint += " or '" + close[1] + "'";
   if (!hint.empty()) hint += "?";
   throw Error("cannot open mesh file '" + path + "': no such file" + hint);
+}
+
+std::string objectFileOrBundled(const std::string& object) {
+  std::error_code ec;
+  if (fs::exists(object, ec)) return object;
+  const fs::path p(object);
+  if (!object.empty() && p.parent_path().empty() && !p.has_extension()) {
+    const std::vector<std::string> names = bundledObjectNames();
+    if (std::find(names.begin(), names.end(), object) != names.end())
+      return (fs::path(dataDir()) / "objects" / (object + ".obj")).string();
+  }
+  return object;
+}
+
+std::string resolveObjectFile(const std::string& object) {
+  const std::string path = objectFileOrBundled(object);
+  requireObjectFile(path);
+  return path;
 }
 
 std::string dataDir() {

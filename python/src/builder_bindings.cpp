@@ -7,6 +7,7 @@
 #include "builder_bindings.hpp"
 
 #include "fs_path.hpp"
+#include "offline_docs.hpp"
 #include "python_run.hpp"
 
 #include <pybind11/stl.h>
@@ -25,6 +26,7 @@
 #include "taskmap/builder/recluster.hpp"
 #include "taskmap/builder/regression_suite.hpp"
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 #include "taskmap/mapstore/map_file.hpp"
@@ -88,16 +90,30 @@ BuildKnobs knobsOf(const char* function, const py::kwargs& kwargs) {
   return k;
 }
 
-/// The knobs' part of a docstring: one line per knob with its default and help.
+/// The knobs' part of a docstring: a napoleon "Other Parameters" section, one entry per knob
+/// with its type, help and default.
 std::string knobsDoc() {
-  std::string doc = "\n\nKnobs (keyword arguments, named as `taskmap build`'s options):\n";
+  std::string doc = "Other Parameters:\n";
   BuildKnobs k;
   visitBuildKnobs(k, [&doc](const KnobInfo& info, const auto& field) {
+    using T = std::decay_t<decltype(field)>;
+    const char* type = std::is_same_v<T, bool>          ? "bool"
+                       : std::is_same_v<T, std::string> ? "str"
+                       : std::is_floating_point_v<T>    ? "float"
+                                                        : "int";
     std::string d = py::repr(py::cast(field)).template cast<std::string>();
     if (!info.capture_default) d = "None (the hand's)";
-    doc += std::string("  ") + info.name + " = " + d + ": " + info.help + "\n";
+    doc += std::string("    ") + info.name + " (" + type + "): " + info.help + ". Default: ``" + d +
+           "``.\n";
   });
-  return doc;
+  return doc + "\n";
+}
+
+/// `doc` with the knobs' section inserted before its "Returns:" section.
+std::string withKnobs(const char* doc) {
+  std::string s = doc;
+  const std::size_t at = s.find("Returns:");
+  return at == std::string::npos ? s + "\n" + knobsDoc() : s.insert(at, knobsDoc());
 }
 
 py::dict progressDict(const BuildProgress& p) {
@@ -195,7 +211,7 @@ py::object importAcronym(const std::string& acronym, const std::string& object,
                          const std::string& hand, bool timestamp, bool force) {
   AcronymFileImportOptions o;
   o.acronym = acronym;
-  o.object = object;
+  o.object = objectFileOrBundled(object);
   o.output = output;
   o.scale = scale;
   o.timestamp = timestamp;
@@ -283,16 +299,7 @@ void bindBuilder(py::module_& m) {
       },
       py::kw_only(), py::arg("cases") = "", py::arg("golden") = "",
       py::arg("only") = std::vector<std::string>{}, py::arg("update") = false,
-      py::arg("threads") = 0, py::arg("friction") = py::none(),
-      "What `taskmap regress` runs: builds each reference case (fixed seed and trial budget) "
-      "and compares its statistics with the golden file, or rewrites the golden files with "
-      "update=True. cases: the case list (JSON; default <data dir>/regression/cases.json), "
-      "golden: the folder of golden files (default <cases folder>/golden), only: case names, "
-      "threads: worker threads (0: all cores; results do not depend on it), friction: override "
-      "(to see the suite catch a change). Returns {cases: [{name, object, hand, golden, outcome "
-      "('compared', 'updated', 'no_golden'), failures, rows [{statistic, golden, now, pass}], "
-      "text (as the CLI prints)}], failures, golden_dir}. Raises taskmap.Error naming the file "
-      "for a bad case list or when no case matches.");
+      py::arg("threads") = 0, py::arg("friction") = py::none(), pydoc::kRegress);
   m.def(
       "recluster",
       [](const py::object& map, std::optional<double> threshold, std::optional<int> clusters,
@@ -309,43 +316,15 @@ void bindBuilder(py::module_& m) {
       py::arg("map"), py::kw_only(), py::arg("threshold") = py::none(),
       py::arg("clusters") = py::none(), py::arg("min_size") = py::none(),
       py::arg("method") = py::none(), py::arg("outlier_budget") = py::none(),
-      py::arg("output") = "", py::arg("force") = false,
-      "What `taskmap cluster MAP` does: re-clusters the map's grasps (hierarchical, in the map's "
-      "pose metric; the stored dendrogram is reused when the method is unchanged) and writes "
-      "the labels, cluster table and dendrogram into the map (atomically), or into `output` "
-      "(never an input; force replaces a file that is not a task map); returns it loaded. "
-      "threshold: cut distance in the pose metric (m); clusters: cut into this many groups (not "
-      "with threshold); min_size: smallest cluster kept (default 3 % of the grasps, at least "
-      "3); method: 'single', 'average' or 'complete' (default average, single beyond 20000 "
-      "grasps); outlier_budget: share of grasps the default cut may leave as outliers, in [0, "
-      "1]. Raises taskmap.Error naming the file or the argument.");
+      py::arg("output") = "", py::arg("force") = false, pydoc::kRecluster);
   m.def("import_acronym", &importAcronym, py::kw_only(), py::arg("acronym"), py::arg("object"),
         py::arg("output"), py::arg("scale") = 0.0, py::arg("successful_only") = false,
         py::arg("no_cluster") = false, py::arg("linkage") = toString(clustering.method),
         py::arg("rotation_scale") = kDefaultRotationScale, py::arg("threshold") = py::none(),
         py::arg("clusters") = py::none(), py::arg("min_size_fraction") = kDefaultMinSizeFraction,
         py::arg("palm_offset") = py::none(), py::arg("hand") = "", py::arg("timestamp") = false,
-        py::arg("force") = false,
-        "Imports an ACRONYM grasp file as `taskmap import` does (the same map bytes): poses "
-        "from grasps/transforms (the palm frame from `hand`'s URDF root-to-palm transform, or "
-        "`palm_offset` metres along the gripper's z, else ACRONYM's Franka gripper), force "
-        "closure from object_in_gripper, contacts absent; the object mesh `object` at `scale` "
-        "(0: the file's object/scale); clustered as `taskmap cluster` (linkage, rotation_scale "
-        "m/rad, threshold m, clusters, min_size_fraction) unless no_cluster. The file is read "
-        "in a child process with memory and CPU limits; nothing is written on an error "
-        "(taskmap.Error naming the file). Writes `output` and returns it loaded.");
-  static const std::string build_doc =
-      "Builds a task map as `taskmap build` does (the same options, the same map bytes for the "
-      "same options: same seed same map for any thread count), writes it to `output` and "
-      "returns it loaded (taskmap.load). object: mesh file, its coordinates times `scale` are "
-      "metres in the object frame; hand: URDF (with its <stem>.hand.json sidecar) or a bundled "
-      "hand name ('barrett', 'panda', ...); no_repair, repair='wrap', wrap_alpha, wrap_offset "
-      "(metres): mesh repair; force: replace an output that is not a task map. progress(dict) "
-      "is called about every 0.25 s with trials_done, valid_found, valid_target, max_trials, "
-      "elapsed_seconds. Ctrl-C raises KeyboardInterrupt and writes nothing; so does an "
-      "exception from `progress` (raised here). Errors in input raise taskmap.Error naming the "
-      "file or option; a keyword that is not a knob raises TypeError." +
-      knobsDoc();
+        py::arg("force") = false, pydoc::kImportAcronym);
+  static const std::string build_doc = withKnobs(pydoc::kBuild);
   m.def(
       "build",
       [](const std::string& object, const std::string& hand, const std::string& output,
@@ -358,18 +337,7 @@ void bindBuilder(py::module_& m) {
       py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
       py::arg("wrap_offset") = 0.0, py::arg("force") = false, py::arg("progress") = py::none(),
       build_doc.c_str());
-  static const std::string dataset_doc =
-      "Builds one task map per (object, hand) into the directory `output` as `taskmap dataset` "
-      "does (the same maps and manifest.json). objects: text file, one mesh path a line "
-      "(relative to the file), optionally followed by its scale (file units to metres); hands: "
-      "a list of hand URDFs or bundled hand names; scale: for meshes the list gives none; the "
-      "knobs as for taskmap.build (seed is the data set's: each job's derives from it and the "
-      "mesh and hand contents). A re-run skips maps whose file and parameters match the "
-      "manifest; a bad mesh is recorded there (status 'failed'), not raised. progress(dict) is "
-      "called after each job with done, total, elapsed_seconds and entry (the job's manifest "
-      "entry). Ctrl-C raises KeyboardInterrupt (the current map is not written, its entry stays "
-      "'pending'). Returns {jobs, skipped, failed, dir, manifest}." +
-      knobsDoc();
+  static const std::string dataset_doc = withKnobs(pydoc::kDataset);
   m.def(
       "dataset",
       [](const std::string& objects, const std::vector<std::string>& hands,

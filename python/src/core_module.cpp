@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <type_traits>
 
+#include "core_docs.hpp"
 #include "map_arrays.hpp"
 #include "trajectory_bindings.hpp"
 
@@ -227,38 +228,47 @@ void bindClusterRanking(py::class_<TaskMap>& cls);
 
 /// taskmap.TaskMap: load, save, from_arrays, the stored arrays, then the queries.
 void bindTaskMap(py::module_& m) {
-  py::class_<TaskMap> cls(m, "TaskMap",
-                          "A loaded, indexed task map (read-only, thread-safe queries).");
+  py::class_<TaskMap> cls(m, "TaskMap", pydoc::kTaskMap);
   cls.def_static(
          "load",
          [](const std::string& path, const py::kwargs& kw) {
            return TaskMap::load(path, makeOptions(kw));
          },
-         py::arg("path"), "Reads a map file; keyword options as TaskMapOptions.")
+         py::arg("path"), pydoc::kLoad)
       .def_static("from_arrays", &fromArrays, py::arg("poses"), py::arg("epsilon"),
                   py::arg("labels") = py::none(), py::arg("rotation_scale") = kDefaultRotationScale,
-                  "Map from N x 7 poses, N epsilons and optional cluster labels (-1 outlier).")
+                  pydoc::kFromArrays)
       .def(
           "save", [](const TaskMap& t, const std::string& path) { writeMap(path, t.data()); },
-          py::arg("path"), "Writes the map file (HDF5, atomically).")
+          py::arg("path"), pydoc::kSave)
       .def("__len__", &TaskMap::size)
-      .def_property_readonly("size", &TaskMap::size)
-      .def_property_readonly("num_clusters", &TaskMap::numClusters)
-      .def_property_readonly("rotation_scale", &TaskMap::rotationScale)
-      .def_property_readonly("position_sigma",
-                             [](const TaskMap& t) { return *t.options().position_sigma; })
-      .def_property_readonly("rotation_sigma",
-                             [](const TaskMap& t) { return *t.options().rotation_sigma; })
-      .def_property_readonly("linear_weight",
-                             [](const TaskMap& t) { return t.options().linear_weight; })
-      .def_property_readonly("angular_weight",
-                             [](const TaskMap& t) { return *t.options().angular_weight; })
+      .def_property_readonly("size", &TaskMap::size, "Number of grasps N (also len(map)).")
+      .def_property_readonly("num_clusters", &TaskMap::numClusters,
+                             "Number of clusters K (0 for an unclustered map).")
+      .def_property_readonly("rotation_scale", &TaskMap::rotationScale,
+                             "rho of the pose metric, metres per radian.")
+      .def_property_readonly(
+          "position_sigma", [](const TaskMap& t) { return *t.options().position_sigma; },
+          "sigma_p of the quality kernels, metres.")
+      .def_property_readonly(
+          "rotation_sigma", [](const TaskMap& t) { return *t.options().rotation_sigma; },
+          "sigma_r of the quality kernels, radians.")
+      .def_property_readonly(
+          "linear_weight", [](const TaskMap& t) { return t.options().linear_weight; },
+          "w_p of the proximity criterion, 1/m^2.")
+      .def_property_readonly(
+          "angular_weight", [](const TaskMap& t) { return *t.options().angular_weight; },
+          "w_r of the proximity criterion, 1/rad^2.")
       .def_property_readonly(
           "sample_weight", [](const TaskMap& t) { return toString(t.options().sample_weight); },
           "What weighs each sample in the quality criterion: 'epsilon' or 'hold_margin' (epsilon "
           "x the physics hold margin; the default when the map is fully validated)")
-      .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius)
-      .def_property_readonly("poses", [](const TaskMap& t) { return t.data().grasps.pose; })
+      .def_property_readonly("cutoff_radius", &TaskMap::cutoffRadius,
+                             "Radius (pose metric, metres) within which the truncated quality "
+                             "sums the grasps.")
+      .def_property_readonly(
+          "poses", [](const TaskMap& t) { return t.data().grasps.pose; },
+          "N x 7 palm poses [x y z qw qx qy qz] in the object frame (metres).")
       .def_property_readonly(
           "epsilon",
           [](const TaskMap& t) {
@@ -276,14 +286,15 @@ void bindTaskMap(py::module_& m) {
           },
           "N cluster labels (numpy array; -1 outlier), or None for an unclustered map.")
       .def(
-          "pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"))
+          "pose", [](const TaskMap& t, std::size_t i) { return fromPose(t.pose(i)); }, py::arg("i"),
+          pydoc::kPose)
       .def(
           "nearest",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
             const Neighbor n = t.nearest(toPose(x), c);
             return py::make_tuple(n.index, n.distance);
           },
-          py::arg("pose"), py::arg("cluster") = py::none(), "(index, distance)");
+          py::arg("pose"), py::arg("cluster") = py::none(), pydoc::kNearest);
   bindTaskMapArrays(cls);
   bindTaskMapQueries(cls);
   bindClusterRanking(cls);
@@ -327,10 +338,7 @@ void bindClusterRanking(py::class_<TaskMap>& cls) {
         return out;
       },
       py::arg("object_world"), py::arg("ik"), py::arg("comfort"), py::arg("member_tries") = 0,
-      "Clusters best first; ik(target_world_pose7) returns q or None; comfort(q) a cost. "
-      "member_tries > 0: when no representative is reachable, up to that many other members "
-      "of each cluster are tried ('target' the grasp reached, 'tried' the IK calls), then "
-      "as many outliers (cluster -1).");
+      pydoc::kRankClusters);
 }
 
 /// TaskMap's queries: neighbours, proximity, quality, evaluate.
@@ -340,21 +348,19 @@ void bindTaskMapQueries(py::class_<TaskMap>& cls) {
          [](const TaskMap& t, const Vec7& x, int k, std::optional<int> c) {
            return neighbours(t.knn(toPose(x), k, c));
          },
-         py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), "(indices, distances)")
+         py::arg("pose"), py::arg("k"), py::arg("cluster") = py::none(), pydoc::kKnn)
       .def(
           "radius",
           [](const TaskMap& t, const Vec7& x, double r, std::optional<int> c) {
             return neighbours(t.radius(toPose(x), r, c));
           },
-          py::arg("pose"), py::arg("r"), py::arg("cluster") = py::none(), "(indices, distances)")
+          py::arg("pose"), py::arg("r"), py::arg("cluster") = py::none(), pydoc::kRadius)
       .def(
           "proximity",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
             return proximityDict(t.proximity(toPose(x), c));
           },
-          py::arg("pose"), py::arg("cluster") = py::none(),
-          "Proximity g_p = w_p |dp|^2 + w_r |log(R_map^T R)|^2 against the nearest grasp, with "
-          "its gradient (object frame): dict value, gradient, nearest, distance, difference.")
+          py::arg("pose"), py::arg("cluster") = py::none(), pydoc::kProximity)
       .def(
           "quality",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c,
@@ -362,29 +368,20 @@ void bindTaskMapQueries(py::class_<TaskMap>& cls) {
             return qualityDict(t.quality(toPose(x), c, modeOf(mode)));
           },
           py::arg("pose"), py::arg("cluster") = py::none(), py::arg("mode") = py::none(),
-          "Quality g_q = -sum eps_i f_i / sum eps_i with its gradient (object frame). f_i is a "
-          "normalised Gaussian in the pose embedding (p, rho/sqrt2 vec R): exp(-d_i/2) / Z, "
-          "d_i = |dp|^2/sp^2 + ||R - R_i||_F^2/(2 sr^2) = |dp|^2/sp^2 + (2 sin(theta/2))^2/sr^2, "
-          "Z = (2 pi)^3 sp^3 sr^3. mode 'exact' sums every grasp, 'truncated' the grasps within "
-          "cutoff_radius and reports value_bound / gradient_bound: dict value, gradient, "
-          "value_bound, gradient_bound, terms.")
+          pydoc::kQuality)
       .def(
           "evaluate",
           [](const TaskMap& t, const Vec7& x, std::optional<int> c) {
             return evaluationDict(t.evaluate(toPose(x), c));
           },
-          py::arg("pose"), py::arg("cluster") = py::none(),
-          "Proximity and quality with gradients (object frame) and the nearest grasp.")
+          py::arg("pose"), py::arg("cluster") = py::none(), pydoc::kEvaluate)
       .def(
           "session",
           [](const TaskMap& t, std::optional<double> margin, std::optional<int> c) {
             return EvaluationSession(t, c, margin);
           },
           py::arg("margin") = py::none(), py::arg("cluster") = py::none(), py::keep_alive<0, 1>(),
-          "A Session for one optimizer run: session.evaluate(pose) returns what evaluate(pose, "
-          "cluster) returns, answered from a cache of the grasps within cutoff_radius + margin "
-          "(metres; default 0.25 cutoff_radius) of the last searched pose. Not thread-safe: one "
-          "session per thread.")
+          pydoc::kSession)
       .def(
           "evaluate_batch",
           [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
@@ -403,7 +400,7 @@ void bindTaskMapQueries(py::class_<TaskMap>& cls) {
             d["nearest_distance"] = b.nearest_distance;
             return d;
           },
-          py::arg("poses"), py::arg("cluster") = py::none())
+          py::arg("poses"), py::arg("cluster") = py::none(), pydoc::kEvaluateBatch)
       .def(
           "nearest_batch",
           [](const TaskMap& t, const PoseRows& xs, std::optional<int> c) {
@@ -415,29 +412,33 @@ void bindTaskMapQueries(py::class_<TaskMap>& cls) {
             }
             return py::make_tuple(idx, dist);
           },
-          py::arg("poses"), py::arg("cluster") = py::none(), "(indices, distances)");
+          py::arg("poses"), py::arg("cluster") = py::none(), pydoc::kNearestBatch);
 }
 
 /// taskmap.Session: cached evaluation for an optimizer run.
 void bindSession(py::module_& m) {
-  py::class_<EvaluationSession>(m, "Session",
-                                "Warm-started evaluate for one optimizer run (TaskMap.session); "
-                                "not thread-safe.")
+  py::class_<EvaluationSession>(m, "Session", pydoc::kSessionClass)
       .def(
           "evaluate",
           [](EvaluationSession& s, const Vec7& x) { return evaluationDict(s.evaluate(toPose(x))); },
-          py::arg("pose"), "The same dict as TaskMap.evaluate(pose, cluster).")
-      .def_property_readonly("stats",
-                             [](const EvaluationSession& s) {
-                               py::dict d;
-                               d["calls"] = s.stats().calls;
-                               d["anchors"] = s.stats().anchors;
-                               d["fallbacks"] = s.stats().fallbacks;
-                               return d;
-                             })
-      .def_property_readonly("margin", &EvaluationSession::margin)
-      .def_property_readonly("cluster", &EvaluationSession::cluster)
-      .def("reset", &EvaluationSession::reset, "Drops the cache and zeroes stats.");
+          py::arg("pose"), pydoc::kSessionEvaluate)
+      .def_property_readonly(
+          "stats",
+          [](const EvaluationSession& s) {
+            py::dict d;
+            d["calls"] = s.stats().calls;
+            d["anchors"] = s.stats().anchors;
+            d["fallbacks"] = s.stats().fallbacks;
+            return d;
+          },
+          "dict: calls (evaluations), anchors (index searches that refilled the cache), "
+          "fallbacks (evaluations the cache could not answer exactly).")
+      .def_property_readonly("margin", &EvaluationSession::margin,
+                             "How far (pose metric, metres) iterates may move from the cache's "
+                             "anchor.")
+      .def_property_readonly("cluster", &EvaluationSession::cluster,
+                             "The cluster evaluated against, or None for the whole map.")
+      .def("reset", &EvaluationSession::reset, pydoc::kSessionReset);
 }
 
 /// load, seal and the frame, gradient and cost helpers.
@@ -447,40 +448,32 @@ void bindFunctions(py::module_& m) {
       [](const std::string& path, const py::kwargs& kw) {
         return TaskMap::load(path, makeOptions(kw));
       },
-      py::arg("path"),
-      "Reads a map file: taskmap.load('basket.h5').evaluate(pose). The file's seal is "
-      "verified first: a damaged or edited map raises taskmap.Error.");
+      py::arg("path"), pydoc::kLoad);
   m.def(
       "seal",
       [](const std::string& path) {
         py::gil_scoped_release release;
         sealMap(path);
       },
-      py::arg("path"),
-      "Re-seals a map on purpose after editing it with h5py (or a map without a seal): "
-      "validates it as a task map, then rewrites it atomically with a fresh SHA-256 seal. "
-      "HDF5 parses the unverified file in this process; use `taskmap seal FILE` to isolate it.");
-  m.def("data_dir", &dataDir,
-        "The bundled data directory (hands/, objects/, maps/, robots/, regression/): "
-        "$TASKMAP_DATA_DIR if set, else share/taskmap beside the running executable's prefix, "
-        "else share/taskmap beside libtaskmap_core (<venv>/share/taskmap after pip install). "
-        "Raises taskmap.Error saying how to set TASKMAP_DATA_DIR when none exists.");
+      py::arg("path"), pydoc::kSeal);
+  m.def("data_dir", &dataDir, pydoc::kDataDir);
   m.def(
       "hand_in_object",
       [](const Vec7& h, const Vec7& o) { return fromPose(handInObject(toPose(h), toPose(o))); },
-      py::arg("hand_world"), py::arg("object_world"));
+      py::arg("hand_world"), py::arg("object_world"), pydoc::kHandInObject);
   m.def(
       "hand_gradient_to_world",
       [](const Twist& g, const Vec7& o) {
         return Eigen::VectorXd(handGradientToWorld(g, toPose(o)));
       },
-      py::arg("gradient"), py::arg("object_world"));
+      py::arg("gradient"), py::arg("object_world"), pydoc::kHandGradientToWorld);
   m.def(
       "object_gradient_to_world",
       [](const Twist& g, const Vec7& h, const Vec7& o) {
         return Eigen::VectorXd(objectGradientToWorld(g, toPose(h), toPose(o)));
       },
-      py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"));
+      py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"),
+      pydoc::kObjectGradientToWorld);
   m.def(
       "joint_gradient",
       [](const Twist& g, const Vec7& h, const Vec7& o, const Eigen::MatrixXd& jh,
@@ -488,13 +481,13 @@ void bindFunctions(py::module_& m) {
         return jointGradient(g, toPose(h), toPose(o), jh, jo.value_or(Eigen::MatrixXd()));
       },
       py::arg("gradient"), py::arg("hand_world"), py::arg("object_world"), py::arg("hand_jacobian"),
-      py::arg("object_jacobian") = py::none());
+      py::arg("object_jacobian") = py::none(), pydoc::kJointGradient);
   m.def(
       "pose_distance",
       [](const Vec7& a, const Vec7& b, double rho) {
         return poseDistance(toPose(a), toPose(b), rho);
       },
-      py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale);
+      py::arg("a"), py::arg("b"), py::arg("rho") = kDefaultRotationScale, pydoc::kPoseDistance);
 }
 
 }  // namespace
@@ -502,6 +495,7 @@ void bindFunctions(py::module_& m) {
 PYBIND11_MODULE(_core, m) {
   m.doc() = "Grasp task maps: load a map, query nearest grasps, proximity and quality criteria.";
   static py::exception<Error> error(m, "Error", PyExc_ValueError);
+  error.attr("__doc__") = pydoc::kError;
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

@@ -2,6 +2,8 @@
 // and `taskmap view` as calls, with the commands' option names as keywords.
 #include "export_bindings.hpp"
 
+#include "offline_docs.hpp"
+
 #include "fs_path.hpp"
 
 #include <filesystem>
@@ -129,36 +131,12 @@ void bindExport(py::module_& m) {
   m.def("export", &exportMap, py::arg("map"), py::kw_only(), py::arg("format"), py::arg("output"),
         py::arg("glyph_size") = 0.0, py::arg("density") = 1000.0, py::arg("object_file") = "",
         py::arg("palm_offset") = py::none(), py::arg("hand") = "", py::arg("force") = false,
-        R"(What `taskmap export MAP --format F -o OUTPUT` writes; returns output.
-
-format 'ply' or 'glb': the object mesh, palm positions coloured by cluster, a hand glyph per
-cluster representative (finger length glyph_size in metres, 0: automatic) and the hand's
-collision shapes posed by each representative (the map's hand, found by its SHA-256, or `hand`:
-a URDF or bundled name; a warning and no hand when none is found). 'acronym': ACRONYM's
-per-object HDF5 layout (object density in kg/m^3, object_file the mesh name recorded; the
-gripper base frame from palm_offset (metres along the base z axis) or hand's root-to-palm, as
-`taskmap import` takes it). output is never an input; force replaces an existing file that is
-not of the format written. Raises taskmap.Error naming the file or argument.)");
+        pydoc::kExport);
   m.def("export_glb", &exportGlb, py::arg("trajectory"), py::kw_only(), py::arg("output"),
-        py::arg("force") = false,
-        R"(What `taskmap export-glb TRAJECTORY -o OUTPUT` writes; returns output.
-
-trajectory: a trajectory file (`taskmap reach --map ... -o`, taskmap.reach's record). The GLB
-(glTF 2.0 binary, opens in Blender) has one node per body with its collision primitives, the
-object mesh, and animation 'reach' over the steps (z-up world turned to glTF's y-up). Written
-atomically; force replaces an existing file that is not a GLB file.)");
+        py::arg("force") = false, pydoc::kExportGlb);
   m.def("view", &view, py::arg("file"), py::kw_only(), py::arg("output") = py::none(),
         py::arg("hand") = "", py::arg("ghosts") = PageOptions{}.ghost_limit, py::arg("title") = "",
-        R"(What `taskmap view FILE` writes: one self-contained HTML page (three.js embedded,
-opens offline); returns its path (default: <file stem>.html in the working directory).
-
-file: a task map (the hand's collision shapes posed by each grasp on the object, coloured by
-cluster; filters, contacts; at most `ghosts` hands drawn at once) or a trajectory file (the
-movement with a time slider and the cost terms; the map's hand closes to the chosen grasp at the
-end). hand: URDF or bundled name to draw a map's grasps or a trajectory's grasp with (default:
-the map's, found by its SHA-256; a warning and palms only, or the planner's primitives of the
-hand, when none).
-Raises taskmap.Error naming the file or argument.)");
+        pydoc::kView);
 }
 
 }  // namespace taskmap

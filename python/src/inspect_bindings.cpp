@@ -3,6 +3,8 @@
 // keyword arguments of the commands.
 #include "inspect_bindings.hpp"
 
+#include "offline_docs.hpp"
+
 #include "fs_path.hpp"
 
 #include "builder_bindings.hpp"
@@ -94,8 +96,7 @@ py::dict meshInfoDict(const py::object& file, double scale, bool no_repair,
   const std::string path = fsPath(file);
   if (!(scale > 0.0)) throw Error("mesh_info: scale must be positive");
   const MeshLoadOptions options = meshOptions(scale, no_repair, repair, wrap_alpha, wrap_offset);
-  requireObjectFile(path);
-  return jsonDict(meshInfo(ObjectModel::load(path, options)).json);
+  return jsonDict(meshInfo(ObjectModel::load(resolveObjectFile(path), options)).json);
 }
 
 py::dict handInitDict(const py::object& urdf_path, const py::object& output_path, bool force,
@@ -137,59 +138,16 @@ std::string pythonHandUrdf(const std::string& hand) {
 }
 
 void bindInspect(py::module_& m) {
-  m.def("summary", &summary, py::arg("map"),
-        R"(What `taskmap inspect --json MAP` prints, as a dict.
-
-map: the path of a task map file (.h5), or a TaskMap (then "path" is "").
-Keys: path, generator, created_utc, object {name, vertices, faces, volume (m^3), bounds_min,
-bounds_max (m, object frame)}, hand {name, joints}, sampling {sampler, seed, trials, outcomes},
-grasps {count, force_closure, valid_rate, contacts_available, rotation_scale (m/rad)},
-epsilon {count, min, median, max} over force-closure grasps, clustering (None or {linkage,
-threshold (m), min_size, outliers, clusters [{id, size, representative, pose [x y z qw qx qy
-qz] (palm in the object frame, m), approach (palm +z axis, object frame), mean_epsilon,
-best_epsilon, color}]}).
-Raises taskmap.Error naming the file when it is missing or not a task map.)");
-  m.def(
-      "hand_init", &handInitDict, py::arg("urdf"), py::kw_only(), py::arg("output") = py::none(),
-      py::arg("force") = false, py::arg("package_path") = std::vector<std::string>{},
-      R"(What `taskmap hand-init URDF [-o OUTPUT]` drafts: a hand sidecar from the URDF alone (palm
-link, palm frame and approach axis from where the fingers close, closing joints and directions,
-fingers as chains, preshape).
-
-Returns a dict: sidecar (the draft as a dict), json (its text, what the CLI prints or writes),
-notes (one line per guess: the field, its value and why). output: also write the json there
-(atomically; an existing file only with force=True). package_path: folders where package://
-mesh paths are looked up before ROS_PACKAGE_PATH. Raises taskmap.Error naming the file, and
-the undecided fields when the draft cannot decide them.)");
+  m.def("summary", &summary, py::arg("map"), pydoc::kSummary);
+  m.def("hand_init", &handInitDict, py::arg("urdf"), py::kw_only(), py::arg("output") = py::none(),
+        py::arg("force") = false, py::arg("package_path") = std::vector<std::string>{},
+        pydoc::kHandInit);
   m.def("mesh_info", &meshInfoDict, py::arg("file"), py::kw_only(), py::arg("scale") = 1.0,
         py::arg("no_repair") = false, py::arg("repair") = "", py::arg("wrap_alpha") = 0.0,
-        py::arg("wrap_offset") = 0.0,
-        R"(What `taskmap mesh-info --json FILE` reports about an object mesh loaded as a solid, as
-a dict.
-
-file: a mesh file (any format assimp reads); scale multiplies its coordinates (file units to
-metres). no_repair: refuse a mesh that needs repair; repair="wrap": also close an open surface by
-alpha wrapping (wrap_alpha, wrap_offset in metres, 0: automatic), as `taskmap build` loads it.
-Keys: path, format, sha256, scale, input_vertices, input_faces, vertices, faces, repairs,
-warnings, size (m), graspable_size, closed, volume (m^3), bounds_min, bounds_max, center_of_mass
-(m, object frame), inertia (3 rows; density 1 kg/m^3, about the centre of mass, kg m^2),
-torque_scale (m).
-Raises taskmap.Error naming the file when it is missing or does not load as a solid.)");
+        py::arg("wrap_offset") = 0.0, pydoc::kMeshInfo);
   m.def("hand_info", &handInfoDict, py::arg("hand"), py::kw_only(), py::arg("png") = "",
         py::arg("html") = "", py::arg("package_path") = std::vector<std::string>{},
-        R"(What `taskmap hand-info --json HAND` reports, as a dict.
-
-hand: a hand URDF (its <stem>.hand.json sidecar beside it), or a bundled hand name (looked up in
-<data dir>/hands: $TASKMAP_DATA_DIR, else the share/taskmap installed with the package).
-png: also draw the hand in its preshape and fully closed, three views
-each (PNG, written atomically). html: also write the interactive 3-D page. package_path: folders
-where package:// mesh paths are looked up before ROS_PACKAGE_PATH (the CLI's --package-path).
-Keys: name, robot_name, urdf, sidecar, urdf_sha256, joints [{name, type, parent, child, lower,
-upper (rad or m), axis, mimic | actuated, preshape, closed}], closing, palm_link, palm_frame
-{xyz (m), rpy (rad)} in the palm link, root_to_palm {xyz, rpy} in the URDF root, approach_axis
-(palm frame), rotation_scale (m/rad), reach (m), squeeze, fingers, links, collision_meshes
-(volumes in m^3), warnings (set-ups that cannot grasp), notes.
-Raises taskmap.Error naming the file when the hand does not load.)");
+        pydoc::kHandInfo);
 }
 
 }  // namespace taskmap

@@ -2,6 +2,8 @@
 // file holds per grasp (mapstore/SCHEMA.md), in its units (metres, radians, object frame).
 #include "map_arrays.hpp"
 
+#include "core_docs.hpp"
+
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -155,9 +157,7 @@ void bindTaskMapArrays(py::class_<TaskMap>& cls) {
       .def_property_readonly(
           "contact_links", [](const TaskMap& t) { return array(t.data().grasps.contact_links); },
           "M hand link indices (into link_names).")
-      .def("contacts", &contactsOf, py::arg("i"),
-           "Grasp i's contacts: dict points (K x 3, metres, object frame), normals (K x 3), "
-           "depths (K, metres), links (K) and link_names (K names).")
+      .def("contacts", &contactsOf, py::arg("i"), pydoc::kContacts)
       .def_property_readonly(
           "hold",
           [](const TaskMap& t) -> py::object {

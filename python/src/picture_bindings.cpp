@@ -2,6 +2,8 @@
 // [--height H]`, with the same keyword arguments.
 #include "picture_bindings.hpp"
 
+#include "offline_docs.hpp"
+
 #include "fs_path.hpp"
 
 #include <optional>
@@ -59,17 +61,7 @@ std::string picture(const py::object& map, const std::string& png, const std::st
 void bindPicture(py::module_& m) {
   const PictureOptions d;
   m.def("picture", &picture, py::arg("map"), py::kw_only(), py::arg("png"), py::arg("hand") = "",
-        py::arg("width") = d.width, py::arg("height") = d.height,
-        R"(Draws a task map to a PNG, the picture of `taskmap inspect MAP --png PNG`; returns png.
-
-map: the path of a task map file (.h5), or a TaskMap. The picture: three orthographic views
-(top, front, side) of the object silhouette in the object frame with palm positions coloured by
-cluster (outliers grey), each cluster representative with its approach axis (palm +z) and the
-outline of the hand posed by it, and a histogram of epsilon per cluster. hand: the hand to
-outline (URDF, or a bundled name under <data dir>/hands, core/data_dir.hpp); default: the map's hand, found
-by its URDF SHA-256 at the recorded path or under <data dir>/hands (a warning, and no
-hand, when none is found). width >= 800, height >= 600 pixels. The file is written atomically.
-Raises taskmap.Error naming the file or option on bad input.)");
+        py::arg("width") = d.width, py::arg("height") = d.height, pydoc::kPicture);
 }
 
 }  // namespace taskmap

@@ -3,6 +3,8 @@
 // Jacobians are numpy arrays; poses 4x4 matrices or (x y z qw qx qy qz) vectors.
 #include "reaching_bindings.hpp"
 
+#include "offline_docs.hpp"
+
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
 
@@ -128,22 +130,19 @@ py::dict reachDict(const ReachResult& res) {
 
 /// taskmap.Robot: the arm, its hand and scene, kinematics.
 void bindRobot(py::module_& m) {
-  py::class_<PyRobot>(m, "Robot",
-                      "A robot arm (URDF), optionally with a hand on its flange and a scene of "
-                      "fixed bodies (metres, radians; world = robot root frame).")
+  py::class_<PyRobot>(m, "Robot", pydoc::kRobot)
       .def_static(
           "load",
           [](const std::string& urdf) {
             return PyRobot{RobotModel::load(urdf), ""};
           },
-          py::arg("urdf"), "Robot from a URDF (capsules from <stem>.capsules.json if present).")
+          py::arg("urdf"), pydoc::kRobotLoad)
       .def_static(
           "panda_with_humanoid_hand",
           [](const std::string& robots_dir, const std::string& hands_dir) {
             return PyRobot{RobotModel::pandaWithHumanoidHand(robots_dir, hands_dir), ""};
           },
-          py::arg("robots_dir"), py::arg("hands_dir"),
-          "The bundled Panda (<robots_dir>/panda) with the humanoid hand (<hands_dir>/humanoid).")
+          py::arg("robots_dir"), py::arg("hands_dir"), pydoc::kRobotPandaHumanoid)
       .def(
           "add_scene",
           [](PyRobot& r, const std::string& path) {
@@ -151,18 +150,29 @@ void bindRobot(py::module_& m) {
             addSceneTo(scene, r.model);
             r.object = scene.object;
           },
-          py::arg("path") = "", "Adds a scene file's bodies ('' = table and cylinder object).")
-      .def_property_readonly("dofs", [](const PyRobot& r) { return r.model.dofs(); })
-      .def_property_readonly("dof_names", [](const PyRobot& r) { return r.model.dofNames(); })
-      .def_property_readonly("lower", [](const PyRobot& r) { return r.model.lower(); })
-      .def_property_readonly("upper", [](const PyRobot& r) { return r.model.upper(); })
-      .def_property_readonly("object", [](const PyRobot& r) { return r.object; })
-      .def_property_readonly("body_names",
-                             [](const PyRobot& r) {
-                               std::vector<std::string> names;
-                               for (const RobotBody& b : r.model.bodies()) names.push_back(b.name);
-                               return names;
-                             })
+          py::arg("path") = "", pydoc::kRobotAddScene)
+      .def_property_readonly(
+          "dofs", [](const PyRobot& r) { return r.model.dofs(); }, "Number of joints.")
+      .def_property_readonly(
+          "dof_names", [](const PyRobot& r) { return r.model.dofNames(); },
+          "The joints' names, in the order of q.")
+      .def_property_readonly(
+          "lower", [](const PyRobot& r) { return r.model.lower(); },
+          "Lower joint limits (radians; metres for prismatic joints).")
+      .def_property_readonly(
+          "upper", [](const PyRobot& r) { return r.model.upper(); },
+          "Upper joint limits (radians; metres for prismatic joints).")
+      .def_property_readonly(
+          "object", [](const PyRobot& r) { return r.object; },
+          "The scene's object body ('' before add_scene).")
+      .def_property_readonly(
+          "body_names",
+          [](const PyRobot& r) {
+            std::vector<std::string> names;
+            for (const RobotBody& b : r.model.bodies()) names.push_back(b.name);
+            return names;
+          },
+          "Every body's name, parents first (the hand's links and 'palm' included).")
       .def(
           "forward_kinematics",
           [](const PyRobot& r, const Eigen::VectorXd& q) {
@@ -172,7 +182,7 @@ void bindRobot(py::module_& m) {
               poses.push_back(kin.pose(static_cast<int>(i)).matrix());
             return poses;
           },
-          py::arg("q"), "World pose (4x4) of every body, body_names order.")
+          py::arg("q"), pydoc::kRobotFk)
       .def(
           "jacobian",
           [](const PyRobot& r, const Eigen::VectorXd& q, const std::string& body,
@@ -184,9 +194,7 @@ void bindRobot(py::module_& m) {
             j.bottomRows(3) = kin.relativeAngularJacobian(b, ref);
             return j;
           },
-          py::arg("q"), py::arg("body"), py::arg("reference") = "",
-          "6 x dofs Jacobian of body relative to reference ('' = world) in the reference frame: "
-          "linear rows (eq. 1.4) then angular rows (eq. 1.5).");
+          py::arg("q"), py::arg("body"), py::arg("reference") = "", pydoc::kRobotJacobian);
 }
 
 /// taskmap.reach and taskmap.plan_grasp.
@@ -217,12 +225,7 @@ void bindPlanning(py::module_& m) {
       py::arg("robot"), py::arg("target"), py::arg("body") = "", py::arg("reference") = "object",
       py::arg("q0") = py::none(), py::arg("steps") = 300, py::arg("dt") = 0.01,
       py::arg("relaxation_time") = 0.2, py::arg("move_time") = 1.0,
-      py::arg("avoid_collisions") = true,
-      "Attractor dynamics + resolved-rate IK rollout moving body (default the palm) to target "
-      "(x y z qw qx qy qz in the reference body's frame; 'object' = the scene's object, '' = "
-      "world). Returns a dict: status, message, q (steps+1 x dofs), position_error, "
-      "orientation_error, min_clearance (None without pairs), min_clearance_pair, "
-      "joint_limit_margin.");
+      py::arg("avoid_collisions") = true, pydoc::kReachTarget);
 
   m.def(
       "reach",
@@ -266,22 +269,7 @@ void bindPlanning(py::module_& m) {
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
       py::arg("quality_weight") = 3.0e4, py::arg("steps") = 300, py::arg("dt") = 0.01,
       py::arg("descent") = "bfgs", py::arg("resimulate") = py::none(), py::arg("hold_test") = false,
-      py::arg("member_tries") = 16,
-      "Reach and grasp the scene's object with a TaskMap as the target (the issue's "
-      "taskmap.reach; `taskmap reach --map`): returns the dict of `taskmap reach --map --json` "
-      "(status, message, ms_per_plan, map_weights (proximity, quality, quality_peak q*: the "
-      "quality terms are quality_weight g_q / q*, -quality_weight at the map's best grasp), "
-      "ranking, plans, cluster, grasp_index, iterations, "
-      "iterations_to_manifold, iterations_to_quality, min_clearance_m, joint_limit_margin_rad, "
-      "velocity_ratio, collision_free, ms_per_iteration, cost_history (dicts per iteration), "
-      "proximity_over_movement, quality_over_movement (weighted, per step), q_final) and q, "
-      "the joint trajectory (steps+1 x dofs, rad) as a numpy array, and 'resimulated' as in the "
-      "CLI's JSON: the final palm pose re-simulated with the map's own hand, object and build "
-      "options. resimulate: None (default, as the CLI) re-simulates a built map and skips a map "
-      "from arrays (no object to simulate); True requires it, False skips it. hold_test=True "
-      "also tests that grasp with the physics hold test (key 'resimulated'.'hold'). "
-      "member_tries: members of a cluster tried when its representative is out of reach "
-      "(then outliers, when no cluster is reachable; 0: representatives only).");
+      py::arg("member_tries") = 16, pydoc::kReachMap);
 
   m.def(
       "plan_grasp",
@@ -300,14 +288,7 @@ void bindPlanning(py::module_& m) {
       },
       py::arg("robot"), py::arg("map"), py::arg("q0") = py::none(), py::arg("all_clusters") = false,
       py::arg("iterations") = 40, py::arg("proximity_weight") = 1.0e4,
-      py::arg("quality_weight") = 3.0e4, py::arg("member_tries") = 16,
-      "Reach and grasp the scene's object with the task map as target (docs/REACHING.md, Grasp "
-      "planning): clusters ranked by comfort, trajectory over attractor points optimised with "
-      "the map's proximity and quality terms (quality_weight on g_q / q*, q* the map's best "
-      "quality at its grasps). Returns a dict: status, message, cluster, "
-      "grasp_index, iterations, iterations_to_manifold, iterations_to_quality, min_clearance_m, "
-      "joint_limit_margin_rad, collision_free, ms_per_iteration, cost_history, "
-      "proximity_history, quality_history, q (steps+1 x dofs).");
+      py::arg("quality_weight") = 3.0e4, py::arg("member_tries") = 16, pydoc::kPlanGrasp);
 }
 
 }  // namespace
@@ -319,13 +300,9 @@ void bindCosts(py::module_& m) {
       [](const Eigen::VectorXd& q, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi) {
         return jointLimitCost(q, lo, hi);
       },
-      py::arg("q"), py::arg("lower"), py::arg("upper"),
-      "Joint-limit cost (eq. 1.8): 1/2 sum(((q - mid) / (upper - lower))**2), q and the limits "
-      "in radians or metres.");
+      py::arg("q"), py::arg("lower"), py::arg("upper"), pydoc::kJointLimitCost);
   m.def("collision_cost", &collisionCost, py::arg("distances"), py::arg("zone"),
-        py::arg("scale") = 1.0,
-        "Collision cost (eq. 1.9-1.10) summed over closest-point distances (metres, negative "
-        "when penetrating) with zone distance d_B = zone (metres) and slope scale.");
+        py::arg("scale") = 1.0, pydoc::kCollisionCost);
 }
 
 void bindReaching(py::module_& m) {

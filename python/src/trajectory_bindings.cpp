@@ -2,6 +2,8 @@
 // verified reader (seal checked before HDF5 parses a byte), as a dict of numpy arrays.
 #include "trajectory_bindings.hpp"
 
+#include "core_docs.hpp"
+
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
@@ -83,17 +85,7 @@ void bindTrajectory(py::module_& m) {
   m.def(
       "read_trajectory",
       [](const std::string& path) { return trajectoryDict(readTrajectory(path)); }, py::arg("path"),
-      "Reads a trajectory file (`taskmap reach --map ... -o`, mapstore/TRAJECTORY.md) after "
-      "checking its seal, unlike h5py: a dict with generator, created_utc, robot, hand, dt (s), "
-      "joint_names, joints (S x D, rad), palm_world and palm_object (S x 7: x y z qw qx qy qz), "
-      "object_name, object_pose (7), object_vertices, object_faces, map_path, map_sha256, "
-      "start_cluster, cluster, grasp_index, quality_peak (q*: the quality columns are "
-      "w_map,q g_q / q*; 1 in older files), map_hand, map_hand_sha256, map_hand_path, "
-      "grasp_joint_names, grasp_joints (J, rad; empty lists in files written before they were "
-      "recorded), cost_terms, cost_history ((I+1) x terms), "
-      "proximity_over_movement, quality_over_movement (S), body_names, body_parents, "
-      "body_roles, body_poses (S x B x 7), shapes (dict: body, type, params P x 15). Raises "
-      "taskmap.Error naming the file when it is missing, damaged or not a trajectory file.");
+      pydoc::kReadTrajectory);
 }
 
 }  // namespace taskmap

@@ -1,6 +1,8 @@
 // taskmap.validate: labels a map's grasps with the physics hold test (docs/VALIDATION.md) and
 // writes them into the map, with the keyword arguments of `taskmap validate`.
 #include "validate_bindings.hpp"
+
+#include "offline_docs.hpp"
 #include "python_run.hpp"
 
 #include <pybind11/stl.h>
@@ -98,37 +100,11 @@ void bindValidate(py::module_& m) {
         py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
         py::arg("contact_patch") = d.contact_patch, py::arg("robust") = false,
         py::arg("full") = false, py::arg("stated_dynamics") = d.stated_dynamics,
-        py::arg("progress") = py::none(),
-        "Tests whether the grasps of the map at `map` hold the object in physics "
-        "(DexGraspBench's protocol in MuJoCo: a free object of object_mass kg, friction "
-        "`friction`, six pushes of 10 N/kg; docs/VALIDATION.md) and writes the labels "
-        "(/grasps/hold) into the map, or into `output`. hand: the URDF (default: the one the map "
-        "was built with, at its recorded path or a bundled hand with the same SHA-256); threads: "
-        "0 all cores; grasps: test only the first N (0 all); jaw_force: N per parallel jaw; "
-        "contact_patch: metres (0: one contact per shape); robust: also the robust label "
-        "(`taskmap validate --robust`: every grasp again with the palm 1 mm and 2 degrees off "
-        "along and about each palm axis, friction 0.5 and a second decomposition, each within "
-        "1 cm and 5 degrees; /grasps/robust, robust_share, robust_variants); full: every push "
-        "its whole 2 s (default: a push ends once the object settled); stated_dynamics: an MJCF "
-        "hand's own masses, gains, damping and friction where its model states them (False: the "
-        "protocol's, as `taskmap validate --protocol-dynamics`); progress: called about "
-        "every 0.25 s "
-        "with a dict (done, total, holding). Ctrl-C raises KeyboardInterrupt and writes nothing. "
-        "Returns the summary as a dict (the keys of `taskmap validate --json`): tested, holding, "
-        "hold_rate, force_closure_tested, force_closure_holding, statuses, slipped_by_direction "
-        "(by direction: -x +x -y +y -z +z), object_pieces, object_volume_error, object_note, "
-        "cpu_seconds, wall_seconds, grasps_per_cpu_second, steps; with robust also robust, "
-        "robust_rate and variant_failures (by variant).");
+        py::arg("progress") = py::none(), pydoc::kValidate);
   m.def("trace_hold", &tracePath, py::arg("map"), py::arg("grasp"), py::arg("hand") = "",
         py::arg("object_mass") = d.object_mass, py::arg("friction") = d.sliding_friction,
         py::arg("jaw_force") = d.jaw_force, py::arg("contact_patch") = d.contact_patch,
-        "Runs the hold test of grasp `grasp` (index from 0) of the map at `map` and returns where "
-        "the object went (what `taskmap validate --trace I --json` prints; the map is not "
-        "written): status, holds, max_translation (m), max_rotation (rad), failed_direction, "
-        "initial_penetration, approach (the approach axis, palm frame) and samples, one after "
-        "each closing stage and each check of the pushes, with phase ('closing', 'squeeze' or "
-        "the push), step, translation, rotation, offset (palm frame, m), along_approach (m) and "
-        "contacts (link name: newtons). Other arguments as for validate.");
+        pydoc::kTraceHold);
 }
 
 }  // namespace taskmap

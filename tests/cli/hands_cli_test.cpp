@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -360,11 +361,53 @@ TEST(HandsCli, UnknownHandAndObjectNamesGetDidYouMean) {
                          objects + "/basket.obj'"),
             std::string::npos)
       << run.out;
-  run = runTaskmap("mesh-info basket");
+  run = runTaskmap("mesh-info baskt");
   EXPECT_EQ(run.code, 1) << run.out;
-  EXPECT_NE(run.out.find("did you mean '"), std::string::npos) << run.out;
-  EXPECT_NE(run.out.find("objects/basket.obj'"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("cannot open mesh file 'baskt': no such file; did you mean 'basket'?"),
+            std::string::npos)
+      << run.out;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// Bundled objects are named like bundled hands: `--object basket`, `mesh-info mug`.
+TEST(HandsCli, BundledObjectsByName) {
+  CliRun run = runTaskmap("mesh-info basket --json");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("\"closed\": true"), std::string::npos) << run.out;
+  const std::string out = kScratch.path("bundled_box.h5");
+  run =
+      runTaskmap("build --object box --hand panda --valid 3 --seed 1 --hold-test off -q -o " + out);
+  ASSERT_EQ(run.code, 0) << run.out;
+  run = runTaskmap("inspect " + out + " --json");
+  EXPECT_NE(run.out.find("\"name\": \"box\""), std::string::npos) << run.out;
+  // A name is a name only without a folder or an extension: "box.obj" is a file here.
+  run = runTaskmap("mesh-info box.obj");
+  EXPECT_EQ(run.code, 1) << run.out;
+  EXPECT_NE(run.out.find("did you mean"), std::string::npos) << run.out;
+}
+
+// `taskmap --help` lists each command in one line; `taskmap CMD --help` keeps the full text.
+TEST(CliHelp, EachCommandInOneLine) {
+  CliRun run = runTaskmap("--help");
+  ASSERT_EQ(run.code, 0) << run.out;
+  const std::size_t at = run.out.find("Subcommands:\n");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  std::istringstream lines(run.out.substr(at + 13));
+  std::string line;
+  int commands = 0;
+  while (std::getline(lines, line) && !line.empty()) {
+    EXPECT_LE(line.size(), 100u) << line;
+    // "  name   summary": a name, then its summary on the same line, no continuation lines.
+    EXPECT_TRUE(line.size() > 14 && line.rfind("  ", 0) == 0 && line[2] != ' ' &&
+                line.find_first_not_of(' ', 14) == 14)
+        << "not one line per command: '" << line << "'";
+    ++commands;
+  }
+  EXPECT_GE(commands, 15) << run.out;
+  run = runTaskmap("build --help");
+  ASSERT_EQ(run.code, 0) << run.out;
+  EXPECT_NE(run.out.find("--object"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("bundled object name"), std::string::npos) << run.out;
 }
 
 }  // namespace

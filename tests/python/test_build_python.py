@@ -116,6 +116,15 @@ class BuildPythonTest(unittest.TestCase):
                           valid=1000000, trials=100000000, threads=2, progress=fail)
         self.assertFalse(os.path.exists(self.path("cb.h5")))
 
+    def test_bundled_objects_by_name(self):
+        # Objects are named like hands: "box" is <data dir>/objects/box.obj.
+        m = taskmap.build(object="box", hand="panda", output=self.path("named.h5"), valid=3,
+                          seed=1, hold_test="off")
+        self.assertEqual(len(m), 3)
+        self.assertTrue(taskmap.mesh_info("basket")["closed"])
+        with self.assertRaisesRegex(taskmap.Error, "did you mean 'basket'"):
+            taskmap.mesh_info("baskt")
+
     def test_errors_name_the_option(self):
         with self.assertRaisesRegex(taskmap.Error, "keep_holding needs validate"):
             taskmap.build(object=self.obj, hand="panda", output=self.path("e.h5"),

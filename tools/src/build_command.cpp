@@ -17,7 +17,10 @@
 namespace taskmap::cli {
 void addBuildOptions(CLI::App& cmd_ref, BuildArgs& args) {
   CLI::App* cmd = &cmd_ref;
-  cmd->add_option("--object", args.object, "object mesh (any format assimp reads)")->required();
+  cmd->add_option("--object", args.object,
+                  "object mesh (any format assimp reads), or a bundled object name (basket, "
+                  "bowl, box, cylinder, mug, sphere)")
+      ->required();
   cmd->add_option("--hand", args.hand,
                   "hand URDF or MJCF (with its <stem>.hand.json sidecar), or a bundled "
                   "hand name")

@@ -56,19 +56,21 @@ void runBuild(const BuildArgs& args) {
       std::to_string(result.threads) + " (not stored: the map does not depend on it)");
 }
 
-const CommandRegistrar kRegistrar("build", [](CLI::App& app) {
-  auto args = std::make_shared<BuildArgs>();
-  CLI::App* cmd =
-      app.add_subcommand("build",
-                         "Build a task map: sample initial hand poses, simulate each "
-                         "grasp trial (retract, close, "
-                         "squeeze), score force closure, cluster the grasps, and write "
-                         "an HDF5 map "
-                         "(mapstore/SCHEMA.md). The same command and seed give the same "
-                         "map for any --threads.");
-  addBuildOptions(*cmd, *args);
-  cmd->callback([args]() { runBuild(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "build", "Build a task map: sample, simulate, score, test the grasps in physics, cluster",
+    [](CLI::App& app) {
+      auto args = std::make_shared<BuildArgs>();
+      CLI::App* cmd =
+          app.add_subcommand("build",
+                             "Build a task map: sample initial hand poses, simulate each "
+                             "grasp trial (retract, close, "
+                             "squeeze), score force closure, cluster the grasps, and write "
+                             "an HDF5 map "
+                             "(mapstore/SCHEMA.md). The same command and seed give the same "
+                             "map for any --threads.");
+      addBuildOptions(*cmd, *args);
+      cmd->callback([args]() { runBuild(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

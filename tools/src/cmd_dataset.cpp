@@ -45,18 +45,20 @@ void runDataset(const DatasetArgs& args) {
   }
 }
 
-const CommandRegistrar kRegistrar("dataset", [](CLI::App& app) {
-  auto args = std::make_shared<DatasetArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "dataset",
-      "Build one task map per (object, hand) into a directory with manifest.json. Each job's "
-      "seed derives from --seed and the contents of mesh and hand, so the maps depend neither "
-      "on the list order nor on how many processes build them (taskmap-mpi dataset gives the "
-      "same). A re-run skips maps whose file and parameters match the manifest; a bad mesh is "
-      "recorded there, not fatal (exit code 1 at the end).");
-  addDatasetOptions(*cmd, *args);
-  cmd->callback([args]() { runDataset(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "dataset", "Build one map per (object, hand) into a directory with a manifest",
+    [](CLI::App& app) {
+      auto args = std::make_shared<DatasetArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "dataset",
+          "Build one task map per (object, hand) into a directory with manifest.json. Each job's "
+          "seed derives from --seed and the contents of mesh and hand, so the maps depend neither "
+          "on the list order nor on how many processes build them (taskmap-mpi dataset gives the "
+          "same). A re-run skips maps whose file and parameters match the manifest; a bad mesh is "
+          "recorded there, not fatal (exit code 1 at the end).");
+      addDatasetOptions(*cmd, *args);
+      cmd->callback([args]() { runDataset(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

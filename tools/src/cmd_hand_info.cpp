@@ -40,27 +40,30 @@ void run(const HandInfoArgs& args) {
   if (!args.html.empty() && !args.json) std::printf("wrote:          %s\n", args.html.c_str());
 }
 
-const CommandRegistrar kRegistrar("hand-info", [](CLI::App& app) {
-  auto args = std::make_shared<HandInfoArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "hand-info",
-      "Show what taskmap makes of a hand: joints, limits, mimic couplings, preshape and closing, "
-      "palm frame, approach axis, rho; warn about set-ups that cannot grasp (no finger reaches "
-      "past the front of the palm or of geometry fixed to it; collision meshes that could not "
-      "be decomposed), the warnings `build` prints before its trials");
-  cmd->add_option("hand", args->hand,
-                  "hand URDF or MJCF (with its <stem>.hand.json) or bundled name")
-      ->required();
-  cmd->add_option("--png", args->png,
-                  "also draw the hand in its preshape and fully closed, three views each");
-  cmd->add_option("--html", args->html,
-                  "also write an interactive 3-D page (self-contained HTML): the hand open and "
-                  "closed, palm frame, approach axis, one slider per joint");
-  cmd->add_flag("--json", args->json, "print JSON instead of text");
-  addPackagePathOption(cmd);
-  cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
-  cmd->callback([args]() { run(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "hand-info", "Show what taskmap makes of a hand; warn about set-ups that cannot grasp",
+    [](CLI::App& app) {
+      auto args = std::make_shared<HandInfoArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "hand-info",
+          "Show what taskmap makes of a hand: joints, limits, mimic couplings, preshape and "
+          "closing, "
+          "palm frame, approach axis, rho; warn about set-ups that cannot grasp (no finger reaches "
+          "past the front of the palm or of geometry fixed to it; collision meshes that could not "
+          "be decomposed), the warnings `build` prints before its trials");
+      cmd->add_option("hand", args->hand,
+                      "hand URDF or MJCF (with its <stem>.hand.json) or bundled name")
+          ->required();
+      cmd->add_option("--png", args->png,
+                      "also draw the hand in its preshape and fully closed, three views each");
+      cmd->add_option("--html", args->html,
+                      "also write an interactive 3-D page (self-contained HTML): the hand open and "
+                      "closed, palm frame, approach axis, one slider per joint");
+      cmd->add_flag("--json", args->json, "print JSON instead of text");
+      addPackagePathOption(cmd);
+      cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
+      cmd->callback([args]() { run(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

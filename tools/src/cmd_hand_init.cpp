@@ -45,21 +45,23 @@ void run(const HandInitArgs& args) {
       args.output.c_str(), args.urdf.c_str());
 }
 
-const CommandRegistrar kRegistrar("hand-init", [](CLI::App& app) {
-  auto args = std::make_shared<HandInitArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "hand-init",
-      "Draft a hand sidecar (<stem>.hand.json) from the URDF alone: palm link, palm frame and "
-      "approach axis from where the fingers close, closing joints and directions, fingers as "
-      "chains, preshape; prints each guess and why, and names any field it could not decide "
-      "(exit status 1)");
-  cmd->add_option("urdf", args->urdf, "hand URDF or MJCF")->required();
-  cmd->add_option("-o,--output", args->output,
-                  "write the sidecar here (default: print it), e.g. HAND.hand.json");
-  cmd->add_flag("--force", args->force, "replace an existing -o file");
-  addPackagePathOption(cmd);
-  cmd->callback([args]() { run(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "hand-init", "Draft a hand's sidecar (<stem>.hand.json) from its URDF or MJCF",
+    [](CLI::App& app) {
+      auto args = std::make_shared<HandInitArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "hand-init",
+          "Draft a hand sidecar (<stem>.hand.json) from the URDF alone: palm link, palm frame and "
+          "approach axis from where the fingers close, closing joints and directions, fingers as "
+          "chains, preshape; prints each guess and why, and names any field it could not decide "
+          "(exit status 1)");
+      cmd->add_option("urdf", args->urdf, "hand URDF or MJCF")->required();
+      cmd->add_option("-o,--output", args->output,
+                      "write the sidecar here (default: print it), e.g. HAND.hand.json");
+      cmd->add_flag("--force", args->force, "replace an existing -o file");
+      addPackagePathOption(cmd);
+      cmd->callback([args]() { run(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

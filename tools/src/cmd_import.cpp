@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "taskmap/builder/acronym_import.hpp"
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
 
@@ -31,6 +32,7 @@ struct ImportArgs {
 
 void runImport(ImportArgs& args) {
   AcronymFileImportOptions& o = args.options;
+  o.object = objectFileOrBundled(o.object);
   checkOutputPath(o.output, {o.acronym, o.object}, OutputKind::kTaskMap, args.force);
   if (o.scale < 0) throw Error("--scale must be positive");
   o.import.successful_only = args.successful_only;
@@ -49,48 +51,51 @@ void runImport(ImportArgs& args) {
             << describeBaseToPalm(args.frame, o.import.base_to_palm) << "\n";
 }
 
-const CommandRegistrar kRegistrar("import", [](CLI::App& app) {
-  auto args = std::make_shared<ImportArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "import",
-      "Turn an ACRONYM grasp file into a task map: poses from grasps/transforms, force closure "
-      "from grasps/qualities/flex/object_in_gripper, epsilon from the taskmap epsilon if the "
-      "file has one (else the success flag 0/1); contacts absent; clustered like `taskmap "
-      "build`.");
-  cmd->add_option("--acronym", args->options.acronym, "ACRONYM grasp file (.h5)")->required();
-  cmd->add_option("--object", args->options.object,
-                  "the object's mesh file (any format assimp reads)")
-      ->required();
-  cmd->add_option("-o,--output", args->options.output, "task map to write (.h5)")->required();
-  cmd->add_option("--scale", args->options.scale,
-                  "scale of the mesh file (default: the file's object/scale)");
-  cmd->add_flag("--successful-only", args->successful_only,
-                "keep only grasps with object_in_gripper = 1");
-  cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the imported grasps");
-  cmd->add_flag("--timestamp", args->options.timestamp,
-                "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
-                "else none)");
-  cmd->add_option("--linkage", args->linkage, "single, average or complete")->capture_default_str();
-  cmd->add_option("--rotation-scale", args->rotation_scale,
-                  "rho of the pose metric in metres per radian")
-      ->capture_default_str();
-  cmd->add_option("--threshold", args->threshold, "cut distance in metres (default: automatic)");
-  cmd->add_option("--clusters", args->clusters, "cut to this many clusters");
-  cmd->add_option("--min-size-fraction", args->min_size_fraction,
-                  "clusters below this share of the grasps are outliers")
-      ->capture_default_str();
-  addAcronymFrameOptions(cmd, args->frame);
-  cmd->add_option("--cpu-seconds", args->options.cpu_seconds,
-                  "CPU-time limit of the import (it runs in a child process)")
-      ->check(CLI::Range(1, 86400))
-      ->capture_default_str();
-  cmd->add_option("--memory-gib", args->options.memory_gib, "address-space limit of the import")
-      ->check(CLI::Range(0.25, 1024.0))
-      ->capture_default_str();
-  cmd->add_flag("--force", args->force,
-                "replace an existing output file that is not a task map (never an input)");
-  cmd->callback([args]() { runImport(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "import", "Turn an ACRONYM grasp file into a task map", [](CLI::App& app) {
+      auto args = std::make_shared<ImportArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "import",
+          "Turn an ACRONYM grasp file into a task map: poses from grasps/transforms, force closure "
+          "from grasps/qualities/flex/object_in_gripper, epsilon from the taskmap epsilon if the "
+          "file has one (else the success flag 0/1); contacts absent; clustered like `taskmap "
+          "build`.");
+      cmd->add_option("--acronym", args->options.acronym, "ACRONYM grasp file (.h5)")->required();
+      cmd->add_option("--object", args->options.object,
+                      "the object's mesh file (any format assimp reads), or a bundled object name")
+          ->required();
+      cmd->add_option("-o,--output", args->options.output, "task map to write (.h5)")->required();
+      cmd->add_option("--scale", args->options.scale,
+                      "scale of the mesh file (default: the file's object/scale)");
+      cmd->add_flag("--successful-only", args->successful_only,
+                    "keep only grasps with object_in_gripper = 1");
+      cmd->add_flag("--no-cluster", args->no_cluster, "do not cluster the imported grasps");
+      cmd->add_flag("--timestamp", args->options.timestamp,
+                    "store the current time as created_utc (default: SOURCE_DATE_EPOCH if set, "
+                    "else none)");
+      cmd->add_option("--linkage", args->linkage, "single, average or complete")
+          ->capture_default_str();
+      cmd->add_option("--rotation-scale", args->rotation_scale,
+                      "rho of the pose metric in metres per radian")
+          ->capture_default_str();
+      cmd->add_option("--threshold", args->threshold,
+                      "cut distance in metres (default: automatic)");
+      cmd->add_option("--clusters", args->clusters, "cut to this many clusters");
+      cmd->add_option("--min-size-fraction", args->min_size_fraction,
+                      "clusters below this share of the grasps are outliers")
+          ->capture_default_str();
+      addAcronymFrameOptions(cmd, args->frame);
+      cmd->add_option("--cpu-seconds", args->options.cpu_seconds,
+                      "CPU-time limit of the import (it runs in a child process)")
+          ->check(CLI::Range(1, 86400))
+          ->capture_default_str();
+      cmd->add_option("--memory-gib", args->options.memory_gib, "address-space limit of the import")
+          ->check(CLI::Range(0.25, 1024.0))
+          ->capture_default_str();
+      cmd->add_flag("--force", args->force,
+                    "replace an existing output file that is not a task map (never an input)");
+      cmd->callback([args]() { runImport(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

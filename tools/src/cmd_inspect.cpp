@@ -43,33 +43,37 @@ void runInspect(const InspectArgs& args) {
   }
 }
 
-const CommandRegistrar kRegistrar("inspect", [](CLI::App& app) {
-  auto args = std::make_shared<InspectArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "inspect",
-      "Summarise a task map: object, hand, sampling, trial outcomes, epsilon statistics and the "
-      "cluster table (--json for scripts), and optionally draw it (--png).");
-  cmd->add_option("map", args->map, "task map file (.h5)")->required();
-  cmd->add_flag("--json", args->json,
-                "print JSON instead of text: keys path, generator, created_utc, object, hand, "
-                "sampling, grasps, epsilon (over force-closure grasps), clustering (null or "
-                "{linkage, threshold, min_size, outliers, clusters[{id, size, representative, "
-                "pose [x y z qw qx qy qz], approach, mean_epsilon, best_epsilon, color}]})");
-  cmd->add_option("--png", args->png,
-                  "also draw the map to this PNG: three orthographic views (top, front, side) "
-                  "of the object silhouette with palm positions coloured by cluster (outliers "
-                  "grey), representatives with their approach axis (palm +z) and the outline of "
-                  "the hand posed by them, and a histogram of epsilon per cluster");
-  cmd->add_option("--hand", args->hand,
-                  "--png: the hand to outline (URDF or bundled hand name; default: the map's "
-                  "hand, found by its URDF SHA-256; without it no hand is drawn)");
-  cmd->add_option("--width", args->picture.width, "picture width in pixels (>= 800)")
-      ->capture_default_str();
-  cmd->add_option("--height", args->picture.height, "picture height in pixels (>= 600)")
-      ->capture_default_str();
-  cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
-  cmd->callback([args]() { runInspect(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "inspect", "Summarise a map (outcomes, epsilon, clusters) and draw it (--png)",
+    [](CLI::App& app) {
+      auto args = std::make_shared<InspectArgs>();
+      CLI::App* cmd =
+          app.add_subcommand("inspect",
+                             "Summarise a task map: object, hand, sampling, trial outcomes, "
+                             "epsilon statistics and the "
+                             "cluster table (--json for scripts), and optionally draw it (--png).");
+      cmd->add_option("map", args->map, "task map file (.h5)")->required();
+      cmd->add_flag("--json", args->json,
+                    "print JSON instead of text: keys path, generator, created_utc, object, hand, "
+                    "sampling, grasps, epsilon (over force-closure grasps), clustering (null or "
+                    "{linkage, threshold, min_size, outliers, clusters[{id, size, representative, "
+                    "pose [x y z qw qx qy qz], approach, mean_epsilon, best_epsilon, color}]})");
+      cmd->add_option(
+          "--png", args->png,
+          "also draw the map to this PNG: three orthographic views (top, front, side) "
+          "of the object silhouette with palm positions coloured by cluster (outliers "
+          "grey), representatives with their approach axis (palm +z) and the outline of "
+          "the hand posed by them, and a histogram of epsilon per cluster");
+      cmd->add_option("--hand", args->hand,
+                      "--png: the hand to outline (URDF or bundled hand name; default: the map's "
+                      "hand, found by its URDF SHA-256; without it no hand is drawn)");
+      cmd->add_option("--width", args->picture.width, "picture width in pixels (>= 800)")
+          ->capture_default_str();
+      cmd->add_option("--height", args->picture.height, "picture height in pixels (>= 600)")
+          ->capture_default_str();
+      cmd->add_flag("--force", args->force, "replace an existing --png file that is not a PNG");
+      cmd->callback([args]() { runInspect(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

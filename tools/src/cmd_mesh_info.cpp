@@ -27,8 +27,7 @@ void run(const MeshInfoArgs& args) {
   applyMeshRepairArgs(args.repair, options);
   ObjectModel model;
   try {
-    requireObjectFile(args.file);
-    model = ObjectModel::load(args.file, options);
+    model = ObjectModel::load(resolveObjectFile(args.file), options);
   } catch (const Error& e) {
     if (args.json) std::cout << meshInfoErrorJson(args.file, e.what()) << "\n";
     throw;
@@ -37,20 +36,25 @@ void run(const MeshInfoArgs& args) {
   std::cout << (args.json ? info.json + "\n" : info.text);
 }
 
-const CommandRegistrar kRegistrar("mesh-info", [](CLI::App& app) {
-  auto args = std::make_shared<MeshInfoArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "mesh-info",
-      "Load an object mesh as a closed solid; print repairs, size and mass properties, and "
-      "flag a size implausible for a graspable object (with the --scale that fixes a file in "
-      "millimetres, centimetres or inches)");
-  cmd->add_option("file", args->file, "mesh file (any format assimp reads)")->required();
-  cmd->add_option("--scale", args->scale, "multiplies coordinates (file units to metres)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_flag("--json", args->json, "print JSON instead of text");
-  addMeshRepairOptions(cmd, args->repair);
-  cmd->callback([args]() { run(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "mesh-info", "Load an object as a closed solid: repairs, size, mass properties",
+    [](CLI::App& app) {
+      auto args = std::make_shared<MeshInfoArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "mesh-info",
+          "Load an object mesh as a closed solid; print repairs, size and mass properties, and "
+          "flag a size implausible for a graspable object (with the --scale that fixes a file in "
+          "millimetres, centimetres or inches)");
+      cmd->add_option(
+             "file", args->file,
+             "mesh file (any format assimp reads), or a bundled object name (basket, box, ...)")
+          ->required();
+      cmd->add_option("--scale", args->scale, "multiplies coordinates (file units to metres)")
+          ->check(CLI::PositiveNumber);
+      cmd->add_flag("--json", args->json, "print JSON instead of text");
+      addMeshRepairOptions(cmd, args->repair);
+      cmd->callback([args]() { run(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

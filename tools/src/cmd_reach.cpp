@@ -151,97 +151,102 @@ void runReach(const ReachArgs& args) {
   }
 }
 
-const CommandRegistrar kRegistrar("reach", [](CLI::App& app) {
-  auto args = std::make_shared<ReachArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "reach",
-      "Move the hand to a fixed palm pose with attractor dynamics and resolved-rate IK, avoiding "
-      "the table and the object (joint-limit and collision null-space terms). Exit status 1 when "
-      "the target is not reached or a collision occurs.");
-  cmd->add_option("--robot", args->robot, "'panda' (the bundled Franka arm) or a robot URDF")
-      ->capture_default_str();
-  cmd->add_option("--hand", args->hand,
-                  "hand on the flange: a name under meshes/hands, a hand URDF, or 'none'")
-      ->capture_default_str();
-  cmd->add_option("--flange", args->flange, "link the hand is mounted on (default fer_link8)");
-  addPackagePathOption(cmd);
-  cmd->add_option("--mount", args->mount,
-                  "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the hand "
-                  "sidecar's \"mount\"; a hand without one needs this option)");
-  cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
-  cmd->add_option("--map", args->map.map,
-                  "task map of the mounted hand (a file or a bundled map name, e.g. "
-                  "basket_humanoid): optimise the reach over attractor points with "
-                  "the map as the target (needs --object-pose)");
-  cmd->add_option("--object-pose", args->map.object_pose,
-                  "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
-  cmd->add_flag("--all-clusters", args->map.all_clusters,
-                "with --map: optimise from every reachable cluster and keep the cheapest");
-  cmd->add_option("--member-tries", args->map.member_tries,
-                  "with --map: when no cluster's representative grasp is in reach, try at most "
-                  "this many other members of each cluster, then as many outliers (0: the "
-                  "representatives only)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_option("--iterations", args->map.iterations, "with --map: optimiser iterations")
-      ->capture_default_str();
-  cmd->add_option("--proximity-weight", args->map.proximity_weight, "with --map: w_map,p")
-      ->capture_default_str();
-  cmd->add_option(
-         "--quality-weight", args->map.quality_weight,
-         "with --map: w_map,q on the map's quality relative to its best grasp, g_q / q* (-1 "
-         "there; 0 switches the quality criterion off)")
-      ->capture_default_str();
-  cmd->add_option("-o,--output", args->map.output,
-                  "with --map: write the planned trajectory (joints, palm and body poses per "
-                  "step, cost history; mapstore/TRAJECTORY.md); `taskmap export-glb` renders it");
-  cmd->add_option("--glb", args->map.glb,
-                  "with --map: also write the trajectory as glTF binary for Blender");
-  cmd->add_option("--descent", args->map.descent,
-                  "with --map: 'bfgs' (quasi-Newton) or 'gradient' (normalised steepest descent)")
-      ->capture_default_str();
-  cmd->add_flag("--resimulate,!--no-resimulate", args->map.resimulate,
-                "with --map: re-simulate the final grasp with grasp_sim on the map's hand and "
-                "object (JSON \"resimulated\"; default on)");
-  cmd->add_option("--sample-weight", args->map.sample_weight,
-                  "with --map: what weighs each map sample in the quality term: 'epsilon', "
-                  "'hold_margin' (epsilon x physics hold margin; needs a validated map) or "
-                  "'auto' (hold_margin when every grasp has a hold label)")
-      ->capture_default_str();
-  cmd->add_flag("--hold-test", args->map.hold_test,
-                "with --map: also test the re-simulated grasp in physics (the validator's "
-                "protocol, docs/VALIDATION.md; JSON \"resimulated\".\"hold\")");
-  cmd->add_option("--via", args->via,
-                  "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
-                  "attractor point passes through; repeat for several");
-  cmd->add_option("--frame", args->frame,
-                  "frame of --target: 'object' (default when the scene has one) or 'world'");
-  cmd->add_option("--scene", args->scene,
-                  "scene JSON (docs/REACHING.md); default: a table and an upright cylinder");
-  cmd->add_option("--start", args->start, "start configuration, one value per joint");
-  cmd->add_option("--steps", args->options.steps, "control steps")->capture_default_str();
-  cmd->add_option("--dt", args->options.attractor.dt, "sampling time, seconds")
-      ->capture_default_str();
-  cmd->add_option("--relaxation-time", args->options.attractor.relaxation_time,
-                  "attractor relaxation time T_mc, seconds")
-      ->capture_default_str();
-  cmd->add_option("--move-time", args->options.move_time,
-                  "seconds for the attractor point to reach the target")
-      ->capture_default_str();
-  cmd->add_flag("--json", args->json,
-                "print JSON: status, message, steps, dt_s, position_error_m, "
-                "orientation_error_rad, collision_pairs, min_clearance_m (null without pairs), "
-                "min_clearance_pair, min_clearance_step, joint_limit_margin, q_start, q_final, "
-                "palm_final [x y z qw qx qy qz], compute_time_s; with --map: iterations, "
-                "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
-                "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
-                "cost_history, proximity_over_movement, quality_over_movement, plans (per "
-                "cluster), ranking, resimulated {outcome, force_closure, epsilon, contacts}");
-  cmd->add_option("--png", args->png, "also draw robot and scene (top, front, side) at 4 steps");
-  cmd->add_flag("--force", args->force,
-                "replace existing -o/--glb/--png files that are not of their kind");
-  cmd->callback([args] { runReach(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "reach", "Plan an arm's reach to a palm pose, or to a grasp of a task map (--map)",
+    [](CLI::App& app) {
+      auto args = std::make_shared<ReachArgs>();
+      CLI::App* cmd = app.add_subcommand("reach",
+                                         "Move the hand to a fixed palm pose with attractor "
+                                         "dynamics and resolved-rate IK, avoiding "
+                                         "the table and the object (joint-limit and collision "
+                                         "null-space terms). Exit status 1 when "
+                                         "the target is not reached or a collision occurs.");
+      cmd->add_option("--robot", args->robot, "'panda' (the bundled Franka arm) or a robot URDF")
+          ->capture_default_str();
+      cmd->add_option("--hand", args->hand,
+                      "hand on the flange: a name under meshes/hands, a hand URDF, or 'none'")
+          ->capture_default_str();
+      cmd->add_option("--flange", args->flange, "link the hand is mounted on (default fer_link8)");
+      addPackagePathOption(cmd);
+      cmd->add_option("--mount", args->mount,
+                      "palm frame in the flange frame \"x y z qw qx qy qz\" (default: the hand "
+                      "sidecar's \"mount\"; a hand without one needs this option)");
+      cmd->add_option("--target", args->target, "target palm pose \"x y z qw qx qy qz\" (metres)");
+      cmd->add_option("--map", args->map.map,
+                      "task map of the mounted hand (a file or a bundled map name, e.g. "
+                      "basket_humanoid): optimise the reach over attractor points with "
+                      "the map as the target (needs --object-pose)");
+      cmd->add_option("--object-pose", args->map.object_pose,
+                      "with --map: object pose in the world \"x y z yaw\" (metres, radians)");
+      cmd->add_flag("--all-clusters", args->map.all_clusters,
+                    "with --map: optimise from every reachable cluster and keep the cheapest");
+      cmd->add_option("--member-tries", args->map.member_tries,
+                      "with --map: when no cluster's representative grasp is in reach, try at most "
+                      "this many other members of each cluster, then as many outliers (0: the "
+                      "representatives only)")
+          ->capture_default_str()
+          ->check(CLI::NonNegativeNumber);
+      cmd->add_option("--iterations", args->map.iterations, "with --map: optimiser iterations")
+          ->capture_default_str();
+      cmd->add_option("--proximity-weight", args->map.proximity_weight, "with --map: w_map,p")
+          ->capture_default_str();
+      cmd->add_option("--quality-weight", args->map.quality_weight,
+                      "with --map: w_map,q on the map's quality relative to its best grasp, "
+                      "g_q / q* (-1 there; 0 switches the quality criterion off)")
+          ->capture_default_str();
+      cmd->add_option(
+          "-o,--output", args->map.output,
+          "with --map: write the planned trajectory (joints, palm and body poses per "
+          "step, cost history; mapstore/TRAJECTORY.md); `taskmap export-glb` renders it");
+      cmd->add_option("--glb", args->map.glb,
+                      "with --map: also write the trajectory as glTF binary for Blender");
+      cmd->add_option(
+             "--descent", args->map.descent,
+             "with --map: 'bfgs' (quasi-Newton) or 'gradient' (normalised steepest descent)")
+          ->capture_default_str();
+      cmd->add_flag("--resimulate,!--no-resimulate", args->map.resimulate,
+                    "with --map: re-simulate the final grasp with grasp_sim on the map's hand and "
+                    "object (JSON \"resimulated\"; default on)");
+      cmd->add_option("--sample-weight", args->map.sample_weight,
+                      "with --map: what weighs each map sample in the quality term: 'epsilon', "
+                      "'hold_margin' (epsilon x physics hold margin; needs a validated map) or "
+                      "'auto' (hold_margin when every grasp has a hold label)")
+          ->capture_default_str();
+      cmd->add_flag("--hold-test", args->map.hold_test,
+                    "with --map: also test the re-simulated grasp in physics (the validator's "
+                    "protocol, docs/VALIDATION.md; JSON \"resimulated\".\"hold\")");
+      cmd->add_option("--via", args->via,
+                      "intermediate palm pose \"x y z qw qx qy qz\" (same frame as --target) the "
+                      "attractor point passes through; repeat for several");
+      cmd->add_option("--frame", args->frame,
+                      "frame of --target: 'object' (default when the scene has one) or 'world'");
+      cmd->add_option("--scene", args->scene,
+                      "scene JSON (docs/REACHING.md); default: a table and an upright cylinder");
+      cmd->add_option("--start", args->start, "start configuration, one value per joint");
+      cmd->add_option("--steps", args->options.steps, "control steps")->capture_default_str();
+      cmd->add_option("--dt", args->options.attractor.dt, "sampling time, seconds")
+          ->capture_default_str();
+      cmd->add_option("--relaxation-time", args->options.attractor.relaxation_time,
+                      "attractor relaxation time T_mc, seconds")
+          ->capture_default_str();
+      cmd->add_option("--move-time", args->options.move_time,
+                      "seconds for the attractor point to reach the target")
+          ->capture_default_str();
+      cmd->add_flag("--json", args->json,
+                    "print JSON: status, message, steps, dt_s, position_error_m, "
+                    "orientation_error_rad, collision_pairs, min_clearance_m (null without pairs), "
+                    "min_clearance_pair, min_clearance_step, joint_limit_margin, q_start, q_final, "
+                    "palm_final [x y z qw qx qy qz], compute_time_s; with --map: iterations, "
+                    "iterations_to_manifold, iterations_to_quality, cluster, grasp_index, "
+                    "min_clearance_m, joint_limit_margin_rad, collision_free, ms_per_iteration, "
+                    "cost_history, proximity_over_movement, quality_over_movement, plans (per "
+                    "cluster), ranking, resimulated {outcome, force_closure, epsilon, contacts}");
+      cmd->add_option("--png", args->png,
+                      "also draw robot and scene (top, front, side) at 4 steps");
+      cmd->add_flag("--force", args->force,
+                    "replace existing -o/--glb/--png files that are not of their kind");
+      cmd->callback([args] { runReach(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

@@ -22,24 +22,26 @@ int run(const RegressionSuiteOptions& options) {
   return result.failures ? 1 : 0;
 }
 
-const CommandRegistrar kRegistrar("regress", [](CLI::App& app) {
-  auto args = std::make_shared<RegressionSuiteOptions>();
-  auto* cmd = app.add_subcommand(
-      "regress", "Build the reference maps and compare them with golden statistics");
-  cmd->add_option("--cases", args->cases,
-                  "Case list (JSON; default <data dir>/regression/cases.json); paths in it are "
-                  "relative to its folder")
-      ->capture_default_str();
-  cmd->add_option("--golden", args->golden_dir,
-                  "Folder of golden files (default: <cases folder>/golden)");
-  cmd->add_option("--only", args->only, "Run only these cases (by name)");
-  cmd->add_flag("--update", args->update, "Rewrite the golden files from this build");
-  cmd->add_option("--threads", args->threads,
-                  "Worker threads (0: all cores); results do not depend on it");
-  cmd->add_option("--friction", args->friction,
-                  "Override the friction coefficient (to see the suite catch a change)");
-  cmd->callback([args]() { exitCode() = run(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "regress", "Build the reference maps and compare them with the golden statistics",
+    [](CLI::App& app) {
+      auto args = std::make_shared<RegressionSuiteOptions>();
+      auto* cmd = app.add_subcommand(
+          "regress", "Build the reference maps and compare them with golden statistics");
+      cmd->add_option("--cases", args->cases,
+                      "Case list (JSON; default <data dir>/regression/cases.json); paths in it are "
+                      "relative to its folder")
+          ->capture_default_str();
+      cmd->add_option("--golden", args->golden_dir,
+                      "Folder of golden files (default: <cases folder>/golden)");
+      cmd->add_option("--only", args->only, "Run only these cases (by name)");
+      cmd->add_flag("--update", args->update, "Rewrite the golden files from this build");
+      cmd->add_option("--threads", args->threads,
+                      "Worker threads (0: all cores); results do not depend on it");
+      cmd->add_option("--friction", args->friction,
+                      "Override the friction coefficient (to see the suite catch a change)");
+      cmd->callback([args]() { exitCode() = run(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

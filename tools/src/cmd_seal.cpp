@@ -34,25 +34,26 @@ void runSeal(const SealArgs& args) {
   if (!args.quiet) std::cout << "taskmap seal: sealed " << args.map << "\n";
 }
 
-const CommandRegistrar kRegistrar("seal", [](CLI::App& app) {
-  auto args = std::make_shared<SealArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "seal",
-      "Re-seal a task map on purpose. Every reader refuses a map whose content does not match "
-      "the SHA-256 in its first 512 bytes (damaged, or edited with h5py or another HDF5 tool) "
-      "and maps without a seal (written by other tools or before schema 2). If you trust the "
-      "file, this validates it as a task map (in a separate process with CPU and memory "
-      "limits) and rewrites it atomically with a fresh seal.");
-  cmd->add_option("map", args->map, "task map (.h5), rewritten in place (atomically)")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("--cpu-seconds", args->cpu_seconds, "CPU-time limit of the validation")
-      ->check(CLI::Range(1, 86400));
-  cmd->add_option("--memory-gib", args->memory_gib, "address-space limit of the validation")
-      ->check(CLI::Range(0.25, 1024.0));
-  cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
-  cmd->callback([args]() { runSeal(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "seal", "Re-seal a map on purpose after editing it with another HDF5 tool", [](CLI::App& app) {
+      auto args = std::make_shared<SealArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "seal",
+          "Re-seal a task map on purpose. Every reader refuses a map whose content does not match "
+          "the SHA-256 in its first 512 bytes (damaged, or edited with h5py or another HDF5 tool) "
+          "and maps without a seal (written by other tools or before schema 2). If you trust the "
+          "file, this validates it as a task map (in a separate process with CPU and memory "
+          "limits) and rewrites it atomically with a fresh seal.");
+      cmd->add_option("map", args->map, "task map (.h5), rewritten in place (atomically)")
+          ->required()
+          ->check(CLI::ExistingFile);
+      cmd->add_option("--cpu-seconds", args->cpu_seconds, "CPU-time limit of the validation")
+          ->check(CLI::Range(1, 86400));
+      cmd->add_option("--memory-gib", args->memory_gib, "address-space limit of the validation")
+          ->check(CLI::Range(0.25, 1024.0));
+      cmd->add_flag("-q,--quiet", args->quiet, "print nothing");
+      cmd->callback([args]() { runSeal(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

@@ -96,58 +96,62 @@ void runValidate(const ValidateArgs& args) {
   }
 }
 
-const CommandRegistrar kRegistrar("validate", [](CLI::App& app) {
-  auto a = std::make_shared<ValidateArgs>();
-  HoldTestOptions& h = a->options.hold;
-  CLI::App* cmd = app.add_subcommand(
-      "validate",
-      "Test whether a map's grasps hold the object in physics (DexGraspBench's protocol in "
-      "MuJoCo: the hand closes on a free 0.1 kg object, then a push of 1 N along each object "
-      "axis; docs/VALIDATION.md) and store the labels in the map (/grasps/hold).");
-  cmd->add_option("map", a->map, "task map (.h5); labels are written into it unless -o")
-      ->required()
-      ->check(CLI::ExistingFile);
-  cmd->add_option("-o,--output", a->output, "write the labelled map here instead");
-  cmd->add_option(
-      "--hand", a->hand,
-      "hand URDF or MJCF (default: the one the map was built with, found by its SHA-256)");
-  cmd->add_option("--threads", a->options.threads, "worker threads (0: all cores)")
-      ->check(CLI::Range(0, 1024));
-  cmd->add_option("--grasps", a->options.grasps, "test only the first N grasps (0: all)");
-  cmd->add_option("--object-mass", h.object_mass, "object mass, kg")->capture_default_str();
-  cmd->add_option("--friction", h.sliding_friction, "sliding friction coefficient")
-      ->capture_default_str();
-  cmd->add_option("--jaw-force", h.jaw_force, "parallel jaws: force of each jaw, N")
-      ->capture_default_str();
-  cmd->add_option("--kp", h.kp_revolute, "position gain of revolute joints, N m/rad")
-      ->capture_default_str();
-  cmd->add_option("--max-translation", h.max_translation, "failure displacement, m")
-      ->capture_default_str();
-  cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
-      ->capture_default_str();
-  cmd->add_flag("--robust", a->options.robust,
-                "also the robust label: every grasp again with the palm moved 1 mm and turned 2 "
-                "deg along and about each palm axis, friction 0.5 and a second decomposition of "
-                "the object, each within a margin of 1 cm and 5 deg (docs/VALIDATION.md, \"The "
-                "robust label\")");
-  cmd->add_flag("--full", a->full,
-                "run every push its whole 2 s, as DexGraspBench publishes the protocol (default: "
-                "a push ends once the object has settled; same labels, docs/VALIDATION.md)");
-  cmd->add_flag("!--protocol-dynamics", h.stated_dynamics,
-                "an MJCF hand: use the protocol's masses, gains, damping and friction, not the "
-                "ones the hand's model states (docs/VALIDATION.md, \"A hand's own dynamics\")");
-  cmd->add_option("--trace", a->trace,
-                  "test only grasp I (index from 0) and print where the object goes and which "
-                  "links press it, stage by stage; writes nothing")
-      ->check(CLI::NonNegativeNumber);
-  cmd->add_flag("--json", a->json, "print the summary (or the --trace) as JSON");
-  cmd->add_flag("--force", a->force, "replace an existing -o file that is not a task map");
-  cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
-  cmd->callback([a]() {
-    a->options.hold.settle_stop = !a->full;
-    runValidate(*a);
-  });
-});
+const CommandRegistrar kRegistrar(
+    "validate", "Test in physics whether a map's grasps hold; store the labels in the map",
+    [](CLI::App& app) {
+      auto a = std::make_shared<ValidateArgs>();
+      HoldTestOptions& h = a->options.hold;
+      CLI::App* cmd = app.add_subcommand(
+          "validate",
+          "Test whether a map's grasps hold the object in physics (DexGraspBench's protocol in "
+          "MuJoCo: the hand closes on a free 0.1 kg object, then a push of 1 N along each object "
+          "axis; docs/VALIDATION.md) and store the labels in the map (/grasps/hold).");
+      cmd->add_option("map", a->map, "task map (.h5); labels are written into it unless -o")
+          ->required()
+          ->check(CLI::ExistingFile);
+      cmd->add_option("-o,--output", a->output, "write the labelled map here instead");
+      cmd->add_option(
+          "--hand", a->hand,
+          "hand URDF or MJCF (default: the one the map was built with, found by its SHA-256)");
+      cmd->add_option("--threads", a->options.threads, "worker threads (0: all cores)")
+          ->check(CLI::Range(0, 1024));
+      cmd->add_option("--grasps", a->options.grasps, "test only the first N grasps (0: all)");
+      cmd->add_option("--object-mass", h.object_mass, "object mass, kg")->capture_default_str();
+      cmd->add_option("--friction", h.sliding_friction, "sliding friction coefficient")
+          ->capture_default_str();
+      cmd->add_option("--jaw-force", h.jaw_force, "parallel jaws: force of each jaw, N")
+          ->capture_default_str();
+      cmd->add_option("--kp", h.kp_revolute, "position gain of revolute joints, N m/rad")
+          ->capture_default_str();
+      cmd->add_option("--max-translation", h.max_translation, "failure displacement, m")
+          ->capture_default_str();
+      cmd->add_option("--max-penetration", h.max_penetration, "initial penetration limit, m")
+          ->capture_default_str();
+      cmd->add_flag(
+          "--robust", a->options.robust,
+          "also the robust label: every grasp again with the palm moved 1 mm and turned 2 "
+          "deg along and about each palm axis, friction 0.5 and a second decomposition of "
+          "the object, each within a margin of 1 cm and 5 deg (docs/VALIDATION.md, \"The "
+          "robust label\")");
+      cmd->add_flag(
+          "--full", a->full,
+          "run every push its whole 2 s, as DexGraspBench publishes the protocol (default: "
+          "a push ends once the object has settled; same labels, docs/VALIDATION.md)");
+      cmd->add_flag("!--protocol-dynamics", h.stated_dynamics,
+                    "an MJCF hand: use the protocol's masses, gains, damping and friction, not the "
+                    "ones the hand's model states (docs/VALIDATION.md, \"A hand's own dynamics\")");
+      cmd->add_option("--trace", a->trace,
+                      "test only grasp I (index from 0) and print where the object goes and which "
+                      "links press it, stage by stage; writes nothing")
+          ->check(CLI::NonNegativeNumber);
+      cmd->add_flag("--json", a->json, "print the summary (or the --trace) as JSON");
+      cmd->add_flag("--force", a->force, "replace an existing -o file that is not a task map");
+      cmd->add_flag("-q,--quiet", a->quiet, "print nothing but errors");
+      cmd->callback([a]() {
+        a->options.hold.settle_stop = !a->full;
+        runValidate(*a);
+      });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

@@ -84,27 +84,30 @@ void runView(const ViewArgs& args) {
   viewReach(args, out);
 }
 
-const CommandRegistrar kRegistrar("view", [](CLI::App& app) {
-  auto args = std::make_shared<ViewArgs>();
-  CLI::App* cmd = app.add_subcommand(
-      "view",
-      "Write an interactive 3-D page (one self-contained HTML file, opens offline in a browser) "
-      "of a task map (the hand's collision shapes posed by each grasp on the object, coloured by "
-      "cluster; filters, contacts, ghosts) or of a trajectory file from `reach -o` (the movement "
-      "with a time slider and the cost terms; the map's hand closes to the chosen grasp at the "
-      "end).");
-  cmd->add_option("file", args->file, "task map or trajectory file (.h5)")->required();
-  cmd->add_option("-o,--output", args->output, "HTML file to write (default: <file stem>.html)");
-  cmd->add_option("--hand", args->hand,
-                  "hand URDF or bundled name to draw a map's grasps or a trajectory's grasp with "
-                  "(default: the map's recorded or bundled hand, found by its SHA-256)");
-  cmd->add_option("--ghosts", args->page.ghost_limit,
-                  "most hands drawn at once as ghosts (the other grasps are palm glyphs)")
-      ->capture_default_str();
-  cmd->add_option("--title", args->page.title, "page title");
-  cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
-  cmd->callback([args] { runView(*args); });
-});
+const CommandRegistrar kRegistrar(
+    "view", "Write an interactive 3-D page (HTML) of a map or a reach trajectory",
+    [](CLI::App& app) {
+      auto args = std::make_shared<ViewArgs>();
+      CLI::App* cmd = app.add_subcommand(
+          "view",
+          "Write an interactive 3-D page (one self-contained HTML file, opens offline in a "
+          "browser) of a task map (the hand's collision shapes posed by each grasp on the object, "
+          "coloured by cluster; filters, contacts, ghosts) or of a trajectory file from `reach "
+          "-o` (the movement with a time slider and the cost terms; the map's hand closes to the "
+          "chosen grasp at the end).");
+      cmd->add_option("file", args->file, "task map or trajectory file (.h5)")->required();
+      cmd->add_option("-o,--output", args->output,
+                      "HTML file to write (default: <file stem>.html)");
+      cmd->add_option("--hand", args->hand,
+                      "hand URDF or bundled name to draw a map's grasps or a trajectory's grasp "
+                      "with (default: the map's recorded or bundled hand, found by its SHA-256)");
+      cmd->add_option("--ghosts", args->page.ghost_limit,
+                      "most hands drawn at once as ghosts (the other grasps are palm glyphs)")
+          ->capture_default_str();
+      cmd->add_option("--title", args->page.title, "page title");
+      cmd->add_flag("-q,--quiet", args->quiet, "print nothing on success");
+      cmd->callback([args] { runView(*args); });
+    });
 
 }  // namespace
 }  // namespace taskmap::cli

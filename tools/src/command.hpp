@@ -15,13 +15,21 @@ namespace taskmap::cli {
 /// through exitCode(): 0 on success, non-zero with a message on stderr otherwise.
 using CommandSetup = std::function<void(CLI::App& app)>;
 
+/// One registered subcommand: its name, the one line `taskmap --help` lists it with, and the
+/// setup that adds it (its own `--help` shows the full description the setup gives it).
+struct CommandEntry {
+  std::string name;     ///< the subcommand's name ("build")
+  std::string summary;  ///< one line, under 80 characters, no full stop
+  CommandSetup setup;   ///< adds the subcommand to the app
+};
+
 /// All registered subcommands, in registration order, sorted by name at start-up.
-std::vector<std::pair<std::string, CommandSetup>>& commandRegistry();
+std::vector<CommandEntry>& commandRegistry();
 
 /// Registers a subcommand at static-initialisation time.
 struct CommandRegistrar {
-  CommandRegistrar(const std::string& name, CommandSetup setup) {
-    commandRegistry().emplace_back(name, std::move(setup));
+  CommandRegistrar(const std::string& name, const std::string& summary, CommandSetup setup) {
+    commandRegistry().push_back({name, summary, std::move(setup)});
   }
 };
 

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <memory>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 
@@ -11,10 +13,29 @@
 
 namespace taskmap::cli {
 
-std::vector<std::pair<std::string, CommandSetup>>& commandRegistry() {
-  static std::vector<std::pair<std::string, CommandSetup>> registry;
+std::vector<CommandEntry>& commandRegistry() {
+  static std::vector<CommandEntry> registry;
   return registry;
 }
+
+namespace {
+
+/// `taskmap --help` lists each command with its one-line summary; `taskmap CMD --help` keeps
+/// the command's full description (CLI11 copies the formatter into the subcommands, where this
+/// override is not used: it only formats the list of subcommands).
+class SummaryFormatter : public CLI::Formatter {
+ public:
+  std::string make_subcommand(const CLI::App* sub) const override {
+    std::string summary = sub->get_description();
+    for (const CommandEntry& e : commandRegistry())
+      if (e.name == sub->get_name()) summary = e.summary;
+    std::stringstream out;
+    CLI::detail::format_help(out, sub->get_display_name(true), summary, 14);
+    return out.str();
+  }
+};
+
+}  // namespace
 
 int& exitCode() {
   static int code = 0;
@@ -30,8 +51,13 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   auto& registry = commandRegistry();
   std::sort(registry.begin(), registry.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (auto& entry : registry) entry.second(app);
+            [](const auto& a, const auto& b) { return a.name < b.name; });
+  for (auto& entry : registry) entry.setup(app);
+  app.formatter(std::make_shared<SummaryFormatter>());
+  app.footer(
+      "Run `taskmap COMMAND --help` for a command's options. Hands and objects are files or "
+      "bundled names (--hand barrett, --object basket). Documentation: README.md and docs/ in "
+      "the source tree.");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -117,7 +117,8 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "it meets the surface behind it, no open finger inside the object), palm_enclose "
              "(multi-finger hands: the palm's front on a surface point, the fingers closing "
              "across the object's narrowest chord that fits them, no open finger inside). "
-             "Default: the hand's, antipodal_palm for parallel jaws, mixed for other hands",
+             "Default: antipodal_palm for parallel jaws; palm_enclose for a hand it can place "
+             "on the object (multi-finger hands), else mixed",
              {"volume", "surface", "mixed", "antipodal", "enclose", "antipodal_palm",
               "palm_enclose"}},
     k.sampler);

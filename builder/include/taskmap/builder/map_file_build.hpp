@@ -27,7 +27,8 @@ enum class HoldValidation {
 /// A build from an object file and a hand to a map file. Units: metres (the mesh's file units
 /// times mesh.scale), frames: the object's.
 struct FileBuildOptions {
-  std::string object;  ///< object mesh file (any format assimp reads)
+  /// object mesh file (any format assimp reads), or a bundled object name ("basket")
+  std::string object;
   /// hand URDF (read with its <stem>.hand.json sidecar), or a bundled hand name ("barrett")
   std::string hand;
   std::string output;    ///< task map to write (.h5): a new file or an earlier task map
@@ -41,16 +42,17 @@ struct FileBuildOptions {
   bool force = false;  ///< replace an existing output that is not a task map (never an input)
 };
 
-/// A build ready to run: validated options and the resolved hand URDF.
+/// A build ready to run: validated options, the resolved object mesh and hand URDF.
 struct FileBuildPlan {
   BuildOptions options;   ///< validated, with the inputs in extra_params_json
+  std::string object;     ///< the object as a mesh path (bundled names resolved)
   std::string hand_urdf;  ///< the hand as a URDF path (bundled names resolved)
 };
 
-/// Validates the options (output directory exists, ranges, mesh repair), checks that the object
-/// file exists (naming the closest files when not), resolves the hand and refuses an output that
-/// is an input or not a task map (unless force). Loads nothing. Throws Error naming the option
-/// or file.
+/// Validates the options (output directory exists, ranges, mesh repair), resolves the object
+/// (a file, or a bundled name; naming the closest files when neither) and the hand, and refuses an
+/// output that is an input or not a task map (unless force). Loads nothing. Throws Error naming the
+/// option or file.
 FileBuildPlan planFileBuild(const FileBuildOptions& options);
 
 /// Refuses a standoff (options.simulation.standoff >= 0) when the grasp mode in force (the

@@ -49,7 +49,23 @@ std::string didYouMean(const std::string& name, const std::vector<std::string>& 
 
 /// Throws Error("cannot open mesh file '<path>': no such file[; did you mean ...?]") when the
 /// object mesh `path` does not exist: the suggestions are the closest files of its folder and
-/// the closest bundled objects (<dataDir()>/objects) by name.
+/// the closest bundled objects (<dataDir()>/objects) by name (a bare name gets bundled names:
+/// "baskt" -> 'basket').
 void requireObjectFile(const std::string& path);
+
+/// The names of the bundled objects: the stems of `<dataDir()>/objects/*.obj` ("basket",
+/// "mug", ...), sorted; empty when there is no data directory.
+std::vector<std::string> bundledObjectNames();
+
+/// An object argument as it names a file: the path itself when it exists or is not a bundled
+/// object's name, else `<dataDir()>/objects/<name>.obj`. Never throws (a missing file is the
+/// caller's to report).
+std::string objectFileOrBundled(const std::string& object);
+
+/// An object argument as a mesh path, named like a hand: the path itself when it exists, else
+/// the bundled object of that name (`<dataDir()>/objects/<name>.obj` for "basket"; a name has
+/// no '/' and no extension). Otherwise throws requireObjectFile's Error ("no such file; did you
+/// mean ...").
+std::string resolveObjectFile(const std::string& object);
 
 }  // namespace taskmap

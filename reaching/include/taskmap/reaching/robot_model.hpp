@@ -97,8 +97,9 @@ class RobotModel {
   /// invalid input (floating/planar joints, mimic joints, zero axes, missing limits).
   static RobotModel load(const std::string& urdf_path);
   /// The shipped Panda arm (reaching/robots/panda) with the reference humanoid hand
-  /// (meshes/hands/humanoid) on its flange. @param source_dir taskmap source or install share dir
-  /// holding reaching/robots and meshes/hands.
+  /// (meshes/hands/humanoid) on its flange.
+  /// @param robots_dir the folder holding panda/ (reaching/robots, or <data dir>/robots)
+  /// @param hands_dir the folder holding humanoid/ (meshes/hands, or <data dir>/hands)
   static RobotModel pandaWithHumanoidHand(const std::string& robots_dir,
                                           const std::string& hands_dir);
   /// The adapter used by pandaWithHumanoidHand: palm faces the flange x axis, fingers along the
