@@ -209,6 +209,7 @@ py::object importAcronym(const std::string& acronym, const std::string& object,
   o.import.clustering.num_clusters = clusters;
   o.import.clustering.min_size_fraction = min_size_fraction;
   o.import.base_to_palm = acronymBaseToPalm(palm_offset, hand);
+  o.hand = hand;
   {
     py::gil_scoped_release release;
     importAcronymFile(o);
@@ -329,7 +330,10 @@ void bindBuilder(py::module_& m) {
         "Imports an ACRONYM grasp file as `taskmap import` does (the same map bytes): poses "
         "from grasps/transforms (the palm frame from `hand`'s URDF root-to-palm transform, or "
         "`palm_offset` metres along the gripper's z, else ACRONYM's Franka gripper), force "
-        "closure from object_in_gripper, contacts absent; the object mesh `object` at `scale` "
+        "closure from object_in_gripper, contacts absent; with `hand` (a parallel-jaw gripper) "
+        "its jaws closed from open at each pose give the joint values and the map records the "
+        "hand (grasps whose jaws miss the object are dropped), so that "
+        "taskmap.validate tests it; the object mesh `object` at `scale` "
         "(0: the file's object/scale); clustered as `taskmap cluster` (linkage, rotation_scale "
         "m/rad, threshold m, clusters, min_size_fraction) unless no_cluster. The file is read "
         "in a child process with memory and CPU limits; nothing is written on an error "
