@@ -225,6 +225,7 @@ py::object importAcronym(const std::string& acronym, const std::string& object,
   o.import.clustering.num_clusters = clusters;
   o.import.clustering.min_size_fraction = min_size_fraction;
   o.import.base_to_palm = acronymBaseToPalm(palm_offset, hand);
+  o.hand = hand;
   {
     py::gil_scoped_release release;
     importAcronymFile(o);

@@ -107,7 +107,10 @@ Args:
     min_size_fraction (float): clusters below this share of the grasps are outliers.
     palm_offset (float, optional): the palm frame ``palm_offset`` metres along the base's z.
     hand (str): a hand whose URDF root is the base frame: its root-to-palm transform converts
-        (default: ACRONYM's Franka gripper, 0.1034 m along z).
+        (default: ACRONYM's Franka gripper, 0.1034 m along z). A parallel-jaw gripper's jaws
+        are closed from open at each pose to give the joint values, and the map records the
+        hand, so that :func:`validate` tests the grasps (grasps whose jaws miss the object are
+        dropped).
     timestamp (bool): store the current time.
     force (bool): replace an existing output that is not a task map.
 

@@ -24,6 +24,11 @@ py::dict summaryDict(const ValidationSummary& s) {
 /// `hand`, or the URDF the map was built with (refused with what to pass when not found).
 std::string handUrdf(const TaskMapData& map, const std::string& hand, const std::string& map_path,
                      const char* who) {
+  try {
+    checkMapJoints(map);
+  } catch (const Error& e) {
+    throw Error(std::string(who) + ": map '" + map_path + "': " + e.what());
+  }
   if (!hand.empty()) return hand;
   try {
     return findMapHandUrdf(map);

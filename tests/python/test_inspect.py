@@ -121,6 +121,39 @@ class AcronymInteropTest(unittest.TestCase):
         with self.assertRaisesRegex(taskmap.Error, "would destroy the input"):
             taskmap.import_acronym(acronym=src, object=BOX, output=src)
 
+    def test_python_import_with_a_hand_closes_its_jaws_and_validates(self):
+        """With the real Franka hand the import closes the jaws at each pose (the CLI's bytes),
+        records the hand, and taskmap.validate tests the map with the jaws closing from open."""
+        import taskmap
+        franka = os.path.join(SOURCE, "tests", "data", "real", "hands", "franka_hand",
+                              "franka_hand.urdf")
+        # Gripper base frames above the 6 cm x 8 cm box, approach down, jaws along x: the pads
+        # (5.84 cm + 3.6 to 5.45 cm from the base) on its upper part; the third 40 cm higher.
+        rot = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+        t = np.tile(np.eye(4), (3, 1, 1))
+        t[:, :3, :3] = rot
+        t[:, :3, 3] = [[0.0, 0.0, 0.2084], [0.008, 0.0, 0.2084], [0.0, 0.0, 0.4584]]
+        src = self.path("Box_franka_1.0.h5")
+        with h5py.File(src, "w") as f:
+            f["grasps/transforms"] = t
+            f["grasps/qualities/flex/object_in_gripper"] = np.array([1, 1, 0])
+            f["object/file"] = "meshes/Box/box.obj"
+            f["object/scale"] = 1.0
+            f["gripper/type"] = "panda"
+        r = run("import", "--acronym", src, "--object", BOX, "--hand", franka, "-o",
+                self.path("cli.h5"))
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        m = taskmap.import_acronym(acronym=src, object=BOX, output=self.path("py.h5"),
+                                   hand=franka)
+        with open(self.path("cli.h5"), "rb") as a, open(self.path("py.h5"), "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        self.assertEqual(len(m), 2)  # the third grasp's jaws close on nothing: dropped
+        with h5py.File(self.path("py.h5"), "r") as f:
+            np.testing.assert_allclose(f["grasps/joints"][:, 0], [0.03002, 0.03002], atol=1e-9)
+        s = taskmap.validate(self.path("py.h5"), grasps=1, threads=1, output=self.path("v.h5"))
+        self.assertEqual(s["tested"], 1)
+        self.assertTrue(s["close_from_open"])
+
     def test_successful_only_and_bad_files(self):
         src = self.path("grasps.h5")
         _, success = write_acronym_like(src, 30)

@@ -43,12 +43,23 @@ void runImport(ImportArgs& args) {
   o.import.clustering.num_clusters = args.clusters;
   o.import.clustering.min_size_fraction = args.min_size_fraction;
   o.import.base_to_palm = acronymBaseToPalm(args.frame.palm_offset, args.frame.hand);
+  o.hand = args.frame.hand;
   const AcronymFileImport r = importAcronymFile(o);
   std::cout << "wrote " << o.output << ": " << r.grasps << " grasps (" << r.successes
             << " successful) from " << o.acronym << ", object " << r.object_name << " at scale "
             << r.scale << ", " << (r.clusters ? std::to_string(*r.clusters) : std::string("no"))
             << " clusters; contacts absent; "
             << describeBaseToPalm(args.frame, o.import.base_to_palm) << "\n";
+  if (r.jaws_closed)
+    std::cout << "joint values: the jaws of " << o.hand
+              << " closed from open at each pose until both touch the object; dropped "
+              << r.jaws_missed << " grasps whose jaws miss the object; kept " << r.jaws_overlap
+              << " whose open jaws intersect it (the hold test's penetration check decides; "
+                 "ACRONYM indices in the map's sampling parameters jaws_missed, jaws_overlap); "
+                 "`taskmap validate` finds the hand\n";
+  else
+    std::cout << "joint values: none (poses only; give --hand URDF to close the jaws and "
+                 "validate the map)\n";
 }
 
 const CommandRegistrar kRegistrar(

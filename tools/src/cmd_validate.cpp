@@ -37,6 +37,11 @@ nlohmann::ordered_json reportJson(const ValidationSummary& s, const ValidateArgs
 }
 
 HandModel mapHand(const TaskMapData& map, const ValidateArgs& args) {
+  try {
+    checkMapJoints(map);
+  } catch (const Error& e) {
+    throw Error("validate: map '" + args.map + "': " + e.what());
+  }
   std::string urdf = args.hand;
   if (urdf.empty()) {
     try {

@@ -328,11 +328,17 @@ double HoldTester::Impl::penetration(const mjData* d) const {
 bool HoldTester::Impl::close(mjData* d, const Eigen::VectorXd& from, const Eigen::VectorXd& to,
                              int* steps, const mjtNum* start, const char* phase,
                              HoldTrace* trace) const {
-  const int n = options.interpolation_stages;
+  const int n = options.interpolation_stages, m = options.steps_per_stage;
   for (int k = 1; k <= n; ++k) {
-    const double t = static_cast<double>(k) / n;
-    for (int a = 0; a < model->nu; ++a) d->ctrl[a] = from[a] + t * (to[a] - from[a]);
-    for (int s = 0; s < options.steps_per_stage; ++s) mj_step(model, d);
+    for (int s = 0; s < m; ++s) {
+      // Jaws closing from open move their targets every step (a gripper's speed-limited
+      // closing): a stage's jump, with the stiff jaw drive, would kick the object that one jaw
+      // touches first out of the open jaws.
+      const double t = options.close_from_open ? (k - 1 + static_cast<double>(s + 1) / m) / n
+                                               : static_cast<double>(k) / n;
+      for (int a = 0; a < model->nu; ++a) d->ctrl[a] = from[a] + t * (to[a] - from[a]);
+      mj_step(model, d);
+    }
     *steps += options.steps_per_stage;
     if (!finite(d)) return false;
     record(d, start, phase, *steps, trace);
@@ -558,8 +564,12 @@ HoldResult HoldTester::Impl::run(const Pose& palm, const Eigen::VectorXd& joints
     throw Error("hold test: " + std::to_string(joints.size()) + " joint values for hand '" +
                 hand.name() + "' with " + std::to_string(n) + " actuated joints");
   const Eigen::VectorXd pre = hand.preshape();
-  const Eigen::VectorXd pregrasp = pre + options.pregrasp_fraction * (joints - pre);
-  const Eigen::VectorXd squeeze = pre + options.squeeze_fraction * (joints - pre);
+  Eigen::VectorXd pregrasp = pre + options.pregrasp_fraction * (joints - pre);
+  Eigen::VectorXd squeeze = pre + options.squeeze_fraction * (joints - pre);
+  if (options.close_from_open) {  // a gripper's grasp command: from open, to the closed limit
+    pregrasp = pre;
+    for (const ClosingJoint& c : hand.closing()) squeeze[c.joint] = c.target;
+  }
   DataPtr d = acquire(), closed = acquire();
   HoldResult r;
   place(d.get(), palm, pregrasp);

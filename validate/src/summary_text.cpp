@@ -24,10 +24,15 @@ std::string summaryText(const ValidationSummary& s, const std::string& written_t
      << s.fc_tested << " (" << percent(s.fc_holding, s.fc_tested) << ")\n";
   if (!s.variant_failures.empty()) {
     os << "  robust (every variant holds within the margin): " << s.robust << " of " << s.tested
-       << " (" << percent(s.robust, s.tested) << ")\n  variants failing where the nominal held:";
+       << " (" << percent(s.robust, s.tested) << "); force-closure grasps: " << s.fc_robust
+       << " of " << s.fc_tested << " (" << percent(s.fc_robust, s.fc_tested)
+       << ")\n  variants failing where the nominal held:";
     for (const auto& [name, n] : s.variant_failures) os << " " << name << " " << n;
     os << "\n";
   }
+  if (s.close_from_open)
+    os << "  jaws closed from open at the stored poses and pressed with the jaw force (grasps "
+          "given as poses: docs/ACRONYM.md)\n";
   os << "  outcomes:";
   for (const auto& [name, n] : s.statuses) os << " " << name << " " << n;
   os << "\n  slipped under push:";

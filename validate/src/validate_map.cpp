@@ -25,6 +25,11 @@ double cpuSeconds() {
 }
 
 void checkHand(const TaskMapData& map, const HandModel& hand) {
+  try {
+    checkMapJoints(map);
+  } catch (const Error& e) {
+    throw Error(std::string("validate: ") + e.what());
+  }
   if (hand.jointNames() != map.hand.joint_names)
     throw Error("validate: hand '" + hand.name() + "' (" + hand.urdfPath() +
                 ") does not have the actuated joints of the map's hand '" + map.hand.name +
@@ -80,6 +85,22 @@ bool runTests(const Test& test, const TaskMapData& map, std::size_t n, int threa
 
 }  // namespace
 
+bool mapClosesFromOpen(const TaskMapData& map) {
+  const auto params = nlohmann::json::parse(map.sampling.params_json, nullptr, false);
+  if (!params.is_object()) return false;
+  const auto it = params.find("hold_closing");
+  return it != params.end() && it->is_string() && it->get<std::string>() == "from_open";
+}
+
+void checkMapJoints(const TaskMapData& map) {
+  if (!map.hand.joint_names.empty() && map.grasps.joints.cols() > 0) return;
+  throw Error("the map's grasps have no joint values (hand '" + map.hand.name +
+              "': a map imported from ACRONYM without a hand stores poses only); import it again "
+              "with `taskmap import --acronym FILE --object MESH --hand URDF` (a parallel-jaw "
+              "gripper whose root link is ACRONYM's gripper base, e.g. the Franka hand), which "
+              "closes the jaws at each pose and records the hand");
+}
+
 void ValidateOptions::validate() const {
   hold.validate();
   if (threads < 0) throw Error("validate: threads (--threads) must be >= 0 (0: all cores)");
@@ -99,6 +120,7 @@ std::string summaryJson(const ValidationSummary& s) {
   j["object_pieces"] = s.model.object_pieces;
   j["object_volume_error"] = s.model.object_volume_error;
   j["object_note"] = s.model.object_note;
+  j["close_from_open"] = s.close_from_open;
   j["cpu_seconds"] = s.cpu_seconds;
   j["wall_seconds"] = s.wall_seconds;
   j["grasps_per_cpu_second"] =
@@ -108,6 +130,7 @@ std::string summaryJson(const ValidationSummary& s) {
     j["robust"] = s.robust;
     j["robust_rate"] =
         s.tested ? static_cast<double>(s.robust) / static_cast<double>(s.tested) : 0.0;
+    j["force_closure_robust"] = s.fc_robust;
     nlohmann::ordered_json v;
     for (const auto& [name, n] : s.variant_failures) v[name] = n;
     j["variant_failures"] = v;
@@ -139,6 +162,7 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["revolute_armature"] = o.revolute_armature;
   j["pregrasp_fraction"] = o.pregrasp_fraction;
   j["squeeze_fraction"] = o.squeeze_fraction;
+  j["close_from_open"] = o.close_from_open;
   j["interpolation_stages"] = o.interpolation_stages;
   j["steps_per_stage"] = o.steps_per_stage;
   j["push_per_mass"] = o.push_per_mass;
@@ -307,7 +331,9 @@ ObjectModel mapObjectModel(const TaskMapData& map) {
 }
 
 HoldTrace traceGrasp(const TaskMapData& map, const HandModel& hand, std::size_t grasp,
-                     const HoldTestOptions& options) {
+                     const HoldTestOptions& protocol) {
+  HoldTestOptions options = protocol;
+  options.close_from_open = options.close_from_open || mapClosesFromOpen(map);
   options.validate();
   checkHand(map, hand);
   if (grasp >= map.grasps.size())
@@ -339,6 +365,7 @@ void summarise(const std::vector<RobustHoldResult>& results, const TaskMapData& 
     s->steps += results[i].steps;
     if (!robust) continue;
     s->robust += results[i].robust;
+    if (map.grasps.force_closure[i]) s->fc_robust += results[i].robust;
     // The nominal variant's entry counts protocol holds outside the margin; the others count
     // failures where the nominal variant held within it.
     const auto& held = results[i].variant_held;
@@ -350,12 +377,15 @@ void summarise(const std::vector<RobustHoldResult>& results, const TaskMapData& 
 
 }  // namespace
 
-ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
-                              const ValidateOptions& options, const ValidateControl& control) {
+ValidationSummary validateMap(TaskMapData* map, const HandModel& hand, const ValidateOptions& asked,
+                              const ValidateControl& control) {
+  ValidateOptions options = asked;
+  options.hold.close_from_open = options.hold.close_from_open || mapClosesFromOpen(*map);
   options.validate();
   control.validate();
   checkHand(*map, hand);
   ValidationSummary s;
+  s.close_from_open = options.hold.close_from_open;
   const ObjectModel object = mapObjectModel(*map);
   std::unique_ptr<RobustHoldTester> robust;
   std::unique_ptr<HoldTester> tester;

@@ -59,12 +59,23 @@ struct HoldTestOptions {
   double prismatic_armature = 0.1;
   double pregrasp_fraction = 0.9;  ///< pregrasp joints: this far from preshape to the grasp
   double squeeze_fraction = 1.1;   ///< squeeze target: this far from preshape past the grasp
-  int interpolation_stages = 10;   ///< control targets per closing phase (linear steps)
-  int steps_per_stage = 10;        ///< simulation steps per control target
-  double push_per_mass = 10.0;     ///< N / kg: push force = this x object_mass
-  double push_duration = 2.0;      ///< s per direction
-  int check_every = 50;            ///< steps between displacement checks during a push
-  double max_translation = 0.05;   ///< m: the grasp fails when the object moves this far
+  /// Jaws closed from open (grasps given as a pose alone, whose joint values are where parallel
+  /// jaws touch when they close from open at that pose: imported ACRONYM grasps,
+  /// docs/ACRONYM.md): the pregrasp is the hand's open preshape, not pregrasp_fraction of the
+  /// way, and the squeeze target of each closing joint is its closed limit, so that the
+  /// force-limited jaws press with jaw_force as a gripper's grasp command does (a position
+  /// drive stops short of it when the target is squeeze_fraction past a touching jaw); the
+  /// targets move every step, not every stage (a stage's jump kicks an off-centre object, which
+  /// one jaw touches first, out of the jaws). false:
+  /// the protocol's pregrasp and squeeze. validateMap sets it for maps that ask for it
+  /// (mapClosesFromOpen, validate_map.hpp).
+  bool close_from_open = false;
+  int interpolation_stages = 10;             ///< control targets per closing phase (linear steps)
+  int steps_per_stage = 10;                  ///< simulation steps per control target
+  double push_per_mass = 10.0;               ///< N / kg: push force = this x object_mass
+  double push_duration = 2.0;                ///< s per direction
+  int check_every = 50;                      ///< steps between displacement checks during a push
+  double max_translation = 0.05;             ///< m: the grasp fails when the object moves this far
   double max_rotation = 0.2617993877991494;  ///< rad (15 deg): or turns this far
   double max_penetration = 0.01;             ///< m: a hand starting deeper inside the object fails
   /// Contact patches of parallel jaws: MuJoCo 2.2.2 gives one contact point per pair of geoms,

@@ -52,8 +52,13 @@ struct ValidationSummary {
   Status status = Status::kCompleted;  ///< kInterrupted: stop raised; no labels were written
   std::size_t tested = 0;              ///< grasps tested
   std::size_t holding = 0;             ///< grasps that hold
-  /// Force-closure grasps tested and how many of them hold.
+  /// Force-closure grasps tested and how many of them hold (for a map imported from ACRONYM:
+  /// the grasps its own simulation labelled successful).
   std::size_t fc_tested = 0, fc_holding = 0;
+  /// With ValidateOptions::robust: force-closure grasps that hold robustly.
+  std::size_t fc_robust = 0;
+  /// The jaws were closed from open (HoldTestOptions::close_from_open; mapClosesFromOpen).
+  bool close_from_open = false;
   std::map<std::string, std::size_t> statuses;       ///< grasps per holdStatusName()
   std::array<std::size_t, 6> failed_by_direction{};  ///< slipped grasps per push direction
   /// With ValidateOptions::robust: grasps that hold robustly.
@@ -68,10 +73,21 @@ struct ValidationSummary {
   std::string message;        ///< one line for people
 };
 
+/// True when the map's grasps are poses whose joint values are where parallel jaws touch when
+/// they close from open at that pose (sampling params_json "hold_closing": "from_open", written
+/// by `taskmap import --acronym ... --hand`, docs/ACRONYM.md): their hold test closes the jaws
+/// from open (HoldTestOptions::close_from_open).
+bool mapClosesFromOpen(const TaskMapData& map);
+
+/// Throws Error saying what to do when the map's grasps have no joint values to test (a map
+/// imported from ACRONYM without a hand: import it again with --hand).
+void checkMapJoints(const TaskMapData& map);
+
 /// Tests the grasps of `map` (its object mesh, hand joints and palm poses) with `hand`, which
-/// must be the map's hand (same actuated joints; throws Error naming both otherwise), and
-/// stores the labels in map->validation (replacing earlier ones), with the protocol's
-/// parameters. control.progress is called on the calling thread about every
+/// must be the map's hand (same actuated joints; throws Error naming both otherwise, or when
+/// the map has no joint values, checkMapJoints), and stores the labels in map->validation
+/// (replacing earlier ones), with the protocol's parameters (close_from_open set when
+/// mapClosesFromOpen). control.progress is called on the calling thread about every
 /// control.interval_seconds; when control.stop becomes true the workers finish their current
 /// grasp, the map is left unchanged and the status is kInterrupted. An exception from the
 /// callback stops the workers and leaves validateMap with the map unchanged.
@@ -81,8 +97,9 @@ ValidationSummary validateMap(TaskMapData* map, const HandModel& hand,
 /// The summary as a JSON object, the one form the CLI (`validate --json`) and Python
 /// (`taskmap.validate`) report: tested, holding, hold_rate, force_closure_tested,
 /// force_closure_holding, statuses, slipped_by_direction (by push direction name),
-/// object_pieces, object_volume_error, object_note, cpu_seconds, wall_seconds (s),
-/// grasps_per_cpu_second, steps; with robust labels also robust, robust_rate and
+/// object_pieces, object_volume_error, object_note, close_from_open, cpu_seconds, wall_seconds
+/// (s), grasps_per_cpu_second, steps; with robust labels also robust, robust_rate,
+/// force_closure_robust and
 /// variant_failures (by variant name: for "nominal" the protocol holds outside the margin, for
 /// the others the failures where the nominal variant held within it).
 std::string summaryJson(const ValidationSummary& summary);
@@ -122,7 +139,8 @@ void recordHandDynamics(const std::string& hand_dynamics, MapValidation* validat
 ObjectModel mapObjectModel(const TaskMapData& map);
 
 /// The hold test of grasp `grasp` of `map` with the object's path (HoldTester::trace): why a
-/// grasp holds or fails. `hand` must be the map's hand. Throws Error when `grasp` is not a grasp
+/// grasp holds or fails (close_from_open set when mapClosesFromOpen). `hand` must be the map's
+/// hand. Throws Error when `grasp` is not a grasp
 /// index of the map or the hand does not match.
 HoldTrace traceGrasp(const TaskMapData& map, const HandModel& hand, std::size_t grasp,
                      const HoldTestOptions& options = {});
