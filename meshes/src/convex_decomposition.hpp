@@ -1,12 +1,12 @@
 #pragma once
 // Private to meshes: exact convex decomposition of a closed triangle mesh (CGAL Nef polyhedra,
 // CGAL::convex_decomposition_3), after an optional edge-collapse simplification, and the
-// greedy merge that caps the piece count. Policy (when to decompose) in collision_mesh.cpp.
+// greedy merge that caps the piece count. Policy (when to decompose) in convex_pieces.cpp.
 #include <string>
 #include <vector>
 
-#include "convex_hull.hpp"
 #include "mesh_soup.hpp"
+#include "taskmap/meshes/convex_hull.hpp"
 
 namespace taskmap::detail {
 

@@ -1,12 +1,12 @@
 // Convex hull of a 3-D point set through runQhull (taskmap/meshes/qhull_run.hpp).
-#include "convex_hull.hpp"
+#include "taskmap/meshes/convex_hull.hpp"
 
 #include <algorithm>
 
 #include "taskmap/core/error.hpp"
 #include "taskmap/meshes/qhull_run.hpp"
 
-namespace taskmap::detail {
+namespace taskmap {
 
 PointHull convexHull(const std::vector<Eigen::Vector3d>& points, const std::string& what) {
   if (points.size() < 4) throw Error(what + " has fewer than 4 distinct vertices");
@@ -27,4 +27,4 @@ PointHull convexHull(const std::vector<Eigen::Vector3d>& points, const std::stri
   return hull;
 }
 
-}  // namespace taskmap::detail
+}  // namespace taskmap

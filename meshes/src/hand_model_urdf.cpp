@@ -1,7 +1,7 @@
 // HandModel loading, URDF tree step: the URDF read by the one reader (urdf_model.hpp), links and
-// joints depth-first from the root, collision shapes (meshes: collision_mesh.hpp, each connected
-// part becomes its convex hull or the pieces of a convex decomposition), actuated joints and mimic
-// chains.
+// joints depth-first from the root, collision shapes (collision_mesh.hpp over meshes' convex
+// pieces: each connected part becomes its convex hull or the pieces of a convex decomposition),
+// actuated joints and mimic chains.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -11,13 +11,13 @@
 #include <sstream>
 
 #include "collision_mesh.hpp"
-#include "convex_hull.hpp"
 #include "hand_model_build.hpp"
 #include "round_shapes.hpp"
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
+#include "taskmap/meshes/convex_hull.hpp"
 #include "taskmap/meshes/mjcf_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/meshes/ros_package.hpp"
@@ -59,8 +59,7 @@ CollisionShape meshHull(const UrdfGeometry& g, const std::string& path, const st
         points.insert(points.end(), piece.vertices.begin(), piece.vertices.end());
     }
   }
-  const detail::PointHull hull =
-      detail::convexHull(points, U + "link '" + link + "': mesh '" + info.file + "'");
+  const PointHull hull = convexHull(points, U + "link '" + link + "': mesh '" + info.file + "'");
   info.hull_volume = info.pieces_volume = hull.volume;
   infos->push_back(info);
   CollisionShape s;

@@ -3,7 +3,8 @@
 /// A closed solid as convex pieces, for simulators that collide meshes as their convex hulls
 /// (MuJoCo, Bullet's convex shapes): the solid's hull when it is nearly convex, else the merged
 /// pieces of an exact convex decomposition (CGAL, kept private), of its alpha wrap when the
-/// mesh is not a clean solid. The policy of hand link meshes (HandModel::collisionMeshes).
+/// mesh is not a clean solid. The policy of hand link meshes (HandModel::collisionMeshes, each
+/// connected part of a mesh file: mesh_parts.hpp).
 
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@ struct ConvexPiecesOptions {
   int max_faces = 600;             ///< meshes with more faces are simplified first, in [50, 5000]
   double convex_tolerance = 0.03;  ///< volume >= (1 - tolerance) x hull volume: keep the hull
   bool wrap = true;                ///< decompose the alpha wrap of a mesh that is not clean
+  bool decompose = true;           ///< false: the hull only ("decomposition off")
   /// Throws Error naming the option when a value is out of range.
   void validate() const;
 };
@@ -33,8 +35,12 @@ struct ConvexPieces {
   double pieces_volume = 0.0;  ///< summed volume of the pieces, m^3 (overlaps counted twice)
   bool decomposed = false;     ///< true when the pieces come from the decomposition
   bool wrapped = false;        ///< true when the decomposition was of the alpha wrap
-  /// Why the hull was kept ("nearly convex", or the decomposition's failure), or "".
+  /// Why the hull was kept ("decomposition off", "nearly convex", or the decomposition's
+  /// failure: then `failed`), why the alpha wrap was decomposed, or "".
   std::string note;
+  bool failed = false;  ///< true when decomposition was wanted but failed (the hull is kept)
+  int faces = 0;        ///< faces of the mesh after dropping degenerate and duplicate ones
+  int raw_pieces = 0;   ///< pieces of the exact decomposition before merging (0: none)
   /// Relative volume error of the pieces against the mesh, (pieces - mesh) / mesh.
   double volumeError() const;
 };

@@ -1,11 +1,13 @@
 #pragma once
-// Convex hulls of point sets through reentrant qhull (private to meshes).
+/// @file convex_hull.hpp
+/// Convex hulls of 3-D point sets through reentrant qhull (qhull_run.hpp): the hull of a hand's
+/// mesh geom, the pieces of a convex decomposition (convex_pieces.hpp).
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-namespace taskmap::detail {
+namespace taskmap {
 
 /// A convex hull: its own vertices (a subset of the input, sorted lexicographically) and volume.
 struct PointHull {
@@ -17,4 +19,4 @@ struct PointHull {
 /// stderr). Throws Error starting with `what` when the points are fewer than 4 or flat.
 PointHull convexHull(const std::vector<Eigen::Vector3d>& points, const std::string& what);
 
-}  // namespace taskmap::detail
+}  // namespace taskmap
