@@ -12,7 +12,7 @@ find_package(PkgConfig REQUIRED)
 find_package(Threads REQUIRED)
 find_package(OpenSSL REQUIRED COMPONENTS Crypto)
 
-# meshes: assimp, CGAL, urdfdom, TinyXML (the MJCF reader; urdfdom parses with it too)
+# meshes: assimp, CGAL, qhull; hands: urdfdom, TinyXML (the MJCF reader; urdfdom parses with it too)
 find_package(assimp REQUIRED)
 find_package(CGAL REQUIRED)
 find_package(urdfdom REQUIRED)

@@ -4,7 +4,7 @@
 #include <map>
 #include <string>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap::detail {

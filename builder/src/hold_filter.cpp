@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/hand_drive.hpp"
+#include "taskmap/hands/hand_drive.hpp"
 
 namespace taskmap {
 namespace {

@@ -15,8 +15,8 @@
 #include "collision_data.hpp"
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/hands/link_inertia.hpp"
 #include "taskmap/meshes/convex_pieces.hpp"
-#include "taskmap/meshes/link_inertia.hpp"
 
 namespace taskmap {
 namespace {

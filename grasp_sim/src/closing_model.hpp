@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/grasp_sim/closing_check.hpp"
-#include "taskmap/meshes/hand_drive.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_drive.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 

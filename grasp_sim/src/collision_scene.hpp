@@ -12,7 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/triangle_mesh.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 

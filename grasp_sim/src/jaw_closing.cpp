@@ -15,7 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/shape_mesh.hpp"
+#include "taskmap/hands/shape_mesh.hpp"
 
 namespace taskmap {
 namespace {

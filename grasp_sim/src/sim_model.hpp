@@ -10,7 +10,7 @@
 #include "collision_scene.hpp"
 #include "taskmap/core/triangle_mesh.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 

@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "taskmap/core/error.hpp"
+#include "taskmap/hands/shape_mesh.hpp"
 #include "taskmap/inspect/map_hand.hpp"
 #include "taskmap/inspect/map_summary.hpp"
-#include "taskmap/meshes/shape_mesh.hpp"
 
 namespace taskmap {
 namespace {

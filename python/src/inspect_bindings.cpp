@@ -20,11 +20,11 @@
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/hands/hand_draft.hpp"
 #include "taskmap/inspect/hand_info.hpp"
 #include "taskmap/inspect/map_summary.hpp"
 #include "taskmap/inspect/mesh_info.hpp"
 #include "taskmap/integration/task_map.hpp"
-#include "taskmap/meshes/hand_draft.hpp"
 #include "taskmap/picture/hand_picture.hpp"
 #include "taskmap/viz/hand_page.hpp"
 

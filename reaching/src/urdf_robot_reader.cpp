@@ -1,4 +1,4 @@
-// RobotModel::load: URDF kinematic tree (the one URDF reader, meshes/urdf_model.hpp) and the
+// RobotModel::load: URDF kinematic tree (the one URDF reader, hands/urdf_model.hpp) and the
 // capsule model sidecar.
 #include <cmath>
 #include <filesystem>
@@ -11,8 +11,8 @@
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/input_file.hpp"
 #include "taskmap/core/xml_scan.hpp"
-#include "taskmap/meshes/ros_package.hpp"
-#include "taskmap/meshes/urdf_model.hpp"
+#include "taskmap/hands/ros_package.hpp"
+#include "taskmap/hands/urdf_model.hpp"
 #include "taskmap/reaching/robot_model.hpp"
 
 namespace taskmap {

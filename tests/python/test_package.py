@@ -17,9 +17,9 @@ BUILD = os.environ["TASKMAP_BUILD_DIR"]
 # Libraries of the offline stages and their dependencies: none may be mapped by `import taskmap`.
 OFFLINE_LIBS = ("libBullet", "libLinearMath", "libassimp", "libqhull", "liburdfdom", "libmujoco",
                 "libmpfr", "libtinyxml", "libconsole_bridge", "libcairo", "libtaskmap_meshes",
-                "libtaskmap_grasp_sim", "libtaskmap_quality", "libtaskmap_builder",
-                "libtaskmap_reaching", "libtaskmap_validate", "libtaskmap_viz",
-                "libtaskmap_inspect", "libtaskmap_picture")
+                "libtaskmap_hands", "libtaskmap_grasp_sim", "libtaskmap_quality",
+                "libtaskmap_builder", "libtaskmap_reaching", "libtaskmap_validate",
+                "libtaskmap_viz", "libtaskmap_inspect", "libtaskmap_picture")
 
 QUERY = textwrap.dedent("""
     import json, os, sys
@@ -77,7 +77,8 @@ class PackageTest(unittest.TestCase):
         self.assertTrue(any("libtaskmap_integration" in m for m in r["maps"]))
 
     def test_offline_names_load_on_first_use(self):
-        # The check above can fail: touching taskmap.validate maps MuJoCo and the meshes stage.
+        # The check above can fail: touching taskmap.validate maps MuJoCo and the meshes and hands
+        # stages.
         r = run_query(sys.executable, touch="validate")
         libs = offline_libs(r["maps"])
         self.assertTrue(any("libmujoco" in m for m in libs), libs)

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "taskmap/core/pose.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "test_meshes.hpp"
 

@@ -12,7 +12,7 @@
 
 #include "taskmap/core/pose.hpp"
 #include "taskmap/core/random.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap::testing {
 

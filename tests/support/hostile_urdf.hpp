@@ -1,6 +1,6 @@
 #pragma once
 // URDFs for the hostile-input tests (issue 32): long chains, deep XML nesting, joints that do
-// not form a tree. Written to files by the tests; shared by the hand (meshes) and robot
+// not form a tree. Written to files by the tests; shared by the hand (hands) and robot
 // (reaching) front ends.
 #include <cstddef>
 #include <fstream>

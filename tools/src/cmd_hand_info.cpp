@@ -13,8 +13,8 @@
 #include "taskmap/core/data_dir.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/core/output_guard.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/inspect/hand_info.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/picture/hand_picture.hpp"
 #include "taskmap/viz/hand_page.hpp"
 

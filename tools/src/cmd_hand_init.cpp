@@ -1,4 +1,4 @@
-// taskmap hand-init: drafts a hand sidecar from the URDF alone (meshes/hand_draft.hpp) and
+// taskmap hand-init: drafts a hand sidecar from the URDF alone (hands/hand_draft.hpp) and
 // prints each guess and why.
 #include <cstdio>
 #include <filesystem>
@@ -10,7 +10,7 @@
 #include "mesh_options.hpp"
 #include "taskmap/core/atomic_file.hpp"
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/hand_draft.hpp"
+#include "taskmap/hands/hand_draft.hpp"
 
 namespace taskmap::cli {
 namespace {

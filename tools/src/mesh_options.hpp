@@ -24,7 +24,7 @@ void addMeshRepairOptions(CLI::App* cmd, MeshRepairArgs& args);
 
 /// Adds --package-path DIR (repeatable) to a command that takes a hand: each DIR is put before
 /// the entries of ROS_PACKAGE_PATH, where package:// mesh paths of URDFs are looked up
-/// (taskmap/meshes/ros_package.hpp), in the order given.
+/// (taskmap/hands/ros_package.hpp), in the order given.
 void addPackagePathOption(CLI::App* cmd);
 
 /// Sets repair and wrap fields of `options`; throws Error on contradicting options.

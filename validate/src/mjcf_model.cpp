@@ -13,8 +13,8 @@
 
 #include "taskmap/core/constants.hpp"
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/hand_drive.hpp"
-#include "taskmap/meshes/link_inertia.hpp"
+#include "taskmap/hands/hand_drive.hpp"
+#include "taskmap/hands/link_inertia.hpp"
 
 namespace taskmap::detail {
 namespace {

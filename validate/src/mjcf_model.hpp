@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/convex_pieces.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
 

@@ -6,7 +6,7 @@
 // dynamics".
 #include <string>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
 
 namespace taskmap::detail {

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap::viz_detail {
 

@@ -18,8 +18,8 @@
 #include "taskmap/builder/build_params.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/trial_block.hpp"
+#include "taskmap/hands/hand_drive.hpp"
 #include "taskmap/mapstore/grasp_contacts.hpp"
-#include "taskmap/meshes/hand_drive.hpp"
 
 namespace taskmap {
 namespace {
@@ -89,7 +89,7 @@ TEST(HoldFilter, EffortsPushTowardsTheClampedSqueezeTarget) {
 }
 
 // With revolute_gripper_force, a one-joint revolute gripper (tests/data/hands/knuckle_jaw)
-// presses with the validator's drive of it (meshes' actuatorDrives): gain kp_prismatic x the
+// presses with the validator's drive of it (hands' actuatorDrives): gain kp_prismatic x the
 // tips' squared speeds, at most the jaw force at each tip; off (the default), kp_revolute
 // without a limit.
 TEST(HoldFilter, ARevoluteGripperPressesWithItsDrive) {

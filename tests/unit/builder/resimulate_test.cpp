@@ -11,8 +11,8 @@
 #include "taskmap/builder/build_params.hpp"
 #include "taskmap/builder/resimulate.hpp"
 #include "taskmap/core/error.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/map_file.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
 namespace {

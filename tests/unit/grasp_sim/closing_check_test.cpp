@@ -323,7 +323,7 @@ TEST(ClosingCheck, JawSettingsLeaveOtherHandsAlone) {
 }
 
 // A gripper driven by one revolute joint (tests/data/hands/knuckle_jaw, as a Robotiq 2F-85's
-// linkage) presses each tip with the jaw force, as in the hold test (meshes' jointDrives): its
+// linkage) presses each tip with the jaw force, as in the hold test (hands' jointDrives): its
 // centred grasp of a box, which the hold test holds, passes the early check (the object moves
 // under 5 mm). With the option off its joints servo with kp_revolute = 5 N m/rad: the squeeze
 // past the grasp (a tenth of its 0.6 rad closing) presses each tip with under 2 N over the

@@ -8,7 +8,7 @@
 
 #include "taskmap/core/random.hpp"
 #include "taskmap/grasp_sim/grasp_simulator.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {

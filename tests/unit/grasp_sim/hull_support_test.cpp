@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 namespace {

@@ -245,7 +245,7 @@ TEST(RobotModel, HostileUrdfsAreLoadedFastOrRefused) {
   fs::remove_all(dir);
 }
 
-// Hands (meshes) and robots (reaching) read URDFs with one reader under one lock around
+// Hands (hands) and robots (reaching) read URDFs with one reader under one lock around
 // console_bridge's process-global output handler: loaded at once from many threads (two Python
 // threads, say), every good file loads and every broken one quotes exactly its own message.
 TEST(RobotModel, HandsAndRobotsLoadConcurrentlyWithTheirOwnMessages) {

@@ -16,7 +16,7 @@
 #include "build_fixtures.hpp"
 #include "error_matchers.hpp"
 #include "taskmap/core/error.hpp"
-#include "taskmap/meshes/hand_drive.hpp"
+#include "taskmap/hands/hand_drive.hpp"
 #include "test_meshes.hpp"
 
 namespace taskmap {

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "scratch_dir.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 namespace {

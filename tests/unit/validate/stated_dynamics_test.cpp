@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "build_fixtures.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
 
 namespace taskmap {

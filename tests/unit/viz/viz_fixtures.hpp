@@ -11,9 +11,9 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_run.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap::testing {
 

@@ -18,9 +18,9 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/clustering/clustering.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/acronym.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {

@@ -12,7 +12,7 @@
 
 #include "taskmap/core/contact.hpp"
 #include "taskmap/core/pose.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/quality/squeeze_balance.hpp"
 
 namespace taskmap {
@@ -28,7 +28,7 @@ struct HoldFilterOptions {
   double jaw_force = 70.0;        ///< N, force limit of each parallel jaw (prismatic joints)
   double kp_prismatic = 20000.0;  ///< N / m, position gain of prismatic joints
   /// true: a gripper whose only actuated joint is revolute presses each finger tip with
-  /// jaw_force, as in the hold test (meshes' actuatorDrives). Off by default: measured on the
+  /// jaw_force, as in the hold test (hands' actuatorDrives). Off by default: measured on the
   /// real Robotiq 2F-85 (docs/VALIDATION.md, "One drive for the validator, the closing check and
   /// the hold filter"), with the real drive the balance passes nearly every grasp (its failures
   /// are losses while closing, which a static balance cannot see); with kp_revolute it refuses
@@ -44,7 +44,7 @@ struct HoldFilterOptions {
 /// kp (q_sq - q), q_sq = q0 + squeeze_fraction (q - q0) clamped to the joint's limits;
 /// prismatic: the same with kp_prismatic, at most jaw_force times the jaws it moves) and lever
 /// (HandModel::jointLevers(), 1 for prismatic joints); a one-joint revolute gripper's effort
-/// is its drive's (meshes' actuatorDrives: the tips press with at most jaw_force each). `palm` is
+/// is its drive's (hands' actuatorDrives: the tips press with at most jaw_force each). `palm` is
 /// the palm frame in the object frame, `joints` the grasp's actuated joint values, contacts in the
 /// object frame.
 SqueezeDrive squeezeDrive(const HandModel& hand, const Pose& palm, const Eigen::VectorXd& joints,

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {

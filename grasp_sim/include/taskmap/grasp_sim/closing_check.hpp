@@ -18,7 +18,7 @@
 #include <Eigen/Core>
 
 #include "taskmap/core/pose.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {
@@ -52,7 +52,7 @@ struct ClosingCheckOptions {
   double damping_prismatic = 100.0;  ///< N s / m, prismatic joint damping
   double jaw_force = 70.0;           ///< N, force limit of each prismatic joint (parallel jaw)
   /// A gripper whose only actuated joint is revolute (a Robotiq 2F-85's linkage) presses each
-  /// finger tip with jaw_force, as in the hold test (meshes' jointDrives); false: kp_revolute
+  /// finger tip with jaw_force, as in the hold test (hands' jointDrives); false: kp_revolute
   /// without a force limit on every revolute joint (maps built before 2026-11-27)
   bool revolute_gripper_force = true;
   double link_density = 800.0;     ///< kg / m^3, hand links' mass from their shapes

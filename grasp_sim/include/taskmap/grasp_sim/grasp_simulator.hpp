@@ -62,7 +62,7 @@
 #include "taskmap/core/pose.hpp"
 #include "taskmap/core/triangle_mesh.hpp"
 #include "taskmap/grasp_sim/diagnostics.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 
 namespace taskmap {

@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 
 namespace taskmap {
 

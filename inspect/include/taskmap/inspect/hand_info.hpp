@@ -6,8 +6,8 @@
 
 #include <string>
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/inspect/hand_check.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
 

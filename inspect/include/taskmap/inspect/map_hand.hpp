@@ -12,10 +12,10 @@
 #include <Eigen/Geometry>
 
 #include "taskmap/core/triangle_mesh.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"  // findMapHandUrdf
 #include "taskmap/mapstore/task_map_data.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
 

@@ -4,8 +4,8 @@
 /// coloured by cluster, a hand glyph per cluster representative and the hand's links posed by
 /// each representative (meshes' ExportScene; write it with exportScene).
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/meshes/mesh_export.hpp"
 
 namespace taskmap {

@@ -7,9 +7,9 @@
 
 #include <string>
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/inspect/map_summary.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 
 namespace taskmap {
 

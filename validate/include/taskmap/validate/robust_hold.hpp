@@ -14,7 +14,7 @@
 #include <Eigen/Core>
 
 #include "taskmap/core/pose.hpp"
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/meshes/object_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
 

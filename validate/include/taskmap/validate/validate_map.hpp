@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "taskmap/core/run_control.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/validate/hold_test.hpp"
 #include "taskmap/validate/robust_hold.hpp"
 

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "taskmap/meshes/hand_model.hpp"
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/viz/page_options.hpp"
 
 namespace taskmap {

@@ -9,8 +9,8 @@
 
 #include <string>
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/task_map_data.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/viz/page_options.hpp"
 
 namespace taskmap {

@@ -12,8 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "taskmap/hands/hand_model.hpp"
 #include "taskmap/mapstore/trajectory_file.hpp"
-#include "taskmap/meshes/hand_model.hpp"
 #include "taskmap/viz/page_options.hpp"
 
 namespace taskmap {
