@@ -175,7 +175,10 @@ def check_command(cmd, helps):
 def check_bench_paths(text, build):
     """Errors of a block's `build/tests/bench/...` programs: each must exist in the build tree
     (checked when the build has its benchmarks), so a renamed benchmark breaks the page."""
-    if not os.path.isdir(os.path.join(build, "tests", "bench")):
+    bench = os.path.join(build, "tests", "bench")
+    built = [f for d, _, fs in os.walk(bench) for f in fs
+             if os.access(os.path.join(d, f), os.X_OK) and "CMakeFiles" not in d]
+    if not built:
         return []
     return [f"{m}: no such program in the build tree"
             for m in sorted(set(re.findall(r"(?<![\w/])build/(tests/bench/[\w./-]*\w)", text)))
