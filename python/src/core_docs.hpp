@@ -110,7 +110,7 @@ scale); ties go to the smaller index. Exact unless the map was loaded with
 ``index="randomized"``.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     cluster (int, optional): search this cluster's grasps only.
 
 Returns:
@@ -129,7 +129,7 @@ inline constexpr const char* kKnn =
     R"doc(The ``k`` grasps nearest to a pose, nearest first (pose metric, metres).
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     k (int): how many, >= 1 (fewer when the map or cluster has fewer).
     cluster (int, optional): search this cluster's grasps only.
 
@@ -147,7 +147,7 @@ inline constexpr const char* kRadius =
     R"doc(Every grasp within a pose distance of a pose, nearest first.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     r (float): radius in the pose metric, metres, >= 0.
     cluster (int, optional): search this cluster's grasps only.
 
@@ -168,7 +168,7 @@ inline constexpr const char* kProximity =
 nearest grasp; its gradient is in the object frame.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     cluster (int, optional): against this cluster's grasps only.
 
 Returns:
@@ -192,7 +192,7 @@ g_q = -sum w_i f_i / sum w_i, f_i a normalised Gaussian in the pose embedding wi
 epsilon x hold margin for a map with physics labels). The gradient is analytic, object frame.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     cluster (int, optional): the mixture of this cluster's grasps only.
     mode (str, optional): ``"exact"`` sums every grasp; ``"truncated"`` the grasps within
         ``cutoff_radius`` and bounds the rest; default the map's ``quality_mode``.
@@ -215,7 +215,7 @@ inline constexpr const char* kEvaluate =
     R"doc(Proximity and quality with their gradients, from one index search: the once-per-iteration call.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
     cluster (int, optional): against this cluster's grasps only.
 
 Returns:
@@ -261,7 +261,7 @@ inline constexpr const char* kEvaluateBatch =
     R"doc(:meth:`evaluate` for many poses, on the map's ``threads``.
 
 Args:
-    poses (numpy.ndarray): N x 7 palm poses in the object frame.
+    poses (numpy.ndarray): N x 7 palm poses in the object frame (metres; quaternions qw qx qy qz).
     cluster (int, optional): against this cluster's grasps only.
 
 Returns:
@@ -280,7 +280,7 @@ inline constexpr const char* kNearestBatch =
     R"doc(:meth:`nearest` for many poses, on the map's ``threads``.
 
 Args:
-    poses (numpy.ndarray): N x 7 palm poses in the object frame.
+    poses (numpy.ndarray): N x 7 palm poses in the object frame (metres; quaternions qw qx qy qz).
     cluster (int, optional): search this cluster's grasps only.
 
 Returns:
@@ -369,7 +369,7 @@ inline constexpr const char* kSessionEvaluate =
     R"doc(What :meth:`TaskMap.evaluate` returns for ``pose``, from the cache when it can.
 
 Args:
-    pose (numpy.ndarray): 7-vector, palm in the object frame.
+    pose (numpy.ndarray): 7-vector, palm in the object frame (metres; quaternion qw qx qy qz).
 
 Returns:
     dict: the same keys and values as :meth:`TaskMap.evaluate` (sums up to rounding order).
@@ -384,6 +384,8 @@ Example:
 )doc";
 
 inline constexpr const char* kSessionReset = R"doc(Drops the cache and zeroes :attr:`stats`.
+
+Raises nothing.
 
 Returns:
     None
@@ -441,6 +443,10 @@ Args:
 Returns:
     numpy.ndarray: 7-vector, palm in the object frame (what the queries take).
 
+Raises:
+    TypeError: a pose that is not a 7-vector of numbers.
+    taskmap.Error: a non-finite value or a zero quaternion.
+
 Example:
     >>> taskmap.hand_in_object(np.array([0.5, 0, 0.1, 1, 0, 0, 0]),
     ...                        np.array([0.5, 0, 0, 1, 0, 0, 0]))
@@ -450,12 +456,17 @@ inline constexpr const char* kHandGradientToWorld =
     R"doc(An object-frame gradient as a gradient of the palm's world pose: (R_wo g_lin, R_wo g_ang).
 
 Args:
-    gradient (numpy.ndarray): 6-vector (linear, angular), object frame.
-    object_world (numpy.ndarray): 7-vector, object in the world.
+    gradient (numpy.ndarray): 6-vector (linear: per metre, angular: per radian), object frame
+        (``Evaluation``'s ``gradient``).
+    object_world (numpy.ndarray): 7-vector, object in the world frame (metres; quaternion qw qx qy qz).
 
 Returns:
     numpy.ndarray: 6-vector in world coordinates, for the perturbation a geometric Jacobian
     gives (linear velocity of the palm origin, angular velocity).
+
+Raises:
+    TypeError: a gradient that is not a 6-vector or a pose that is not a 7-vector.
+    taskmap.Error: a pose with a non-finite value or a zero quaternion.
 
 Example:
     >>> g = taskmap.hand_gradient_to_world(e["gradient"], object_world)
@@ -467,12 +478,17 @@ inline constexpr const char* kObjectGradientToWorld =
 (-R_wo g_lin, (R_wo g_lin) x (p_wh - p_wo) - R_wo g_ang).
 
 Args:
-    gradient (numpy.ndarray): 6-vector (linear, angular), object frame.
-    hand_world (numpy.ndarray): 7-vector, palm in the world.
-    object_world (numpy.ndarray): 7-vector, object in the world.
+    gradient (numpy.ndarray): 6-vector (linear: per metre, angular: per radian), object frame
+        (``Evaluation``'s ``gradient``).
+    hand_world (numpy.ndarray): 7-vector, palm in the world frame (metres; quaternion qw qx qy qz).
+    object_world (numpy.ndarray): 7-vector, object in the world frame (metres; quaternion qw qx qy qz).
 
 Returns:
     numpy.ndarray: 6-vector in world coordinates.
+
+Raises:
+    TypeError: a gradient that is not a 6-vector or a pose that is not a 7-vector.
+    taskmap.Error: a pose with a non-finite value or a zero quaternion.
 
 Example:
     >>> g = taskmap.object_gradient_to_world(e["gradient"], hand_world, object_world)
@@ -485,17 +501,23 @@ J_hand^T g_hand_world + J_object^T g_object_world, the Jacobians geometric (rows
 angular; world coordinates), for a hand and, optionally, an object that move with the joints.
 
 Args:
-    gradient (numpy.ndarray): 6-vector (linear, angular), object frame.
-    hand_world (numpy.ndarray): 7-vector, palm in the world.
-    object_world (numpy.ndarray): 7-vector, object in the world.
-    hand_jacobian (numpy.ndarray): 6 x n Jacobian of the palm.
-    object_jacobian (numpy.ndarray, optional): 6 x n Jacobian of the object (None: fixed).
+    gradient (numpy.ndarray): 6-vector (linear: per metre, angular: per radian), object frame
+        (``Evaluation``'s ``gradient``).
+    hand_world (numpy.ndarray): 7-vector, palm in the world frame (metres; quaternion qw qx qy qz).
+    object_world (numpy.ndarray): 7-vector, object in the world frame (metres; quaternion qw qx qy qz).
+    hand_jacobian (numpy.ndarray): 6 x n geometric Jacobian of the palm in the world frame
+        (rows: linear in metres, angular in radians, per unit of each joint).
+    object_jacobian (numpy.ndarray, optional): 6 x n geometric Jacobian of the object in the
+        world frame (rows: linear in metres, angular in radians, per unit of each joint; None:
+        the object is fixed).
 
 Returns:
     numpy.ndarray: n-vector, d(criterion)/dq.
 
 Raises:
-    taskmap.Error: a Jacobian without 6 rows, or column counts that differ.
+    TypeError: a gradient that is not a 6-vector or a pose that is not a 7-vector.
+    taskmap.Error: a Jacobian without 6 rows, column counts that differ, or a pose with a
+        non-finite value or a zero quaternion.
 
 Example:
     >>> dq = taskmap.joint_gradient(e["gradient"], hand_world, object_world, J)
@@ -505,12 +527,16 @@ inline constexpr const char* kPoseDistance =
     R"doc(The pose distance of the maps: ``sqrt(|dp|^2 + rho^2 (2 sin(theta/2))^2)``.
 
 Args:
-    a (numpy.ndarray): 7-vector pose.
-    b (numpy.ndarray): 7-vector pose, same frame.
+    a (numpy.ndarray): 7-vector pose (metres; quaternion qw qx qy qz).
+    b (numpy.ndarray): 7-vector pose in the same frame as ``a``.
     rho (float): metres per radian (default 0.1; a map's is ``m.rotation_scale``).
 
 Returns:
     float: metres.
+
+Raises:
+    TypeError: a pose that is not a 7-vector of numbers.
+    taskmap.Error: a non-finite value or a zero quaternion.
 
 Example:
     >>> taskmap.pose_distance(np.array([0, 0, 0, 1, 0, 0, 0]), np.array([3, 0, 4, 1, 0, 0, 0]))

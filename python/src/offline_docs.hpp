@@ -269,7 +269,7 @@ inline constexpr const char* kRobotJacobian =
     R"doc(The geometric Jacobian of a body relative to another (paper eq. 1.4-1.5).
 
 Args:
-    q (numpy.ndarray): joint values, ``dofs`` long.
+    q (numpy.ndarray): joint values (radians; metres for prismatic joints), ``dofs`` long.
     body (str): the body (e.g. ``"palm"``).
     reference (str): the reference body (``""``: the world); the Jacobian is expressed in
         its frame.
@@ -309,7 +309,8 @@ Args:
     map (TaskMap): second form: the task map of the mounted hand.
     body (str): first form: the body to move (default the palm).
     reference (str): first form: the frame of ``target``.
-    q0 (numpy.ndarray, optional): start configuration (default: the middle of the ranges).
+    q0 (numpy.ndarray, optional): start configuration (radians; metres for prismatic joints;
+        default: the middle of the ranges).
     steps (int): control steps (300).
     dt (float): time step, seconds (0.01).
     relaxation_time (float): first form: the attractor's relaxation time, seconds (0.2).
@@ -358,7 +359,8 @@ inline constexpr const char* kPlanGrasp =
 Args:
     robot (Robot): the arm with its hand and a scene with an object.
     map (TaskMap): the task map of the mounted hand (object frame).
-    q0 (numpy.ndarray, optional): start configuration.
+    q0 (numpy.ndarray, optional): start configuration (radians; metres for prismatic joints;
+        default: the middle of the ranges).
     all_clusters (bool): optimise from every reachable cluster.
     iterations (int): optimiser iterations (40).
     proximity_weight (float): w_map,p (1e4).
@@ -384,12 +386,16 @@ inline constexpr const char* kJointLimitCost =
     R"doc(The joint-limit cost (paper eq. 1.8): 1/2 sum(((q - mid) / (upper - lower))^2).
 
 Args:
-    q (numpy.ndarray): joint values (radians or metres).
-    lower (numpy.ndarray): lower limits, same units.
-    upper (numpy.ndarray): upper limits, same units.
+    q (numpy.ndarray): joint values (radians; metres for prismatic joints).
+    lower (numpy.ndarray): lower limits (radians; metres for prismatic joints).
+    upper (numpy.ndarray): upper limits (radians; metres for prismatic joints), each above its
+        lower limit.
 
 Returns:
     float: the cost (0 at the middle of every range).
+
+Raises:
+    taskmap.Error: limits that are not finite with lower < upper, or sizes that differ.
 
 Example:
     >>> taskmap.joint_limit_cost(np.zeros(2), -np.ones(2), np.ones(2))
@@ -409,6 +415,9 @@ Args:
 
 Returns:
     float: the cost.
+
+Raises:
+    taskmap.Error: ``zone`` not above 0 (with at least one distance).
 
 Example:
     >>> taskmap.collision_cost([0.05], zone=0.1)

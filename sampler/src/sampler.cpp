@@ -212,8 +212,8 @@ constexpr std::uint64_t kProbeSeed = 0x70726f6265ULL;  // "probe"
 /// antipodal_palm and palm_enclose: below this share of trials finding a pose within
 /// `attempts`, they make no attempt: their trials are the mixed sampler's
 /// (Sampler::attemptsInForce). 0.25 with 16 attempts: a probe accepting 2 of 64 attempts
-/// (the panda's jaws on the reference mug) attempts; 1 of 64 does not (docs/PERFORMANCE.md,
-/// "The probe's threshold"; 0.5 before 2026-11-27).
+/// (the panda's jaws on the reference mug) attempts; 1 of 64 does not
+/// (docs/history/performance-2026-11.md, "The probe's threshold"; 0.5 before 2026-11-27).
 constexpr double kProbeMinFound = 0.25;
 
 /// antipodal_palm: how far the pads' midpoint lies ahead of the palm's front along the approach

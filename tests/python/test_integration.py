@@ -215,9 +215,10 @@ class IntegrationTest(unittest.TestCase):
             self.assertGreater(near, 10)  # the comparison is not vacuous
 
     def test_validated_map_weighs_samples_by_hold_margin(self):
-        """The checked-in reference map carries physics hold labels for every grasp: its quality
-        weights are epsilon x hold margin (docs/METHOD.md "Sample weights"), checked against
-        numpy with the labels read by h5py; sample_weight="epsilon" restores the paper's."""
+        """The checked-in reference map carries robust hold labels for every grasp: its quality
+        weights are epsilon x robust margin (docs/METHOD.md "Sample weights": 1 - the share of
+        the 1 cm / 5 deg margin the pushes used over every variant), checked against numpy with
+        the labels read by h5py; sample_weight="epsilon" restores the paper's."""
         import h5py
         path = os.path.join(os.environ.get("TASKMAP_SOURCE_DIR", ""), "meshes", "maps",
                             "basket_humanoid.h5")
@@ -225,11 +226,12 @@ class IntegrationTest(unittest.TestCase):
             self.skipTest("the checked-in map is not available")
         with h5py.File(path, "r") as f:
             eps = f["grasps/epsilon"][:]
-            hold = f["grasps/hold"][:]
-            d, a = f["grasps/hold_translation"][:], f["grasps/hold_rotation"][:]
-            params = json.loads(f["validation"].attrs["params_json"])
-        margin = np.where(hold == 1, np.clip(np.minimum(1 - d / params["max_translation"],
-                                                        1 - a / params["max_rotation"]), 0, 1), 0)
+            robust = f["grasps/robust"][:]
+            d, a = f["grasps/hold_push_translation"][:], f["grasps/hold_push_rotation"][:]
+            params = json.loads(f["validation"].attrs["robust_json"])
+        self.assertTrue(np.all(robust == 1))  # a robust build stores robust grasps only
+        margin = np.clip(np.minimum(1 - np.maximum(d, 0) / params["margin_translation"],
+                                    1 - np.maximum(a, 0) / params["margin_rotation"]), 0, 1)
         by_margin = taskmap.load(path)
         by_eps = taskmap.load(path, sample_weight="epsilon")
         self.assertEqual(by_margin.sample_weight, "hold_margin")

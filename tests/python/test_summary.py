@@ -28,8 +28,8 @@ class SummaryTest(unittest.TestCase):
         self.assertEqual(code, 0, err)
         s = taskmap.summary(MAP)
         self.assertEqual(s, json.loads(out))
-        self.assertEqual(s["grasps"]["count"], 182)
-        self.assertEqual(len(s["clustering"]["clusters"]), 8)
+        self.assertEqual(s["grasps"]["count"], 40)
+        self.assertEqual(len(s["clustering"]["clusters"]), 3)
         # A loaded TaskMap gives the same numbers; it has no path.
         from_map = taskmap.summary(taskmap.load(MAP))
         self.assertEqual(from_map["path"], "")

@@ -13,7 +13,9 @@ Every fenced block of a page is one of:
     build/python the build's), with the build's bin/ on PATH and python/ on PYTHONPATH; a block
     fails the test when it exits non-zero;
   - ```json blocks: parsed;
-  - any other block (```text, ```cpp, no language): not code that runs here; each of its lines
+  - ```cpp blocks: compiled by the build, not here (tools/docs/snippets.py, the ctest docs.cpp;
+    its mark `body #include <...>` compiles statements inside a function);
+  - any other block (```text, no language): not code that runs here; each of its lines
     that calls `taskmap` or `taskmap-mpi` is checked as a marked block's (below).
 A comment on the line before a block marks it instead:
   <!-- docs-test: options REASON -->  not run; every `taskmap ...` line's subcommand and options
@@ -22,7 +24,9 @@ A comment on the line before a block marks it instead:
   <!-- docs-test: setup COMMANDS -->  run COMMANDS (sh) in the page's folder before the block
 Pages this change may not edit carry their marks in MARKS below (by page and first line).
 Inline code spans that call `taskmap CMD --option` are checked like marked blocks, and spans
-that name `taskmap.NAME` are checked to exist in the Python package.
+that name `taskmap.NAME` are checked to exist in the Python package. A block's
+`build/tests/bench/PROGRAM` paths (run or not) must name programs of the build tree when it has
+its benchmarks.
 
 --links checks every relative link of README.md, docs/ (history included) and mapstore/*.md:
 the file exists, and a #anchor names a heading of the target page (GitHub's slugs).
@@ -168,6 +172,19 @@ def check_command(cmd, helps):
     return errors
 
 
+def check_bench_paths(text, build):
+    """Errors of a block's `build/tests/bench/...` programs: each must exist in the build tree
+    (checked when the build has its benchmarks), so a renamed benchmark breaks the page."""
+    bench = os.path.join(build, "tests", "bench")
+    built = [f for d, _, fs in os.walk(bench) for f in fs
+             if os.access(os.path.join(d, f), os.X_OK) and "CMakeFiles" not in d]
+    if not built:
+        return []
+    return [f"{m}: no such program in the build tree"
+            for m in sorted(set(re.findall(r"(?<![\w/])build/(tests/bench/[\w./-]*\w)", text)))
+            if not os.path.exists(os.path.join(build, m))]
+
+
 def inline_checks(prose, helps):
     """Inline `taskmap CMD ...` spans and `taskmap.NAME` spans of a page's prose."""
     errors, commands, names = [], 0, set()
@@ -249,9 +266,11 @@ def examples(root, build, only, list_only, exclude=()):
         cwd = None
         for b in blocks:
             mode, reason = b.mark if b.mark else (None, "")
-            if mode not in (None, "options", "skip", "setup"):
+            if mode not in (None, "options", "skip", "setup") and not (
+                    mode == "body" and b.lang in ("cpp", "c++", "cc", "cxx")):
                 failures.append(f"{b.where()}: unknown mark '{mode}'")
                 continue
+            failures += [f"{b.where()}: {e}" for e in check_bench_paths(b.text, build)]
             if mode == "skip":
                 if not reason:
                     failures.append(f"{b.where()}: a skipped block needs its reason")

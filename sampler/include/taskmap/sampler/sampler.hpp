@@ -96,8 +96,9 @@ struct JawGeometry {
 std::optional<JawGeometry> jawGeometry(const HandModel& hand);
 
 /// The sampler of a build that names none: kAntipodalPalm for a parallel-jaw hand (jawGeometry()
-/// not empty), kMixed for any other hand (docs/METHOD.md §2; measured in docs/PERFORMANCE.md,
-/// "antipodal_palm against mixed on every jaw pair").
+/// not empty), kMixed for any other hand (docs/METHOD.md §2; measured in
+/// docs/history/performance-2026-11.md, "antipodal_palm, the jaws' default"; builds choose
+/// palm_enclose for hands it can place: builder's chooseSampler).
 SamplerKind defaultSamplerKind(const HandModel& hand);
 
 /// Points spanning the collision shapes of every finger link in the open preshape, palm frame,
