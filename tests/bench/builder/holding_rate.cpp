@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_only.hpp"
 #include "taskmap/builder/build_knobs.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
@@ -54,19 +55,6 @@ Run build(const ObjectModel& object, const HandModel& hand, std::uint64_t valid,
   run.cpu = t.sampling_seconds + t.simulation_seconds + t.quality_seconds + t.hold_test_seconds;
   run.poses = r.map.grasps.pose;
   return run;
-}
-
-bool selected(const std::string& only, const std::string& name) {
-  if (only.empty()) return true;
-  std::size_t start = 0;
-  while (start <= only.size()) {
-    const std::size_t bar = only.find('|', start);
-    const std::string part = only.substr(start, bar == std::string::npos ? bar : bar - start);
-    if (!part.empty() && name.find(part) != std::string::npos) return true;
-    if (bar == std::string::npos) break;
-    start = bar + 1;
-  }
-  return false;
 }
 
 std::vector<Pair> pairs(const std::string& src, const std::string& real) {
@@ -125,7 +113,9 @@ int benchMain(int argc, char** argv) {
               "tested", "kept", "CPU s", "kept/CPU-s", "tested/hold-s");
   double sum_full = 0.0, sum_settled = 0.0;
   for (const Pair& p : pairs(TASKMAP_SOURCE_DIR, real)) {
-    if (!selected(only, p.hand_name + " " + p.object_name) || !fs::exists(p.object_path)) continue;
+    if (!testing::selectedByOnly(only, p.hand_name + " " + p.object_name) ||
+        !fs::exists(p.object_path))
+      continue;
     const HandModel hand = HandModel::load(p.hand_path);
     const ObjectModel object = ObjectModel::load(p.object_path, MeshLoadOptions{});
     const Run full = build(object, hand, valid, trials, false);

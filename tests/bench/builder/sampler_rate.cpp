@@ -36,6 +36,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_only.hpp"
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/core/error.hpp"
 #include "taskmap/validate/validate_map.hpp"
@@ -141,18 +142,6 @@ std::string shares(const Run& a, const Run& b) {
 }
 
 /// Whether `name` contains one of the '|'-separated substrings of `only` (all when empty).
-bool selected(const std::string& only, const std::string& name) {
-  if (only.empty()) return true;
-  std::size_t from = 0;
-  while (true) {
-    const std::size_t bar = only.find('|', from);
-    const std::string part = only.substr(from, bar == std::string::npos ? bar : bar - from);
-    if (!part.empty() && name.find(part) != std::string::npos) return true;
-    if (bar == std::string::npos) return false;
-    from = bar + 1;
-  }
-}
-
 int benchMain(int argc, char** argv) {
   const char* env = std::getenv("TASKMAP_REAL_DIR");
   std::string real = env != nullptr ? env : std::string(TASKMAP_SOURCE_DIR) + "/../shared/real";
@@ -259,7 +248,7 @@ int benchMain(int argc, char** argv) {
     const HandModel hand = HandModel::load(hi.path);
     const SamplerKind new_kind = jawGeometry(hand) ? jaw_kind : multi_kind;
     for (const Item& oi : objects) {
-      if (!selected(only, hi.name + " " + oi.name)) continue;
+      if (!testing::selectedByOnly(only, hi.name + " " + oi.name)) continue;
       if (!fs::exists(oi.path)) continue;
       MeshLoadOptions lo;
       lo.scale = oi.scale;
