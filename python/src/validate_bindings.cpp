@@ -40,7 +40,8 @@ std::string handUrdf(const TaskMapData& map, const std::string& hand, const std:
 py::dict validatePath(const std::string& map_path, const std::string& hand,
                       const std::string& output, int threads, std::size_t grasps,
                       double object_mass, double friction, double jaw_force, double contact_patch,
-                      bool robust, bool full, bool stated_dynamics, py::object progress) {
+                      bool robust, bool full, bool stated_dynamics, const std::string& integrator,
+                      py::object progress) {
   TaskMapData map = readMap(map_path);
   const std::string urdf = handUrdf(map, hand, map_path, "validate");
   ValidateOptions o;
@@ -51,6 +52,7 @@ py::dict validatePath(const std::string& map_path, const std::string& hand,
   o.hold.jaw_force = jaw_force;
   o.hold.contact_patch = contact_patch;
   o.hold.settle_stop = !full;
+  o.hold.integrator = integratorFromName(integrator);
   o.robust = robust;
   o.hold.stated_dynamics = stated_dynamics;
   PythonRun run(std::move(progress));
@@ -105,7 +107,8 @@ void bindValidate(py::module_& m) {
         py::arg("friction") = d.sliding_friction, py::arg("jaw_force") = d.jaw_force,
         py::arg("contact_patch") = d.contact_patch, py::arg("robust") = false,
         py::arg("full") = false, py::arg("stated_dynamics") = d.stated_dynamics,
-        py::arg("progress") = py::none(), pydoc::kValidate);
+        py::arg("integrator") = integratorName(d.integrator), py::arg("progress") = py::none(),
+        pydoc::kValidate);
   m.def("trace_hold", &tracePath, py::arg("map"), py::arg("grasp"), py::arg("hand") = "",
         py::arg("object_mass") = d.object_mass, py::arg("friction") = d.sliding_friction,
         py::arg("jaw_force") = d.jaw_force, py::arg("contact_patch") = d.contact_patch,

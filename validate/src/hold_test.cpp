@@ -184,6 +184,16 @@ std::string physicsEngine() {
          std::to_string(v % 10);
 }
 
+const char* integratorName(HoldTestOptions::Integrator integrator) {
+  return integrator == HoldTestOptions::Integrator::kImplicit ? "implicit" : "implicitfast";
+}
+
+HoldTestOptions::Integrator integratorFromName(const std::string& name) {
+  if (name == "implicitfast") return HoldTestOptions::Integrator::kImplicitFast;
+  if (name == "implicit") return HoldTestOptions::Integrator::kImplicit;
+  throw Error("hold test integrator must be implicitfast or implicit, not '" + name + "'");
+}
+
 const char* holdStatusName(HoldStatus s) {
   switch (s) {
     case HoldStatus::kHolds:

@@ -279,6 +279,13 @@ void objectBody(const ObjectModel& object, const ConvexPieces& pieces, const Hol
   *bodies << "</body>\n";
 }
 
+// The integrator's MJCF name: Euler (implicit in joint damping) stands for implicitfast unless a
+// servo has a velocity gain, whose derivative implicitfast also takes (then implicit).
+const char* mjcfIntegrator(const HoldTestOptions& o, const StatedUse& use) {
+  if (o.integrator == HoldTestOptions::Integrator::kImplicit || use.kv > 0) return "implicit";
+  return "Euler";
+}
+
 }  // namespace
 
 MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const ConvexPieces& pieces,
@@ -297,7 +304,8 @@ MjcfScene writeMjcf(const HandModel& hand, const ObjectModel& object, const Conv
     << "<compiler angle=\"radian\" inertiafromgeom=\"false\""
     // A model's stated inertias as MuJoCo compiles the model itself (the protocol's always are).
     << (use.inertia > 0 ? " balanceinertia=\"true\"" : "") << "/>\n"
-    << "<option timestep=\"" << num(o.timestep) << "\" gravity=\"0 0 0\" integrator=\"implicit\""
+    << "<option timestep=\"" << num(o.timestep) << "\" gravity=\"0 0 0\" integrator=\""
+    << mjcfIntegrator(o, use) << "\""
     << " cone=\"elliptic\" impratio=\"" << num(o.impratio) << "\" noslip_iterations=\""
     << o.noslip_iterations << "\" iterations=\"" << o.solver_iterations << "\" tolerance=\""
     << num(o.solver_tolerance) << "\"/>\n"

@@ -144,7 +144,7 @@ std::string holdParamsJson(const HoldTestOptions& o) {
   j["sliding_friction"] = o.sliding_friction;
   j["torsional_friction"] = o.torsional_friction;
   j["timestep"] = o.timestep;
-  j["integrator"] = "implicit";
+  j["integrator"] = integratorName(o.integrator);
   j["cone"] = "elliptic";
   j["impratio"] = o.impratio;
   j["noslip_iterations"] = o.noslip_iterations;

@@ -2,14 +2,17 @@
 // default build (`taskmap build`, robust hold test), per hand x object of the reference set
 // (bundled hands and objects) and the real set (--real DIR, default $TASKMAP_REAL_DIR or
 // ../shared/real: the Franka and Allegro hands, the LEAP hand as MJCF; YCB banana and mug).
-// Per pair, in one process, the previous implementation against the current one: the same
-// build (seed, trials, one thread) with the hold test's pushes run their whole 2 s (the protocol
-// as published, `--full`) and with settled pushes (the default; docs/VALIDATION.md). Prints per
-// pair and build: trials, force-closure grasps tested in physics, grasps kept, CPU seconds (the
-// build's own: sampling, simulation, quality, hold test), kept grasps per CPU-second, tested
-// grasps per hold-test CPU-second, and the ratio of the two builds' rates; whether they kept
-// the same grasps. A pair that keeps nothing in --trials says so.
+// Per pair, in one process, a baseline against a candidate: the same build (seed, trials, one
+// thread) with two hold tests. --compare settle (default): pushes run their whole 2 s (the
+// protocol as published, `validate --full`) against settled pushes (the default);
+// --compare integrator: the default (MuJoCo's `implicit`) against `implicitfast`
+// (docs/VALIDATION.md, "The integrator"). Prints per pair and build: trials, force-closure
+// grasps tested in physics, grasps kept, CPU seconds (the build's own: sampling, simulation,
+// quality, hold test), kept grasps per CPU-second, tested grasps per hold-test CPU-second, and
+// the ratio of the two builds' rates; whether they kept the same grasps. A pair that keeps
+// nothing in --trials says so.
 //   holding_rate [--real DIR] [--valid N (5)] [--trials N (3000)] [--only A|B|...]
+//                [--compare settle|integrator]
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -36,15 +39,36 @@ struct Run {
   Eigen::MatrixXd poses;
 };
 
+// The hold test's settings a build changes: today's default, or a baseline's.
+struct HoldChoice {
+  bool settle = true;
+  HoldTestOptions::Integrator integrator = HoldTestOptions::Integrator::kImplicit;
+};
+
+/// The baseline and the candidate of a comparison, and their names.
+struct Comparison {
+  HoldChoice baseline, candidate;
+  std::string baseline_name, candidate_name;
+};
+
+Comparison comparisonOf(const std::string& name) {
+  using I = HoldTestOptions::Integrator;
+  if (name == "settle") return {{false, I::kImplicit}, {true, I::kImplicit}, "full", "settled"};
+  if (name == "integrator")
+    return {{true, I::kImplicit}, {true, I::kImplicitFast}, "implicit", "fast"};
+  throw Error("holding_rate: --compare must be settle or integrator, not " + name);
+}
+
 Run build(const ObjectModel& object, const HandModel& hand, std::uint64_t valid,
-          std::uint64_t trials, bool settle) {
+          std::uint64_t trials, const HoldChoice& choice) {
   BuildKnobs k;  // taskmap build's defaults
   k.valid = valid;
   k.trials = trials;
   k.threads = 1;
   k.no_cluster = true;
   BuildOptions o = buildOptionsOf(k, KnobStyle::kCommandLine);
-  o.hold_test_options.hold.settle_stop = settle;
+  o.hold_test_options.hold.settle_stop = choice.settle;
+  o.hold_test_options.hold.integrator = choice.integrator;
   const BuildResult r = buildMap(object, hand, o);
   const BuildTiming& t = r.timing;
   Run run;
@@ -82,7 +106,7 @@ double rate(std::uint64_t n, double seconds) {
 }
 
 void print(const Pair& p, const char* which, const Run& r) {
-  std::printf("%-10s %-15s %-8s %7llu %7llu %5llu %9.2f %11.2f %13.1f%s\n", p.hand_name.c_str(),
+  std::printf("%-10s %-15s %-9s %7llu %7llu %5llu %9.2f %11.2f %13.1f%s\n", p.hand_name.c_str(),
               p.object_name.c_str(), which, static_cast<unsigned long long>(r.trials),
               static_cast<unsigned long long>(r.tested), static_cast<unsigned long long>(r.kept),
               r.cpu, rate(r.kept, r.cpu), rate(r.tested, r.hold_cpu),
@@ -93,7 +117,7 @@ int benchMain(int argc, char** argv) {
   const char* env = std::getenv("TASKMAP_REAL_DIR");
   std::string real = env != nullptr ? env : std::string(TASKMAP_SOURCE_DIR) + "/../shared/real";
   std::uint64_t valid = 5, trials = 3000;
-  std::string only;
+  std::string only, compare = "settle";
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--real")
@@ -104,33 +128,40 @@ int benchMain(int argc, char** argv) {
       trials = std::stoull(v);
     else if (a == "--only")
       only = v;
+    else if (a == "--compare")
+      compare = v;
     else
-      throw Error("holding_rate: unknown option " + a + " (--real, --valid, --trials, --only)");
+      throw Error("holding_rate: unknown option " + a +
+                  " (--real, --valid, --trials, --only, --compare)");
   }
-  std::printf("robust default builds, one thread, --valid %llu --trials %llu --seed 1\n",
-              static_cast<unsigned long long>(valid), static_cast<unsigned long long>(trials));
-  std::printf("%-10s %-15s %-8s %7s %7s %5s %9s %11s %13s\n", "hand", "object", "pushes", "trials",
-              "tested", "kept", "CPU s", "kept/CPU-s", "tested/hold-s");
-  double sum_full = 0.0, sum_settled = 0.0;
+  const Comparison c = comparisonOf(compare);
+  std::printf("robust default builds, one thread, --valid %llu --trials %llu --seed 1, %s vs %s\n",
+              static_cast<unsigned long long>(valid), static_cast<unsigned long long>(trials),
+              c.baseline_name.c_str(), c.candidate_name.c_str());
+  std::printf("%-10s %-15s %-9s %7s %7s %5s %9s %11s %13s\n", "hand", "object", "hold test",
+              "trials", "tested", "kept", "CPU s", "kept/CPU-s", "tested/hold-s");
+  double sum_base = 0.0, sum_now = 0.0;
   for (const Pair& p : pairs(TASKMAP_SOURCE_DIR, real)) {
     if (!testing::selectedByOnly(only, p.hand_name + " " + p.object_name) ||
         !fs::exists(p.object_path))
       continue;
     const HandModel hand = HandModel::load(p.hand_path);
     const ObjectModel object = ObjectModel::load(p.object_path, MeshLoadOptions{});
-    const Run full = build(object, hand, valid, trials, false);
-    const Run settled = build(object, hand, valid, trials, true);
-    print(p, "full", full);
-    print(p, "settled", settled);
-    const double a = rate(full.kept, full.cpu), b = rate(settled.kept, settled.cpu);
-    std::printf("%-10s %-15s settled/full: kept per CPU-second %.2fx, same grasps kept: %s\n",
-                p.hand_name.c_str(), p.object_name.c_str(), a > 0.0 ? b / a : 0.0,
-                full.poses == settled.poses ? "yes" : "no");
-    sum_full += full.cpu;
-    sum_settled += settled.cpu;
+    const Run before = build(object, hand, valid, trials, c.baseline);
+    const Run now = build(object, hand, valid, trials, c.candidate);
+    print(p, c.baseline_name.c_str(), before);
+    print(p, c.candidate_name.c_str(), now);
+    const double a = rate(before.kept, before.cpu), b = rate(now.kept, now.cpu);
+    std::printf("%-10s %-15s %s/%s: kept per CPU-second %.2fx, same grasps kept: %s\n",
+                p.hand_name.c_str(), p.object_name.c_str(), c.candidate_name.c_str(),
+                c.baseline_name.c_str(), a > 0.0 ? b / a : 0.0,
+                before.poses == now.poses ? "yes" : "no");
+    sum_base += before.cpu;
+    sum_now += now.cpu;
   }
-  std::printf("all pairs: CPU seconds full %.1f, settled %.1f (%.2fx)\n", sum_full, sum_settled,
-              sum_settled > 0.0 ? sum_full / sum_settled : 0.0);
+  std::printf("all pairs: CPU seconds %s %.1f, %s %.1f (%.2fx)\n", c.baseline_name.c_str(),
+              sum_base, c.candidate_name.c_str(), sum_now,
+              sum_now > 0.0 ? sum_base / sum_now : 0.0);
   return 0;
 }
 

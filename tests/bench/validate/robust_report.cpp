@@ -3,8 +3,12 @@
 // each fails where the nominal protocol holds, the margin's distribution, and two checks of the
 // label: the protocol with the palm 0.5 mm back along the approach axis (the replay offset)
 // and, with --compare-full, the settled-push stop against the full protocol (labels and steps).
+// The settled runs take the knobs below (the full protocol keeps the defaults): --implicitfast
+// integrates them with DexGraspBench's integrator (docs/VALIDATION.md, "The integrator").
 //
 //   robust_report MAP.h5 [--hand URDF] [--grasps N] [--threads N] [--compare-full] [--json OUT]
+//                 [--nominal-only] [--joint-speed V] [--iterations N] [--tolerance T]
+//                 [--noslip N] [--implicitfast]
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -43,6 +47,7 @@ struct Args {
   int iterations = 0;         // --iterations: solver_iterations of the settled runs (0: default)
   double tolerance = 0.0;     // --tolerance: solver_tolerance of the settled runs (0: default)
   int noslip = -1;            // --noslip: noslip_iterations of the settled runs (-1: default)
+  bool fast = false;          // --implicitfast: the settled runs integrate `implicitfast`
 };
 
 Args parse(int argc, char** argv) {
@@ -73,6 +78,8 @@ Args parse(int argc, char** argv) {
       a.tolerance = std::stod(next());
     else if (s == "--noslip")
       a.noslip = std::stoi(next());
+    else if (s == "--implicitfast")
+      a.fast = true;
     else if (a.map.empty())
       a.map = s;
     else
@@ -116,6 +123,7 @@ int run(const Args& a) {
   if (a.iterations > 0) ro.hold.solver_iterations = a.iterations;
   if (a.tolerance > 0) ro.hold.solver_tolerance = a.tolerance;
   if (a.noslip >= 0) ro.hold.noslip_iterations = a.noslip;
+  if (a.fast) ro.hold.integrator = HoldTestOptions::Integrator::kImplicitFast;
   const RobustHoldTester robust(hand, object, ro);
   HoldTestOptions full_o;
   full_o.settle_stop = false;
