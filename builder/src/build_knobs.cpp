@@ -108,6 +108,7 @@ BuildOptions buildOptionsOf(const BuildKnobs& k, KnobStyle style) {
   else
     o.closing_check.mode = closingCheckModeFromString(k.closing_check);
   o.hold_test = buildHoldTestFromString(k.hold_test);
+  o.hold_test_options.hold.integrator = integratorFromName(k.integrator);
   o.check_size = !k.allow_size;
   if (k.grasp == "palm") o.simulation.grasp_mode = GraspMode::kPalm;
   if (k.grasp == "fingertip") o.simulation.grasp_mode = GraspMode::kFingertip;

@@ -225,6 +225,27 @@ void visitClosingCheck(Io& io, P& p) {
 }
 
 constexpr const char* kHoldTest = "hold_test";
+constexpr const char* kHoldIntegrator = "hold_integrator";
+
+// The hold test's integrator: present only when it is not the default (maps built with
+// `implicit` keep their bytes).
+template <class Io, class I>
+void visitIntegrator(Io& io, I& integrator) {
+  if constexpr (Io::kWriting) {
+    if (integrator != HoldTestOptions::Integrator::kImplicit)
+      io.j[kHoldIntegrator] = integratorName(integrator);
+  } else {
+    const auto it = io.j.find(kHoldIntegrator);
+    if (it == io.j.end()) return;
+    try {
+      if (!it->is_string()) throw Error("not a string");
+      integrator = integratorFromName(it->template get<std::string>());
+    } catch (const Error&) {
+      wrongValue(kHoldIntegrator, "must be \"implicit\" or \"implicitfast\"");
+    }
+    io.j.erase(it);
+  }
+}
 
 // The build's physics hold test: present only when it is on (maps built without it, and before
 // it existed, read as off); the protocol's own numbers are in /validation params_json.
@@ -245,6 +266,7 @@ void visitHoldTest(Io& io, P& p) {
     }
     io.j.erase(it);
   }
+  visitIntegrator(io, o.hold_test_options.hold.integrator);
   if (o.hold_test != BuildHoldTest::kRobust) return;
   auto& r = o.hold_test_options;
   io("hold_palm_shift", r.palm_shift);

@@ -259,8 +259,8 @@ DatasetEntry runDatasetJob(const DatasetPlan& plan, const DatasetJob& job,
     if (result.status == BuildStatus::kInterrupted) return baseEntry(job);  // still pending
     if (result.status == BuildStatus::kNoGrasps) throw Error(result.message);
     if (plan.options.timestamp) result.map.created_utc = mapCreationTime(true);
-    entry.validation = labelHolds(plan.options.validation, options.threads, options.clustering,
-                                  hand, control.stop, &result.map);
+    entry.validation =
+        labelHolds(plan.options.validation, options, hand, control.stop, &result.map);
     if (control.stopRequested()) return baseEntry(job);  // stopped in the validation: pending
     const std::string path = (fs::path(plan.dir) / job.file).string();
     writeMap(path, result.map);

@@ -70,8 +70,8 @@ FileBuildResult DistributedBuild::finish(const BuildTiming& timing) {
     return r;
   }
   if (rank_.request().timestamp) r.build.map.created_utc = mapCreationTime(true);
-  r.validation = labelHolds(rank_.request().validation, options.threads, options.clustering,
-                            rank_.hand(), nullptr, &r.build.map);
+  r.validation =
+      labelHolds(rank_.request().validation, options, rank_.hand(), nullptr, &r.build.map);
   const auto t_write = std::chrono::steady_clock::now();
   writeMap(rank_.request().output, r.build.map);
   checkpoint_.remove();

@@ -53,12 +53,14 @@ void checkGraspOptions(const BuildOptions& options, const HandModel& hand,
                 hand_path + "' grasps with the palm)");
 }
 
-std::optional<HoldLabels> labelHolds(HoldValidation validation, int threads,
-                                     const ClusteringOptions& clustering, const HandModel& hand,
-                                     const std::atomic<bool>* stop, TaskMapData* map) {
+std::optional<HoldLabels> labelHolds(HoldValidation validation, const BuildOptions& build,
+                                     const HandModel& hand, const std::atomic<bool>* stop,
+                                     TaskMapData* map) {
   if (validation == HoldValidation::kOff) return std::nullopt;
+  const ClusteringOptions& clustering = build.clustering;
   ValidateOptions options;
-  options.threads = threads;
+  options.threads = build.threads;
+  options.hold.integrator = build.hold_test_options.hold.integrator;
   ValidateControl control;
   control.stop = stop;
   const ValidationSummary s = validateMap(map, hand, options, control);
@@ -118,8 +120,7 @@ FileBuildResult MapFileBuild::run(const BuildControl& control) {
     return r;
   TaskMapData& map = r.build.map;
   if (request_.timestamp) map.created_utc = mapCreationTime(true);
-  r.validation = labelHolds(request_.validation, plan_.options.threads, plan_.options.clustering,
-                            impl_->hand, control.stop, &map);
+  r.validation = labelHolds(request_.validation, plan_.options, impl_->hand, control.stop, &map);
   if (control.stopRequested()) {  // during the physics validation: nothing is written
     r.build.status = BuildStatus::kInterrupted;
     r.build.message = "interrupted during the physics validation; nothing written";

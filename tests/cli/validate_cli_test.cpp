@@ -66,6 +66,32 @@ TEST_F(ValidateCliTest, BuildValidateLabelsAsItBuilds) {
   EXPECT_EQ(m.validation->tested(), m.grasps.size());
 }
 
+// The integrator (docs/VALIDATION.md, "The integrator"): `implicit` by default, implicitfast one
+// option away in validate and build, recorded with the labels; another name refused with the
+// choices.
+TEST_F(ValidateCliTest, TheIntegratorIsAChoiceAndIsRecorded) {
+  const std::string map = buildBoxMap("box.h5");
+  const auto integratorOf = [](const std::string& file) {
+    const TaskMapData m = readMap(file);
+    EXPECT_TRUE(m.validation.has_value()) << file;
+    return m.validation ? nlohmann::json::parse(m.validation->params_json)["integrator"]
+                        : nlohmann::json();
+  };
+  auto r = testing::runTaskmap("validate " + map + " -q -o " + path("implicit.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(integratorOf(path("implicit.h5")), "implicit");
+  r = testing::runTaskmap("validate " + map + " --integrator implicitfast -q -o " +
+                          path("fast.h5"));
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(integratorOf(path("fast.h5")), "implicitfast");
+  const std::string built = buildBoxMap("built.h5", "--validate --integrator implicitfast");
+  EXPECT_EQ(integratorOf(built), "implicitfast");
+  r = testing::runTaskmap("validate " + map + " --integrator rk4 -o " + path("rk4.h5"));
+  EXPECT_NE(r.code, 0);
+  EXPECT_NE(r.out.find("implicitfast"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(path("rk4.h5")));
+}
+
 // The default build tests each force-closure grasp as it is found and stores N that hold
 // robustly, with their labels; the summary says how many were tested and kept, and what the
 // test cost. Validating that map again (robustly) finds every grasp robust.

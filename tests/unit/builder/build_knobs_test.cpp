@@ -22,7 +22,7 @@ TEST(BuildKnobs, NamesAreUniqueSnakeCaseAndEveryKnobHasHelp) {
     for (char c : name) EXPECT_TRUE(std::islower(static_cast<unsigned char>(c)) || c == '_');
     EXPECT_GT(std::string(info.help).size(), 10u) << name;
   });
-  EXPECT_EQ(names.size(), 21u);
+  EXPECT_EQ(names.size(), 22u);
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kCommandLine), "--cone-edges");
   EXPECT_EQ(knobName("cone_edges", KnobStyle::kPython), "cone_edges");
 }
@@ -81,6 +81,11 @@ TEST(BuildKnobs, EachKnobReachesItsOption) {
   EXPECT_FALSE(o.cluster);
   EXPECT_TRUE(o.hold_filter.enabled);
   EXPECT_FALSE(o.check_size);
+  EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).hold_test_options.hold.integrator,
+            HoldTestOptions::Integrator::kImplicit);
+  k.integrator = "implicitfast";
+  EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).hold_test_options.hold.integrator,
+            HoldTestOptions::Integrator::kImplicitFast);
   k.hold_test = "nominal";
   EXPECT_EQ(buildOptionsOf(k, KnobStyle::kPython).hold_test, BuildHoldTest::kNominal);
   k.hold_test = "off";

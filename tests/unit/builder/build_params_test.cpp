@@ -298,3 +298,27 @@ TEST(BuildParamsTest, NamesAKeyOfTheWrongTypeAndKeepsUnknownKeys) {
 
 }  // namespace
 }  // namespace taskmap
+
+namespace taskmap {
+namespace {
+
+// The hold test's integrator (docs/VALIDATION.md, "The integrator"): written only when it is not
+// the default, so maps built with `implicit` keep their bytes; read back; a wrong name refused.
+TEST(BuildParamsTest, TheHoldTestsIntegratorIsRecordedWhenNotTheDefault) {
+  BuildOptions o;
+  o.hold_test = BuildHoldTest::kRobust;
+  EXPECT_EQ(buildParamsJson(buildParamsOf(o, testing::pandaHand())).find("hold_integrator"),
+            std::string::npos);
+  o.hold_test_options.hold.integrator = HoldTestOptions::Integrator::kImplicitFast;
+  const std::string text = buildParamsJson(buildParamsOf(o, testing::pandaHand()));
+  EXPECT_NE(text.find(R"("hold_integrator":"implicitfast")"), std::string::npos) << text;
+  EXPECT_EQ(buildParamsFromJson(text).options.hold_test_options.hold.integrator,
+            HoldTestOptions::Integrator::kImplicitFast);
+  EXPECT_EQ(buildParamsJson(buildParamsFromJson(text)), text);
+  EXPECT_TRUE(testing::throwsError(
+      [] { buildParamsFromJson(R"({"hold_test":"robust","hold_integrator":"rk4"})"); },
+      {"'hold_integrator' must be \"implicit\" or \"implicitfast\""}));
+}
+
+}  // namespace
+}  // namespace taskmap

@@ -69,13 +69,14 @@ struct HoldLabels {
   std::size_t kept = 0;      ///< grasps stored (== before unless kKeepHolding)
 };
 
-/// Labels `map`'s grasps with the physics hold test on `threads` threads (0: all cores) and,
-/// with kKeepHolding, keeps only those that hold (re-clustered with `clustering`). Returns
-/// nothing for kOff, and nothing (the map unchanged) when *stop became true during the test
-/// (nullptr: never stopped). Throws Error when kKeepHolding keeps no grasp ("nothing written").
-std::optional<HoldLabels> labelHolds(HoldValidation validation, int threads,
-                                     const ClusteringOptions& clustering, const HandModel& hand,
-                                     const std::atomic<bool>* stop, TaskMapData* map);
+/// Labels `map`'s grasps with the physics hold test (the protocol with `build`'s integrator) on
+/// `build.threads` threads (0: all cores) and, with kKeepHolding, keeps only those that hold
+/// (re-clustered with `build.clustering`). Returns nothing for kOff, and nothing (the map
+/// unchanged) when *stop became true during the test (nullptr: never stopped). Throws Error
+/// when kKeepHolding keeps no grasp ("nothing written").
+std::optional<HoldLabels> labelHolds(HoldValidation validation, const BuildOptions& build,
+                                     const HandModel& hand, const std::atomic<bool>* stop,
+                                     TaskMapData* map);
 
 /// Result of a file build.
 struct FileBuildResult {
