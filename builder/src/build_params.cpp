@@ -22,6 +22,9 @@ const char* toString(WrenchNorm n) {
 const char* toString(GraspMode m) {
   return m == GraspMode::kFingertip ? "fingertip" : "palm";
 }
+const char* toString(HoldTestOptions::Integrator i) {
+  return integratorName(i);
+}
 
 [[noreturn]] void wrongValue(const std::string& key, const std::string& what) {
   throw Error("the map's build parameter '" + key + "' " + what);
@@ -60,6 +63,9 @@ void fromJson(const json& v, const std::string& key, VolumeMode& out) {
 }
 void fromJson(const json& v, const std::string& key, Linkage& out) {
   enumFromJson(v, key, "linkage", linkageFromString, out);
+}
+void fromJson(const json& v, const std::string& key, HoldTestOptions::Integrator& out) {
+  enumFromJson(v, key, "hold test integrator", integratorFromName, out);
 }
 void fromJson(const json& v, const std::string& key, WrenchNorm& out) {
   out = nameOf(v, key) == "linf" ? WrenchNorm::kLInf : WrenchNorm::kL1;
@@ -225,28 +231,6 @@ void visitClosingCheck(Io& io, P& p) {
 }
 
 constexpr const char* kHoldTest = "hold_test";
-constexpr const char* kHoldIntegrator = "hold_integrator";
-
-// The hold test's integrator: present only when it is not the default (maps built with
-// `implicit` keep their bytes).
-template <class Io, class I>
-void visitIntegrator(Io& io, I& integrator) {
-  if constexpr (Io::kWriting) {
-    if (integrator != HoldTestOptions::Integrator::kImplicit)
-      io.j[kHoldIntegrator] = integratorName(integrator);
-  } else {
-    const auto it = io.j.find(kHoldIntegrator);
-    if (it == io.j.end()) return;
-    try {
-      if (!it->is_string()) throw Error("not a string");
-      integrator = integratorFromName(it->template get<std::string>());
-    } catch (const Error&) {
-      wrongValue(kHoldIntegrator, "must be \"implicit\" or \"implicitfast\"");
-    }
-    io.j.erase(it);
-  }
-}
-
 // The build's physics hold test: present only when it is on (maps built without it, and before
 // it existed, read as off); the protocol's own numbers are in /validation params_json.
 template <class Io, class P>
@@ -266,7 +250,10 @@ void visitHoldTest(Io& io, P& p) {
     }
     io.j.erase(it);
   }
-  visitIntegrator(io, o.hold_test_options.hold.integrator);
+  // The integrator only when it is not the default (maps built with `implicit` keep their bytes).
+  auto& integrator = o.hold_test_options.hold.integrator;
+  if (!Io::kWriting || integrator != HoldTestOptions::Integrator::kImplicit)
+    io("hold_integrator", integrator);
   if (o.hold_test != BuildHoldTest::kRobust) return;
   auto& r = o.hold_test_options;
   io("hold_palm_shift", r.palm_shift);

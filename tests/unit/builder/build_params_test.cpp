@@ -317,7 +317,7 @@ TEST(BuildParamsTest, TheHoldTestsIntegratorIsRecordedWhenNotTheDefault) {
   EXPECT_EQ(buildParamsJson(buildParamsFromJson(text)), text);
   EXPECT_TRUE(testing::throwsError(
       [] { buildParamsFromJson(R"({"hold_test":"robust","hold_integrator":"rk4"})"); },
-      {"'hold_integrator' must be \"implicit\" or \"implicitfast\""}));
+      {"build parameter 'hold_integrator' is not a hold test integrator", "not 'rk4'"}));
 }
 
 }  // namespace
