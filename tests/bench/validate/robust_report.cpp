@@ -4,11 +4,12 @@
 // label: the protocol with the palm 0.5 mm back along the approach axis (the replay offset)
 // and, with --compare-full, the settled-push stop against the full protocol (labels and steps).
 // The settled runs take the knobs below (the full protocol keeps the defaults): --implicitfast
-// integrates them with DexGraspBench's integrator (docs/VALIDATION.md, "The integrator").
+// integrates them with DexGraspBench's integrator (docs/VALIDATION.md, "The integrator"). The
+// "ceiling" line is what the protocol's step counts allow at the map's cost per step.
 //
 //   robust_report MAP.h5 [--hand URDF] [--grasps N] [--threads N] [--compare-full] [--json OUT]
 //                 [--nominal-only] [--joint-speed V] [--iterations N] [--tolerance T]
-//                 [--noslip N] [--implicitfast]
+//                 [--noslip N] [--implicitfast] [--pieces N]
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -48,6 +49,7 @@ struct Args {
   double tolerance = 0.0;     // --tolerance: solver_tolerance of the settled runs (0: default)
   int noslip = -1;            // --noslip: noslip_iterations of the settled runs (-1: default)
   bool fast = false;          // --implicitfast: the settled runs integrate `implicitfast`
+  int pieces = 0;             // --pieces: object_max_pieces of the settled runs (0: default)
 };
 
 Args parse(int argc, char** argv) {
@@ -80,6 +82,8 @@ Args parse(int argc, char** argv) {
       a.noslip = std::stoi(next());
     else if (s == "--implicitfast")
       a.fast = true;
+    else if (s == "--pieces")
+      a.pieces = std::stoi(next());
     else if (a.map.empty())
       a.map = s;
     else
@@ -113,6 +117,37 @@ double threadCpu() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+// What the protocol's step counts allow at this map's cost per MuJoCo step (docs/PERFORMANCE.md,
+// "What the protocol allows"): every grasp runs the closing (2 phases of interpolation_stages x
+// steps_per_stage steps) before any push, and a robust grasp runs every variant, each at least as
+// long as the shortest nominal run of a grasp that held.
+void printCeiling(const std::vector<GraspRow>& rows, std::size_t variants,
+                  const HoldTestOptions& o) {
+  double cpu = 0.0;
+  long long steps = 0;
+  int fewest = 0;
+  for (const GraspRow& r : rows) {
+    cpu += r.robust_cpu;
+    steps += r.robust.steps;
+    if (r.robust.nominal.holds && (fewest == 0 || r.robust.nominal.steps < fewest))
+      fewest = r.robust.nominal.steps;
+  }
+  if (steps == 0) return;
+  const double per_step = cpu / static_cast<double>(steps);
+  const int closing = 2 * o.interpolation_stages * o.steps_per_stage;
+  std::printf(
+      "ceiling: %.1f us CPU per MuJoCo step, %.1f grasps per CPU-second tested here; the closing "
+      "alone (%d steps): at most %.1f grasps per CPU-second",
+      1e6 * per_step, static_cast<double>(rows.size()) / cpu, closing, 1.0 / (per_step * closing));
+  if (fewest > 0)
+    std::printf(
+        "; a grasp that held took at least %d steps, so a robust grasp (%zu variants) at least "
+        "%lld: at most %.2f robust grasps per CPU-second if every grasp tested were robust",
+        fewest, variants, static_cast<long long>(fewest) * static_cast<long long>(variants),
+        1.0 / (per_step * static_cast<double>(fewest) * static_cast<double>(variants)));
+  std::printf("\n");
+}
+
 int run(const Args& a) {
   const TaskMapData map = readMap(a.map);
   const HandModel hand = HandModel::load(a.hand.empty() ? findMapHandUrdf(map) : a.hand);
@@ -124,6 +159,7 @@ int run(const Args& a) {
   if (a.tolerance > 0) ro.hold.solver_tolerance = a.tolerance;
   if (a.noslip >= 0) ro.hold.noslip_iterations = a.noslip;
   if (a.fast) ro.hold.integrator = HoldTestOptions::Integrator::kImplicitFast;
+  if (a.pieces > 0) ro.hold.object_max_pieces = a.pieces;
   const RobustHoldTester robust(hand, object, ro);
   HoldTestOptions full_o;
   full_o.settle_stop = false;
@@ -173,9 +209,12 @@ int run(const Args& a) {
       if (r.robust.variant_held[k] == 0) ++failed, last = static_cast<int>(k), ++fails[k];
     if (failed == 1) ++only[static_cast<std::size_t>(last)];
   }
-  std::printf("map %s: %zu grasps, hand %s, object pieces %d (second decomposition: %s)\n",
-              a.map.c_str(), n, hand.name().c_str(), robust.nominal().info().object_pieces,
-              variants.back().kind == HoldVariant::Kind::kDecomposition ? "yes" : "same pieces");
+  const HoldModelInfo& info = robust.nominal().info();
+  std::printf(
+      "map %s: %zu grasps, hand %s, object pieces %d (volume %+.1f %%; second decomposition: "
+      "%s)\n",
+      a.map.c_str(), n, hand.name().c_str(), info.object_pieces, 100.0 * info.object_volume_error,
+      variants.back().kind == HoldVariant::Kind::kDecomposition ? "yes" : "same pieces");
   std::printf("protocol holds %d (%.1f %%); within the margin %d; robust %d (%.1f %%)\n", nominal,
               100.0 * nominal / n, nominal - margin_fail, robust_n, 100.0 * robust_n / n);
   std::printf(
@@ -189,10 +228,11 @@ int run(const Args& a) {
       "CPU %.1f s for %zu grasps (robust, all variants, + the back test): %.2f grasps per "
       "CPU-second\n",
       cpu, n, n / cpu);
+  printCeiling(rows, variants.size(), ro.hold);
   if (a.compare_full) {
     int same = 0, settle_h_full_not = 0, full_h_settle_not = 0, same_back = 0;
-    double cs = 0, cf = 0;
-    long long steps_s = 0, steps_f = 0;
+    double cf = 0;
+    long long steps_f = 0;
     for (const GraspRow& r : rows) {
       same += r.full.holds == r.robust.nominal.holds;
       settle_h_full_not += r.robust.nominal.holds && !r.full.holds;
@@ -201,8 +241,6 @@ int run(const Args& a) {
       steps_f += r.full.steps;
       cf += r.full_cpu;
     }
-    (void)cs;
-    (void)steps_s;
     std::printf(
         "settled stop vs full protocol (nominal label): %d of %zu equal; settled holds, "
         "full not: %d; full holds, settled not: %d; 0.5 mm back: %d equal\n",
