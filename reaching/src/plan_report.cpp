@@ -86,13 +86,16 @@ std::string graspPlanReport(const GraspPlan& plan, double plan_ms, const Movemen
                       {"quality", plan.map_weights.quality},
                       {"quality_peak", plan.map_weights.quality_peak.value_or(1.0)}};
   nlohmann::json clusters = nlohmann::json::array();
-  for (const ClusterRank& r : plan.ranking)
-    clusters.push_back(
-        {{"cluster", r.cluster},
-         {"target", r.target},
-         {"tried", r.tried},
-         {"reachable", r.reachable},
-         {"comfort", std::isfinite(r.comfort) ? nlohmann::json(r.comfort) : nullptr}});
+  for (const ClusterRank& r : plan.ranking) {
+    nlohmann::json c = {
+        {"cluster", r.cluster},
+        {"target", r.target},
+        {"tried", r.tried},
+        {"reachable", r.reachable},
+        {"comfort", std::isfinite(r.comfort) ? nlohmann::json(r.comfort) : nullptr}};
+    if (!r.reachable) c["message"] = r.message;  // why the IK failed (the representative's)
+    clusters.push_back(std::move(c));
+  }
   j["ranking"] = clusters;
   nlohmann::json plans = nlohmann::json::array();
   for (const ClusterPlan& c : plan.plans) plans.push_back(clusterJson(c));

@@ -77,7 +77,13 @@ TEST(ReachMapCli, OtherGraspsStandInWhenNoRepresentativeIsReachable) {
   EXPECT_EQ(r.code, 1) << r.out;
   nlohmann::json j = parseJson(r.out);
   EXPECT_EQ(j["status"], "unreachable") << r.out;
-  for (const auto& c : j["ranking"]) EXPECT_EQ(c["tried"], 1) << c.dump();
+  for (const auto& c : j["ranking"]) {
+    EXPECT_EQ(c["tried"], 1) << c.dump();
+    // Why the representative is out of reach: the rollout's pair and step, or its end error.
+    const std::string why = c.value("message", "");
+    EXPECT_TRUE(why.rfind("penetrated ", 0) == 0 || why.rfind("target not reached", 0) == 0)
+        << c.dump();
+  }
   r = testing::runTaskmap(base);
   j = parseJson(r.out);
   ASSERT_EQ(j["status"], "planned") << r.out;
@@ -87,6 +93,7 @@ TEST(ReachMapCli, OtherGraspsStandInWhenNoRepresentativeIsReachable) {
   EXPECT_GT(tried, static_cast<int>(j["ranking"].size()));  // members (and outliers) tried
   const nlohmann::json& first = j["ranking"][0];
   EXPECT_TRUE(first["reachable"].get<bool>());
+  EXPECT_FALSE(first.contains("message")) << first.dump();  // only unreachable ones say why
   EXPECT_EQ(j["start_cluster"], first["cluster"]);
 }
 
