@@ -2,12 +2,15 @@
 // "The robust label"): every variant of every grasp (RobustHoldOptions::all_variants), how often
 // each fails where the nominal protocol holds, the margin's distribution, and two checks of the
 // label: the protocol with the palm 0.5 mm back along the approach axis (the replay offset)
-// and, with --compare-full, the settled-push stop against the full protocol (labels and steps).
+// and, with --compare-full, the settled-push stop against the full protocol (labels and steps);
+// with --compare-defaults, the runs with the knobs below against the default options, grasp by
+// grasp in the same process (labels, steps and CPU).
 // The settled runs take the knobs below (the full protocol keeps the defaults): --implicitfast
 // integrates them with DexGraspBench's integrator (docs/VALIDATION.md, "The integrator"). The
 // "ceiling" line is what the protocol's step counts allow at the map's cost per step.
 //
-//   robust_report MAP.h5 [--hand URDF] [--grasps N] [--threads N] [--compare-full] [--json OUT]
+//   robust_report MAP.h5 [--hand URDF] [--grasps N] [--threads N] [--compare-full]
+//                 [--compare-defaults] [--json OUT]
 //                 [--nominal-only] [--joint-speed V] [--iterations N] [--tolerance T]
 //                 [--noslip N] [--implicitfast] [--pieces N]
 #include <algorithm>
@@ -43,13 +46,14 @@ struct Args {
   std::size_t grasps = 0;
   int threads = 2;
   bool compare_full = false;
-  bool nominal_only = false;  // --nominal-only: the settled protocol alone (no variants)
-  double joint_speed = 0.0;   // --joint-speed: settle_joint_speed (0: the default)
-  int iterations = 0;         // --iterations: solver_iterations of the settled runs (0: default)
-  double tolerance = 0.0;     // --tolerance: solver_tolerance of the settled runs (0: default)
-  int noslip = -1;            // --noslip: noslip_iterations of the settled runs (-1: default)
-  bool fast = false;          // --implicitfast: the settled runs integrate `implicitfast`
-  int pieces = 0;             // --pieces: object_max_pieces of the settled runs (0: default)
+  bool compare_defaults = false;  // --compare-defaults: the comparison runs the default options
+  bool nominal_only = false;      // --nominal-only: the settled protocol alone (no variants)
+  double joint_speed = 0.0;       // --joint-speed: settle_joint_speed (0: the default)
+  int iterations = 0;      // --iterations: solver_iterations of the settled runs (0: default)
+  double tolerance = 0.0;  // --tolerance: solver_tolerance of the settled runs (0: default)
+  int noslip = -1;         // --noslip: noslip_iterations of the settled runs (-1: default)
+  bool fast = false;       // --implicitfast: the settled runs integrate `implicitfast`
+  int pieces = 0;          // --pieces: object_max_pieces of the settled runs (0: default)
 };
 
 Args parse(int argc, char** argv) {
@@ -70,6 +74,8 @@ Args parse(int argc, char** argv) {
       a.json = next();
     else if (s == "--compare-full")
       a.compare_full = true;
+    else if (s == "--compare-defaults")
+      a.compare_defaults = true;
     else if (s == "--nominal-only")
       a.nominal_only = true;
     else if (s == "--joint-speed")
@@ -90,13 +96,15 @@ Args parse(int argc, char** argv) {
       throw Error("unexpected argument '" + s + "'");
   }
   if (a.map.empty()) throw Error("usage: robust_report MAP.h5 [--hand URDF] [--grasps N] ...");
+  if (a.compare_full && a.compare_defaults)
+    throw Error("--compare-full and --compare-defaults exclude each other");
   return a;
 }
 
 struct GraspRow {
   RobustHoldResult robust;
   HoldResult back;             // protocol (settled stop), palm 0.5 mm back
-  HoldResult full, full_back;  // full protocol (with --compare-full)
+  HoldResult full, full_back;  // the comparison: full protocol or default options
   double robust_cpu = 0.0, full_cpu = 0.0;
 };
 
@@ -161,8 +169,8 @@ int run(const Args& a) {
   if (a.fast) ro.hold.integrator = HoldTestOptions::Integrator::kImplicitFast;
   if (a.pieces > 0) ro.hold.object_max_pieces = a.pieces;
   const RobustHoldTester robust(hand, object, ro);
-  HoldTestOptions full_o;
-  full_o.settle_stop = false;
+  HoldTestOptions full_o;  // the comparison: the full protocol, or the defaults
+  full_o.settle_stop = a.compare_defaults;
   const HoldTester full(hand, object, full_o);
   const Eigen::Vector3d back = -0.0005 * hand.approachAxis();
   const std::size_t n = a.grasps ? std::min(a.grasps, map.grasps.size()) : map.grasps.size();
@@ -185,7 +193,7 @@ int run(const Args& a) {
     }
     r.robust_cpu = threadCpu() - c;
     r.back = robust.nominal().test(moved, q);
-    if (a.compare_full) {
+    if (a.compare_full || a.compare_defaults) {
       c = threadCpu();
       r.full = full.test(palm, q);
       r.full_cpu = threadCpu() - c;
@@ -229,7 +237,7 @@ int run(const Args& a) {
       "CPU-second\n",
       cpu, n, n / cpu);
   printCeiling(rows, variants.size(), ro.hold);
-  if (a.compare_full) {
+  if (a.compare_full || a.compare_defaults) {
     int same = 0, settle_h_full_not = 0, full_h_settle_not = 0, same_back = 0;
     double cf = 0;
     long long steps_f = 0;
@@ -241,12 +249,18 @@ int run(const Args& a) {
       steps_f += r.full.steps;
       cf += r.full_cpu;
     }
+    const char* them = a.compare_full ? "full protocol" : "default options";
+    const char* us = a.compare_full ? "settled stop" : "these knobs";
     std::printf(
-        "settled stop vs full protocol (nominal label): %d of %zu equal; settled holds, "
-        "full not: %d; full holds, settled not: %d; 0.5 mm back: %d equal\n",
-        same, n, settle_h_full_not, full_h_settle_not, same_back);
-    std::printf("full protocol: %lld steps, %.2f CPU s (%.1f grasps per CPU-second)\n", steps_f, cf,
-                n / std::max(cf, 1e-9));
+        "%s vs %s (nominal label): %d of %zu equal; %s hold, %s not: %d; %s hold, %s not: "
+        "%d; 0.5 mm back: %d equal\n",
+        us, them, same, n, us, them, settle_h_full_not, them, us, full_h_settle_not, same_back);
+    double cs = 0.0;
+    for (const GraspRow& r : rows) cs += r.robust_cpu;
+    std::printf(
+        "%s: %lld steps, %.2f CPU s (%.1f grasps per CPU-second); CPU %s / %s: %.2f (same "
+        "process, grasp by grasp)\n",
+        them, steps_f, cf, n / std::max(cf, 1e-9), them, us, cf / std::max(cs, 1e-9));
   }
   if (!a.json.empty()) {
     nlohmann::json j = nlohmann::json::array();
