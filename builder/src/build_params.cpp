@@ -231,6 +231,7 @@ void visitClosingCheck(Io& io, P& p) {
 }
 
 constexpr const char* kHoldTest = "hold_test";
+
 // The build's physics hold test: present only when it is on (maps built without it, and before
 // it existed, read as off); the protocol's own numbers are in /validation params_json.
 template <class Io, class P>

@@ -239,7 +239,7 @@ int run(const Args& a) {
   printCeiling(rows, variants.size(), ro.hold);
   if (a.compare_full || a.compare_defaults) {
     int same = 0, settle_h_full_not = 0, full_h_settle_not = 0, same_back = 0;
-    double cf = 0;
+    double cf = 0, cs = 0;
     long long steps_f = 0;
     for (const GraspRow& r : rows) {
       same += r.full.holds == r.robust.nominal.holds;
@@ -248,6 +248,7 @@ int run(const Args& a) {
       same_back += r.full_back.holds == r.back.holds;
       steps_f += r.full.steps;
       cf += r.full_cpu;
+      cs += r.robust_cpu;
     }
     const char* them = a.compare_full ? "full protocol" : "default options";
     const char* us = a.compare_full ? "settled stop" : "these knobs";
@@ -255,8 +256,6 @@ int run(const Args& a) {
         "%s vs %s (nominal label): %d of %zu equal; %s hold, %s not: %d; %s hold, %s not: "
         "%d; 0.5 mm back: %d equal\n",
         us, them, same, n, us, them, settle_h_full_not, them, us, full_h_settle_not, same_back);
-    double cs = 0.0;
-    for (const GraspRow& r : rows) cs += r.robust_cpu;
     std::printf(
         "%s: %lld steps, %.2f CPU s (%.1f grasps per CPU-second); CPU %s / %s: %.2f (same "
         "process, grasp by grasp)\n",

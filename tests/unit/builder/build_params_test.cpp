@@ -296,12 +296,6 @@ TEST(BuildParamsTest, NamesAKeyOfTheWrongTypeAndKeepsUnknownKeys) {
   EXPECT_EQ(buildParamsFromJson("not json").options.seed, BuildOptions().seed);
 }
 
-}  // namespace
-}  // namespace taskmap
-
-namespace taskmap {
-namespace {
-
 // The hold test's integrator (docs/VALIDATION.md, "The integrator"): written only when it is not
 // the default, so maps built with `implicit` keep their bytes; read back; a wrong name refused.
 TEST(BuildParamsTest, TheHoldTestsIntegratorIsRecordedWhenNotTheDefault) {
