@@ -119,15 +119,16 @@ std::vector<ClusterRank> rankClusters(const TaskMap& map, const Pose& object_wor
         map.data().clustering->clusters[static_cast<std::size_t>(c)].representative);
     r.comfort = std::numeric_limits<double>::infinity();
     setTarget(map, object_world, r.representative, r);  // kept when nothing is reachable
-    tryTarget(map, object_world, r.representative, ik, comfort, r);
+    if (!options.members_only) tryTarget(map, object_world, r.representative, ik, comfort, r);
     out.push_back(std::move(r));
   }
-  // Fallbacks, only when no representative is reachable: members, then the outliers.
+  // Fallbacks, when no representative is reachable (or none was tried): members, then the
+  // outliers (with members_only, the outliers in any case).
   if (options.member_tries > 0 && std::none_of(out.begin(), out.end(), reachable)) {
     for (ClusterRank& r : out)
       for (std::size_t m : membersToTry(map, r.cluster, r.representative, options.member_tries))
         if (tryTarget(map, object_world, m, ik, comfort, r)) break;
-    if (std::none_of(out.begin(), out.end(), reachable)) {
+    if (options.members_only || std::none_of(out.begin(), out.end(), reachable)) {
       ClusterRank r = rankOutliers(map, object_world, ik, comfort, options.member_tries);
       if (r.reachable) out.push_back(std::move(r));
     }

@@ -294,7 +294,8 @@ collision terms in the null space move ``body`` (default the palm) to ``target``
 (paper eq. 1.1-1.19).
 
 **With a TaskMap** (second form, ``taskmap reach --map``): the clusters are ranked by comfort
-(other members and outliers stand in when no representative is reachable, ``member_tries``),
+(other members and outliers stand in when no representative is reachable or every plan from
+them is unsafe, ``member_tries``),
 the reach is optimised over attractor points with the map's proximity and quality as the
 terminal cost (``proximity_weight``, ``quality_weight``; BFGS or gradient ``descent``,
 ``iterations``), the plan ends on the map grasp it reached, and that grasp is re-simulated with
@@ -326,7 +327,8 @@ Args:
         hand and object recorded); True requires it, False skips it.
     hold_test (bool): second form: test the re-simulated grasp in physics.
     member_tries (int): second form: members of a cluster tried when its representative is
-        out of reach, then as many outliers (16; 0: representatives only).
+        out of reach or every plan is unsafe, then as many outliers (16; 0: representatives
+        only).
 
 Returns:
     dict: first form: ``status`` (``"reached"``, ``"not_reached"``, ``"collided"``),
@@ -365,7 +367,8 @@ Args:
     iterations (int): optimiser iterations (40).
     proximity_weight (float): w_map,p (1e4).
     quality_weight (float): w_map,q on g_q / q*, q* the map's best quality at its grasps (3e4).
-    member_tries (int): members tried when no representative is reachable (16).
+    member_tries (int): members tried when no representative is reachable or every plan is
+        unsafe (16).
 
 Returns:
     dict: ``status``, ``message``, ``cluster``, ``grasp_index``, ``iterations``,

@@ -200,6 +200,34 @@ bool safe(const ClusterPlan& c) {
          c.iterations_to_manifold >= 0 && !c.sample_out_of_reach;
 }
 
+/// a before b: a safe plan first, then the lower total cost.
+bool cheaperPlan(const ClusterPlan& a, const ClusterPlan& b) {
+  if (safe(a) != safe(b)) return safe(a);
+  return a.optimization.cost.total < b.optimization.cost.total;
+}
+
+/// The second round when every plan is unsafe (docs/REACHING.md "When every plan is unsafe"):
+/// each cluster's other members and the outliers as targets (rankClusters, members_only), a
+/// full optimisation from every reachable one, the cheapest plan (safe first) the best. The new
+/// ranks go into plan.ranking after the planned ones, so that plans[i] still started from
+/// ranking[i].
+void planFromMembers(const TrajectoryProblem& problem, const TaskMap& map, const Pose& object_world,
+                     const GraspPlanOptions& options, const RunControl<PlanProgress>& control,
+                     GraspPlan& plan) {
+  RankOptions members = options.ranking;
+  members.members_only = true;
+  const std::vector<ClusterRank> more =
+      rankClusters(map, object_world, rolloutIk(problem), comfort(problem), members);
+  for (const ClusterRank& rank : more) {
+    if (!rank.reachable || control.stopRequested()) break;
+    const auto at = static_cast<std::ptrdiff_t>(plan.plans.size());
+    plan.ranking.insert(plan.ranking.begin() + at, rank);
+    plan.plans.push_back(planFrom(problem, map, rank, options, control, plan.plans.size()));
+    if (cheaperPlan(plan.plans.back(), plan.plans[static_cast<std::size_t>(plan.best)]))
+      plan.best = static_cast<int>(at);
+  }
+}
+
 // A plan stopped by the run control: the clusters optimised so far, the cheapest one best.
 GraspPlan interrupted(GraspPlan plan) {
   plan.status = GraspPlanStatus::kInterrupted;
@@ -248,12 +276,8 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
     plan.message = "no cluster's representative grasp is reachable";
     return plan;
   }
-  const auto cheaper = [](const ClusterPlan& a, const ClusterPlan& b) {
-    if (safe(a) != safe(b)) return safe(a);
-    return a.optimization.cost.total < b.optimization.cost.total;
-  };
-  const auto cheapest = [&plan, &cheaper] {
-    return static_cast<int>(std::min_element(plan.plans.begin(), plan.plans.end(), cheaper) -
+  const auto cheapest = [&plan] {
+    return static_cast<int>(std::min_element(plan.plans.begin(), plan.plans.end(), cheaperPlan) -
                             plan.plans.begin());
   };
   plan.best = cheapest();
@@ -267,6 +291,8 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
     full[static_cast<std::size_t>(plan.best)] = true;
     plan.best = cheapest();
   }
+  if (!safe(plan.plans[plan.best]) && options.ranking.member_tries > 0)
+    planFromMembers(problem, map, object_world, options, control, plan);
   if (control.stopRequested()) return interrupted(std::move(plan));
   const ClusterPlan& b = plan.plans[plan.best];
   plan.status = safe(b) ? GraspPlanStatus::kPlanned : GraspPlanStatus::kUnsafe;

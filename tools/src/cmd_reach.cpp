@@ -181,9 +181,9 @@ const CommandRegistrar kRegistrar(
       cmd->add_flag("--all-clusters", args->map.all_clusters,
                     "with --map: optimise from every reachable cluster and keep the cheapest");
       cmd->add_option("--member-tries", args->map.member_tries,
-                      "with --map: when no cluster's representative grasp is in reach, try at most "
-                      "this many other members of each cluster, then as many outliers (0: the "
-                      "representatives only)")
+                      "with --map: when no cluster's representative grasp is in reach, or when "
+                      "every plan from them is unsafe, try at most this many other members of "
+                      "each cluster, then as many outliers (0: the representatives only)")
           ->capture_default_str()
           ->check(CLI::NonNegativeNumber);
       cmd->add_option("--iterations", args->map.iterations, "with --map: optimiser iterations")

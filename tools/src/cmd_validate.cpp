@@ -16,6 +16,7 @@
 #include "taskmap/core/stop_signals.hpp"
 #include "taskmap/mapstore/map_file.hpp"
 #include "taskmap/mapstore/recorded_hand.hpp"
+#include "taskmap/validate/hold_test.hpp"
 #include "taskmap/validate/validate_map.hpp"
 
 namespace taskmap::cli {
@@ -147,7 +148,7 @@ const CommandRegistrar kRegistrar(
                       "how MuJoCo integrates: implicit (every map's labels so far) or implicitfast "
                       "(DexGraspBench's, about 1.3x faster; docs/VALIDATION.md, \"The "
                       "integrator\")")
-          ->check(CLI::IsMember({"implicitfast", "implicit"}))
+          ->check(CLI::IsMember(integratorNames()))
           ->capture_default_str();
       cmd->add_flag("!--protocol-dynamics", h.stated_dynamics,
                     "an MJCF hand: use the protocol's masses, gains, damping and friction, not the "

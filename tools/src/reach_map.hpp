@@ -15,7 +15,8 @@ struct MapReachArgs {
   std::string map;            ///< task map file (palm poses of the mounted hand, object frame)
   std::string object_pose;    ///< "x y z yaw" of the object body in the world (metres, radians)
   bool all_clusters = false;  ///< optimise from every reachable cluster
-  int member_tries = 16;      ///< members (then outliers) tried when no representative is reachable
+  int member_tries = 16;      ///< members, then outliers, tried when no representative is reachable
+                              ///< or every plan is unsafe
   int iterations = 40;        ///< optimiser iterations
   double proximity_weight = 1.0e4;     ///< w_map,p (docs/REACHING.md "Chosen weights")
   double quality_weight = 3.0e4;       ///< w_map,q (on g_q / q*)

@@ -189,9 +189,15 @@ const char* integratorName(HoldTestOptions::Integrator integrator) {
 }
 
 HoldTestOptions::Integrator integratorFromName(const std::string& name) {
-  if (name == "implicitfast") return HoldTestOptions::Integrator::kImplicitFast;
-  if (name == "implicit") return HoldTestOptions::Integrator::kImplicit;
+  for (const auto i :
+       {HoldTestOptions::Integrator::kImplicitFast, HoldTestOptions::Integrator::kImplicit})
+    if (name == integratorName(i)) return i;
   throw Error("hold test integrator must be implicitfast or implicit, not '" + name + "'");
+}
+
+std::vector<std::string> integratorNames() {
+  return {integratorName(HoldTestOptions::Integrator::kImplicit),
+          integratorName(HoldTestOptions::Integrator::kImplicitFast)};
 }
 
 const char* holdStatusName(HoldStatus s) {

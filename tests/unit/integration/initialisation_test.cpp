@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -212,6 +213,37 @@ TEST(RankClusters, OutliersAreTheLastResortWhenNoClusterIsReachable) {
   ranks = rankClusters(map, Pose{}, easy.ik(), comfort, RankOptions{8});
   EXPECT_EQ(ranks.size(), 3u);
   EXPECT_EQ(easy.asked.size(), 3u);
+}
+
+/// members_only (planGrasp's second round when every plan is unsafe): no representative is
+/// given to the IK, every cluster's first reachable member is its target, and the outliers are
+/// tried although clusters are reachable.
+TEST(RankClusters, MembersOnlySkipsTheRepresentativesAndTriesTheOutliers) {
+  TaskMapData data = testing::syntheticMap(300);
+  for (std::size_t i = 0; i < 300; i += 50) data.clustering->labels[i] = -1;  // six outliers
+  const TaskMap map = TaskMap::fromData(std::move(data));
+  const ComfortFunction comfort = [](const Eigen::VectorXd& q) { return q.norm(); };
+  FakeArm easy{&map, [](std::size_t) { return true; }, {}};
+  RankOptions members{4};
+  members.members_only = true;
+  const auto ranks = rankClusters(map, Pose{}, easy.ik(), comfort, members);
+  ASSERT_EQ(ranks.size(), 4u);  // three clusters and the outliers' rank
+  std::set<int> clusters;
+  for (const ClusterRank& r : ranks) {
+    EXPECT_TRUE(r.reachable) << r.cluster;
+    EXPECT_EQ(r.tried, 1) << r.cluster;
+    EXPECT_EQ(label(map, r.target), r.cluster);
+    if (r.cluster >= 0) {
+      EXPECT_NE(r.target, representative(map, r.cluster));
+    }
+    clusters.insert(r.cluster);
+  }
+  EXPECT_EQ(clusters, (std::set<int>{-1, 0, 1, 2}));
+  for (std::size_t i : easy.asked) EXPECT_FALSE(isRepresentative(map, i)) << i;
+  // Without member tries nothing is tried: no target is reachable.
+  members.member_tries = 0;
+  for (const ClusterRank& r : rankClusters(map, Pose{}, easy.ik(), comfort, members))
+    EXPECT_FALSE(r.reachable);
 }
 
 TEST(RankClusters, RefusesNegativeMemberTries) {

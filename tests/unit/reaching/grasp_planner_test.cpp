@@ -142,6 +142,47 @@ TEST(GraspPlanner, ChainsTheCallersCallbackAndStopsOnTheFlag) {
   EXPECT_EQ(stopped.best, -1);
 }
 
+// When every plan is unsafe (docs/REACHING.md "When every plan is unsafe"): a second round
+// plans from other members of the clusters and from the outliers; its plans follow the first
+// round's, each after its rank, and the best is the cheapest of all (safe first). With a kernel
+// of 10 micrometres and the optimiser's own last step (not bent onto the sample) no plan ends
+// on the manifold, so every plan here is unsafe. Without member tries there is no second round.
+TEST(GraspPlanner, OtherMembersArePlannedWhenEveryPlanIsUnsafe) {
+  const BasketScene basket;
+  TaskMapOptions mo;
+  mo.position_sigma = 1e-5;
+  const TaskMap map = TaskMap::fromData(testing::syntheticMap(300), mo);
+  const TrajectoryProblem p = basket.problem();
+  GraspPlanOptions o;
+  o.optimizer.max_iterations = 2;
+  o.end_on_sample = false;
+  o.ranking.member_tries = 0;
+  const GraspPlan one = planGrasp(p, map, o);
+  ASSERT_EQ(one.plans.size(), 1u) << one.message;
+  EXPECT_EQ(one.status, GraspPlanStatus::kUnsafe) << one.message;
+  EXPECT_LT(one.plans[0].iterations_to_manifold, 0);
+  o.ranking.member_tries = 4;
+  const GraspPlan more = planGrasp(p, map, o);
+  EXPECT_EQ(more.status, GraspPlanStatus::kUnsafe) << more.message;
+  ASSERT_GT(more.plans.size(), 1u) << more.message;
+  EXPECT_EQ(more.plans[0].optimization.cost.total, one.plans[0].optimization.cost.total);
+  ASSERT_GE(more.ranking.size(), more.plans.size());
+  const auto& clustering = *map.data().clustering;
+  for (std::size_t i = 0; i < more.plans.size(); ++i) {
+    const ClusterRank& r = more.ranking[i];
+    EXPECT_TRUE(r.reachable) << i;
+    EXPECT_EQ(more.plans[i].cluster, r.cluster) << i;
+    if (i > 0 && r.cluster >= 0) {  // the second round skips the representatives
+      EXPECT_NE(static_cast<int>(r.target),
+                clustering.clusters[static_cast<std::size_t>(r.cluster)].representative)
+          << i;
+    }
+    EXPECT_GE(more.plans[i].optimization.cost.total,
+              more.plans[static_cast<std::size_t>(more.best)].optimization.cost.total)
+        << i;
+  }
+}
+
 // Ending on the sample (docs/REACHING.md "Ending on the sample"): with end_on_sample the last
 // step's palm pose relative to the object is the final nearest sample's (to the IK's 1e-7 m and
 // 1e-6 rad); only the last end_steps steps differ from the optimiser's trajectory, the bend

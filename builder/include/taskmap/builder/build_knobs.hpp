@@ -14,6 +14,7 @@
 
 #include "taskmap/builder/map_builder.hpp"
 #include "taskmap/builder/map_file_build.hpp"
+#include "taskmap/validate/hold_test.hpp"
 
 namespace taskmap {
 
@@ -191,7 +192,7 @@ void visitBuildKnobs(BuildKnobs& k, Visitor&& v) {
              "how MuJoCo integrates the hold test: implicit (default; every map's labels so "
              "far) or implicitfast (DexGraspBench's, about 1.3x fewer CPU seconds per grasp; "
              "docs/VALIDATION.md, \"The integrator\")",
-             {"implicit", "implicitfast"}},
+             integratorNames()},
     k.integrator);
   v(KnobInfo{"validate",
              "with --hold-test off: label every stored grasp with the physics hold test before "

@@ -55,6 +55,11 @@ struct RankOptions {
   /// in no cluster, index order, evenly spaced), the first reachable one ranked as cluster -1.
   /// 0: the representatives only (the paper's rule). >= 0.
   int member_tries = 0;
+  /// Skip the representatives: every cluster's target is the first reachable of at most
+  /// member_tries other members, and at most member_tries outliers are tried as well (cluster
+  /// -1 when one is reachable). planGrasp's second round when every plan from the first
+  /// ranking is unsafe. Needs member_tries > 0 to try anything.
+  bool members_only = false;
   /// Throws Error when member_tries < 0.
   void validate() const;
 };

@@ -47,8 +47,9 @@ struct GraspPlanOptions {
   int screen_iterations = 5;
   /// Which grasp of each cluster the plan starts from (rankClusters): the representatives, or,
   /// when none is reachable, one of at most ranking.member_tries other members of each cluster,
-  /// then of as many outliers. Default 16 (docs/REACHING.md "When no representative is
-  /// reachable").
+  /// then of as many outliers; when every plan from the first ranking is unsafe, a second
+  /// round plans from other members and outliers (members_only; docs/REACHING.md "When every
+  /// plan is unsafe"). Default 16; 0 = the representatives only, no second round.
   RankOptions ranking{16};
   /// End each plan on its final nearest sample (docs/REACHING.md "Ending on the sample"): the
   /// last end_steps steps of the optimised trajectory are bent (smoothstep) onto the joint

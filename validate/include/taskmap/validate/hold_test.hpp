@@ -151,6 +151,9 @@ const char* integratorName(HoldTestOptions::Integrator integrator);
 /// The integrator named "implicitfast" or "implicit"; throws Error naming the choices otherwise.
 HoldTestOptions::Integrator integratorFromName(const std::string& name);
 
+/// Every integrator's name, the default ("implicit") first: the choices of the CLI options.
+std::vector<std::string> integratorNames();
+
 /// Name of a status: "holds", "penetration", "lost_in_closing", "slipped", "unstable".
 const char* holdStatusName(HoldStatus status);
 
