@@ -188,16 +188,22 @@ const char* integratorName(HoldTestOptions::Integrator integrator) {
   return integrator == HoldTestOptions::Integrator::kImplicit ? "implicit" : "implicitfast";
 }
 
+namespace {
+/// Every integrator, the default first (integratorNames' order).
+constexpr HoldTestOptions::Integrator kIntegrators[] = {HoldTestOptions::Integrator::kImplicit,
+                                                        HoldTestOptions::Integrator::kImplicitFast};
+}  // namespace
+
 HoldTestOptions::Integrator integratorFromName(const std::string& name) {
-  for (const auto i :
-       {HoldTestOptions::Integrator::kImplicitFast, HoldTestOptions::Integrator::kImplicit})
+  for (const auto i : kIntegrators)
     if (name == integratorName(i)) return i;
   throw Error("hold test integrator must be implicitfast or implicit, not '" + name + "'");
 }
 
 std::vector<std::string> integratorNames() {
-  return {integratorName(HoldTestOptions::Integrator::kImplicit),
-          integratorName(HoldTestOptions::Integrator::kImplicitFast)};
+  std::vector<std::string> names;
+  for (const auto i : kIntegrators) names.emplace_back(integratorName(i));
+  return names;
 }
 
 const char* holdStatusName(HoldStatus s) {
