@@ -208,12 +208,14 @@ bool cheaperPlan(const ClusterPlan& a, const ClusterPlan& b) {
 
 /// The second round when every plan is unsafe (docs/REACHING.md "When every plan is unsafe"):
 /// each cluster's other members and the outliers as targets (rankClusters, members_only), a
-/// full optimisation from every reachable one, the cheapest plan (safe first) the best. The new
-/// ranks go into plan.ranking after the planned ones, so that plans[i] still started from
-/// ranking[i].
+/// full optimisation from every reachable one that no full plan started from already (when the
+/// first round's ranking fell back on members, the same members come first again: the same
+/// plan; full[i]: plans[i] ran every iteration, not only the screening's), the cheapest plan
+/// (safe first) the best. The new ranks go into plan.ranking after the planned ones, so that
+/// plans[i] still started from ranking[i].
 void planFromMembers(const TrajectoryProblem& problem, const TaskMap& map, const Pose& object_world,
                      const GraspPlanOptions& options, const RunControl<PlanProgress>& control,
-                     GraspPlan& plan) {
+                     const std::vector<bool>& full, GraspPlan& plan) {
   RankOptions members = options.ranking;
   members.members_only = true;
   const std::vector<ClusterRank> more =
@@ -221,6 +223,10 @@ void planFromMembers(const TrajectoryProblem& problem, const TaskMap& map, const
   for (const ClusterRank& rank : more) {
     if (!rank.reachable || control.stopRequested()) break;
     const auto at = static_cast<std::ptrdiff_t>(plan.plans.size());
+    bool planned = false;
+    for (std::size_t i = 0; i < full.size(); ++i)
+      planned = planned || (full[i] && plan.ranking[i].target == rank.target);
+    if (planned) continue;
     plan.ranking.insert(plan.ranking.begin() + at, rank);
     plan.plans.push_back(planFrom(problem, map, rank, options, control, plan.plans.size()));
     if (cheaperPlan(plan.plans.back(), plan.plans[static_cast<std::size_t>(plan.best)]))
@@ -292,7 +298,7 @@ GraspPlan planGrasp(const TrajectoryProblem& problem, const TaskMap& map,
     plan.best = cheapest();
   }
   if (!safe(plan.plans[plan.best]) && options.ranking.member_tries > 0)
-    planFromMembers(problem, map, object_world, options, control, plan);
+    planFromMembers(problem, map, object_world, options, control, full, plan);
   if (control.stopRequested()) return interrupted(std::move(plan));
   const ClusterPlan& b = plan.plans[plan.best];
   plan.status = safe(b) ? GraspPlanStatus::kPlanned : GraspPlanStatus::kUnsafe;
